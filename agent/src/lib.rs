@@ -1,0 +1,20 @@
+//! gapfleet's planner core: everything a robot needs to decide how to move among people,
+//! as pure functions of what it perceives.
+//!
+//! A long-term planner, the Probabilistic Gap Planner ([`pgp`]), picks a subgoal towards gaps
+//! in the crowd; a short-term planner ([`dwa`], [`orca`], [`social_force`]) drives towards it.
+//! [`planner::PlannerStack`] composes them behind one interface.
+//!
+//! Nothing here knows about Zenoh, Tokio, Rerun, clocks or unseeded randomness: the same
+//! input gives the same output, bit for bit.
+
+pub mod dwa;
+pub mod map;
+pub mod math;
+pub mod model;
+pub mod orca;
+pub mod pgp;
+pub mod planner;
+pub mod prediction;
+pub mod risk;
+pub mod social_force;
