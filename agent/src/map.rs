@@ -114,7 +114,10 @@ fn point(v: &Vec2) -> Point<Real> {
 
 fn signed_area(poly: &[Vec2]) -> Real {
     let n = poly.len();
-    (0..n).map(|i| det(&poly[i], &poly[(i + 1) % n])).sum::<Real>() * 0.5
+    (0..n)
+        .map(|i| det(&poly[i], &poly[(i + 1) % n]))
+        .sum::<Real>()
+        * 0.5
 }
 
 fn aabb_of(points: &[Vec2]) -> Aabb {
@@ -137,7 +140,10 @@ impl StaticMap {
             let ring = match obstacle {
                 Obstacle::Polygon(mut poly) => {
                     if poly.len() < 3 {
-                        return Err(MapError::TooFewVertices { index, got: poly.len() });
+                        return Err(MapError::TooFewVertices {
+                            index,
+                            got: poly.len(),
+                        });
                     }
                     if poly.iter().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
                         return Err(MapError::NonFinite { index });
@@ -158,7 +164,10 @@ impl StaticMap {
                 Obstacle::Polygon(p) => p.clone(),
                 Obstacle::Wall(a, b) => vec![*a, *b],
             };
-            if ring_points.iter().any(|p| !(p.x.is_finite() && p.y.is_finite())) {
+            if ring_points
+                .iter()
+                .any(|p| !(p.x.is_finite() && p.y.is_finite()))
+            {
                 return Err(MapError::NonFinite { index });
             }
             push_ring(&mut vertices, &ring_points).ok_or(MapError::Degenerate { index })?;
@@ -168,10 +177,20 @@ impl StaticMap {
         }
         let polyline = (!vertices.is_empty()).then(|| {
             let pts = vertices.iter().map(|v| point(&v.point)).collect();
-            let idx = vertices.iter().enumerate().map(|(i, v)| [i as u32, v.next as u32]).collect();
+            let idx = vertices
+                .iter()
+                .enumerate()
+                .map(|(i, v)| [i as u32, v.next as u32])
+                .collect();
             Polyline::new(pts, Some(idx))
         });
-        Ok(Self { obstacles: stored, vertices, polyline, polygons, vertex_polygon })
+        Ok(Self {
+            obstacles: stored,
+            vertices,
+            polyline,
+            polygons,
+            vertex_polygon,
+        })
     }
 
     /// The obstacles as given (polygons counter-clockwise).
@@ -198,13 +217,17 @@ impl StaticMap {
     /// Whether `p` is inside a polygonal obstacle.
     pub fn is_inside(&self, p: &Vec2) -> bool {
         let pt = point(p);
-        self.polygons.iter().any(|(aabb, poly)| aabb.contains_local_point(&pt) && inside(poly, p))
+        self.polygons
+            .iter()
+            .any(|(aabb, poly)| aabb.contains_local_point(&pt) && inside(poly, p))
     }
 
     /// Distance from `p` to the nearest obstacle surface; 0 inside a polygon;
     /// `Real::INFINITY` on an empty map.
     pub fn distance(&self, p: &Vec2) -> Real {
-        let Some(polyline) = &self.polyline else { return Real::INFINITY };
+        let Some(polyline) = &self.polyline else {
+            return Real::INFINITY;
+        };
         if self.is_inside(p) {
             return 0.0;
         }
@@ -214,7 +237,9 @@ impl StaticMap {
     /// Appends to `out` the indices of all edges whose bounding box comes within `radius` of
     /// the box `[min, max]`. A superset of the edges within that distance.
     pub fn edges_near_box(&self, min: Vec2, max: Vec2, radius: Real, out: &mut Vec<u32>) {
-        let Some(polyline) = &self.polyline else { return };
+        let Some(polyline) = &self.polyline else {
+            return;
+        };
         let query = Aabb::new(
             Point::new(min.x - radius, min.y - radius),
             Point::new(max.x + radius, max.y + radius),
@@ -323,7 +348,12 @@ mod tests {
 
     fn square() -> Obstacle {
         // Clockwise on purpose: the map must store it counter-clockwise.
-        Obstacle::Polygon(vec![vec2(0.0, 0.0), vec2(0.0, 1.0), vec2(1.0, 1.0), vec2(1.0, 0.0)])
+        Obstacle::Polygon(vec![
+            vec2(0.0, 0.0),
+            vec2(0.0, 1.0),
+            vec2(1.0, 1.0),
+            vec2(1.0, 0.0),
+        ])
     }
 
     #[test]
@@ -338,7 +368,9 @@ mod tests {
     #[test]
     fn polygons_are_stored_counter_clockwise_and_convex() {
         let map = StaticMap::new(vec![square()]).expect("valid square");
-        let Obstacle::Polygon(p) = &map.obstacles()[0] else { panic!("polygon expected") };
+        let Obstacle::Polygon(p) = &map.obstacles()[0] else {
+            panic!("polygon expected")
+        };
         assert!(signed_area(p) > 0.0);
         assert!(map.vertices().iter().all(|v| v.convex));
     }
@@ -361,9 +393,15 @@ mod tests {
             MapError::TooFewVertices { index: 1, got: 2 }
         );
         let nan = Obstacle::Wall(vec2(f64::NAN, 0.0), vec2(1.0, 0.0));
-        assert_eq!(StaticMap::new(vec![nan]).unwrap_err(), MapError::NonFinite { index: 0 });
+        assert_eq!(
+            StaticMap::new(vec![nan]).unwrap_err(),
+            MapError::NonFinite { index: 0 }
+        );
         let flat = Obstacle::Polygon(vec![vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(2.0, 0.0)]);
-        assert_eq!(StaticMap::new(vec![flat]).unwrap_err(), MapError::Degenerate { index: 0 });
+        assert_eq!(
+            StaticMap::new(vec![flat]).unwrap_err(),
+            MapError::Degenerate { index: 0 }
+        );
     }
 
     #[test]
@@ -387,9 +425,21 @@ mod tests {
         let map = StaticMap::new(vec![square(), wall]).expect("valid map");
         let mut local = LocalMap::default();
         map.gather(vec2(-2.0, -2.0), vec2(2.0, 2.0), 3.0, &mut local);
-        assert_eq!(local.segments().len(), 5, "wall counted once, square's four edges");
-        for p in [vec2(0.5, 0.5), vec2(-1.0, 0.3), vec2(0.2, 1.7), vec2(1.5, -0.5)] {
-            assert!((local.distance(&map, &p) - map.distance(&p)).abs() < 1e-12, "at {p:?}");
+        assert_eq!(
+            local.segments().len(),
+            5,
+            "wall counted once, square's four edges"
+        );
+        for p in [
+            vec2(0.5, 0.5),
+            vec2(-1.0, 0.3),
+            vec2(0.2, 1.7),
+            vec2(1.5, -0.5),
+        ] {
+            assert!(
+                (local.distance(&map, &p) - map.distance(&p)).abs() < 1e-12,
+                "at {p:?}"
+            );
         }
         assert_eq!(map.boundary_segments().count(), 5);
     }

@@ -63,7 +63,11 @@ pub fn wrap_angle(angle: Real) -> Real {
 #[inline]
 pub fn clamp_norm(v: Vec2, max: Real) -> Vec2 {
     let n2 = v.norm_squared();
-    if n2 > max * max { v * (max / n2.sqrt()) } else { v }
+    if n2 > max * max {
+        v * (max / n2.sqrt())
+    } else {
+        v
+    }
 }
 
 /// Squared distance from `p` to the segment `a`–`b`.

@@ -56,7 +56,15 @@ pub struct Neighbour {
 impl Neighbour {
     /// A neighbour without shared intent or turn rate.
     pub fn new(id: u64, position: Vec2, velocity: Vec2, radius: Real, kind: AgentKind) -> Self {
-        Self { id, position, velocity, yaw_rate: 0.0, radius, kind, intent: None }
+        Self {
+            id,
+            position,
+            velocity,
+            yaw_rate: 0.0,
+            radius,
+            kind,
+            intent: None,
+        }
     }
 }
 

@@ -143,7 +143,10 @@ pub struct Pgp {
 impl Pgp {
     /// A planner with the given parameters.
     pub fn new(params: PgpParams) -> Self {
-        Self { params, ..Self::default() }
+        Self {
+            params,
+            ..Self::default()
+        }
     }
 
     /// The parameters in use.
@@ -152,12 +155,22 @@ impl Pgp {
     }
 
     /// One PGP step: evaluate the fan and return the subgoal.
-    pub fn plan(&mut self, ego: &EgoState, neighbours: &[Neighbour], map: &StaticMap, goal: Vec2) -> PgpDecision {
+    pub fn plan(
+        &mut self,
+        ego: &EgoState,
+        neighbours: &[Neighbour],
+        map: &StaticMap,
+        goal: Vec2,
+    ) -> PgpDecision {
         let p0 = ego.position;
         let to_goal = goal - p0;
         let dist_goal = to_goal.norm();
         if dist_goal < 1e-6 {
-            return PgpDecision { subgoal: goal, trajectory: Vec::new(), fan: None };
+            return PgpDecision {
+                subgoal: goal,
+                trajectory: Vec::new(),
+                fan: None,
+            };
         }
         let dir = to_goal / dist_goal;
         let pgp_goal = p0 + dir * self.params.d_goal.min(dist_goal);
@@ -165,7 +178,11 @@ impl Pgp {
         self.prepare(neighbours, map, p0, &geometries);
 
         let mut best = (0, Real::NEG_INFINITY);
-        let mut fan = Vec::with_capacity(if self.params.record_fan { geometries.len() } else { 0 });
+        let mut fan = Vec::with_capacity(if self.params.record_fan {
+            geometries.len()
+        } else {
+            0
+        });
         let mut best_trajectory = Vec::new();
         for (c, geometry) in geometries.iter().enumerate() {
             self.sample(ego, geometry, pgp_goal);
@@ -186,8 +203,16 @@ impl Pgp {
         }
         let alpha = geometries[best.0].alpha;
         let subgoal = p0 + rotate(&dir, alpha) * self.params.subgoal_distance.min(dist_goal);
-        let fan = self.params.record_fan.then_some(Fan { pgp_goal, candidates: fan, best: best.0 });
-        PgpDecision { subgoal, trajectory: best_trajectory, fan }
+        let fan = self.params.record_fan.then_some(Fan {
+            pgp_goal,
+            candidates: fan,
+            best: best.0,
+        });
+        PgpDecision {
+            subgoal,
+            trajectory: best_trajectory,
+            fan,
+        }
     }
 
     /// Sec. III-B: three-segment paths, 11 angles × d_outside ∈ {0, 0.9·remaining}.
@@ -199,14 +224,24 @@ impl Pgp {
             let remaining = (pgp_goal - p_out).norm();
             for d_outside in [0.0, p.outside_fraction * remaining] {
                 let p_back = p_out + dir * d_outside;
-                out.push(Geometry { alpha, d_outside, waypoints: [p0, p_out, p_back, pgp_goal] });
+                out.push(Geometry {
+                    alpha,
+                    d_outside,
+                    waypoints: [p0, p_out, p_back, pgp_goal],
+                });
             }
         }
         out
     }
 
     /// Predicts the neighbours and gathers the static geometry around the fan.
-    fn prepare(&mut self, neighbours: &[Neighbour], map: &StaticMap, p0: Vec2, geometries: &[Geometry]) {
+    fn prepare(
+        &mut self,
+        neighbours: &[Neighbour],
+        map: &StaticMap,
+        p0: Vec2,
+        geometries: &[Geometry],
+    ) {
         let p = &self.params;
         let n = p.steps;
         let k_count = neighbours.len();
@@ -226,7 +261,11 @@ impl Pgp {
                 self.nb_sigma_ratio.push(track.sigma[0] / s);
             }
         }
-        self.nb_var0.extend(self.tracks[..k_count].iter().map(|t| t.sigma[0] * t.sigma[0]));
+        self.nb_var0.extend(
+            self.tracks[..k_count]
+                .iter()
+                .map(|t| t.sigma[0] * t.sigma[0]),
+        );
 
         let (mut min, mut max) = (p0, p0);
         for g in geometries {
@@ -257,9 +296,19 @@ impl Pgp {
         let total = seg_len[0] + seg_len[1] + seg_len[2];
         // t^turn = γ^turn / γ̇^max at 0.5·v when the first segment needs more than 30° of turn.
         let turn = wrap_angle(angle_of(&(g.waypoints[1] - g.waypoints[0])) - ego.heading).abs();
-        let t_turn = if turn > p.turn_threshold { turn / p.max_turn_rate } else { 0.0 };
+        let t_turn = if turn > p.turn_threshold {
+            turn / p.max_turn_rate
+        } else {
+            0.0
+        };
         let slow = p.turn_slowdown * p.speed;
-        let travelled = |t: Real| if t <= t_turn { slow * t } else { slow * t_turn + p.speed * (t - t_turn) };
+        let travelled = |t: Real| {
+            if t <= t_turn {
+                slow * t
+            } else {
+                slow * t_turn + p.speed * (t - t_turn)
+            }
+        };
 
         s.positions.push(g.waypoints[0]);
         s.speeds.push(0.0);
@@ -334,7 +383,11 @@ impl Pgp {
     fn trajectory(&self) -> Vec<TrajectorySample> {
         let s = &self.sampled;
         (1..s.positions.len())
-            .map(|i| TrajectorySample { t: i as Real * self.params.dt, position: s.positions[i], sigma: s.sigma[i] })
+            .map(|i| TrajectorySample {
+                t: i as Real * self.params.dt,
+                position: s.positions[i],
+                sigma: s.sigma[i],
+            })
             .collect()
     }
 }

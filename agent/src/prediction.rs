@@ -23,7 +23,12 @@ pub struct SigmaModel {
 impl Default for SigmaModel {
     /// The paper's values: σ0 = 0.1666, β = 3.0, γ = 0.4, δ = 0.015.
     fn default() -> Self {
-        Self { sigma0: 0.1666, beta: 3.0, gamma: 0.4, delta: 0.015 }
+        Self {
+            sigma0: 0.1666,
+            beta: 3.0,
+            gamma: 0.4,
+            delta: 0.015,
+        }
     }
 }
 
@@ -59,7 +64,13 @@ pub struct Track {
 
 /// Extrapolates a neighbour with constant speed and constant turn rate onto t = i·dt,
 /// i = 0..=n, writing into `track` (reusing its buffers).
-pub fn extrapolate_ctrv(neighbour: &Neighbour, dt: Real, n: usize, model: &SigmaModel, track: &mut Track) {
+pub fn extrapolate_ctrv(
+    neighbour: &Neighbour,
+    dt: Real,
+    n: usize,
+    model: &SigmaModel,
+    track: &mut Track,
+) {
     let speed = neighbour.velocity.norm();
     let heading = angle_of(&neighbour.velocity);
     let omega = neighbour.yaw_rate;
@@ -67,7 +78,9 @@ pub fn extrapolate_ctrv(neighbour: &Neighbour, dt: Real, n: usize, model: &Sigma
     track.positions.reserve(n + 1);
     for i in 0..=n {
         let t = i as Real * dt;
-        track.positions.push(neighbour.position + ctrv_offset(speed, heading, omega, t));
+        track
+            .positions
+            .push(neighbour.position + ctrv_offset(speed, heading, omega, t));
     }
     // Constant speed: every step grows σ by δ·|v| up to the cap.
     let cap = model.sigma_max(speed);
@@ -124,22 +137,38 @@ pub fn resample_intent(
         let (p, s) = if i == 0 {
             (neighbour.position, model.sigma0)
         } else if samples.is_empty() {
-            (neighbour.position + tail_velocity * t, model.sigma0 + model.delta * tail_speed * i as Real)
+            (
+                neighbour.position + tail_velocity * t,
+                model.sigma0 + model.delta * tail_speed * i as Real,
+            )
         } else if t <= first_t {
             let w = if first_t > 0.0 { t / first_t } else { 1.0 };
             let s0 = &samples[0];
-            (neighbour.position + (s0.position - neighbour.position) * w, model.sigma0 + (s0.sigma - model.sigma0) * w)
+            (
+                neighbour.position + (s0.position - neighbour.position) * w,
+                model.sigma0 + (s0.sigma - model.sigma0) * w,
+            )
         } else if let Some(last) = last.filter(|l| t >= l.t) {
             let extra_steps = (t - last.t) / dt;
-            (last.position + tail_velocity * (t - last.t), last.sigma + model.delta * tail_speed * extra_steps)
+            (
+                last.position + tail_velocity * (t - last.t),
+                last.sigma + model.delta * tail_speed * extra_steps,
+            )
         } else {
             while seg + 1 < samples.len() && samples[seg + 1].t < t {
                 seg += 1;
             }
             let (a, b) = (&samples[seg], &samples[(seg + 1).min(samples.len() - 1)]);
             let span = b.t - a.t;
-            let w = if span > 0.0 { ((t - a.t) / span).clamp(0.0, 1.0) } else { 0.0 };
-            (a.position + (b.position - a.position) * w, a.sigma + (b.sigma - a.sigma) * w)
+            let w = if span > 0.0 {
+                ((t - a.t) / span).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (
+                a.position + (b.position - a.position) * w,
+                a.sigma + (b.sigma - a.sigma) * w,
+            )
         };
         track.positions.push(p);
         // Announced σ may exceed the model's cap; the announcement wins, but never below σ0.
@@ -196,7 +225,11 @@ mod tests {
         let mut n = Neighbour::new(1, vec2(0.0, 0.0), vec2(1.0, 0.0), 0.3, AgentKind::Robot);
         n.intent = Some(SharedIntent {
             samples: (1..=4)
-                .map(|i| TrajectorySample { t: i as f64 * 0.5, position: vec2(0.0, i as f64 * 0.5), sigma: 0.2 })
+                .map(|i| TrajectorySample {
+                    t: i as f64 * 0.5,
+                    position: vec2(0.0, i as f64 * 0.5),
+                    sigma: 0.2,
+                })
                 .collect(),
         });
         let mut track = Track::default();

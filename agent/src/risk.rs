@@ -21,7 +21,12 @@ pub fn collision_probability(
 
 /// Eq. 2: cooperation factor τ = (σ_0,ego / σ_i,ego) · (σ_0,k / σ_i,k) ≤ 1.
 #[inline]
-pub fn cooperation_factor(sigma_ego_i: Real, sigma_k_i: Real, sigma_ego_0: Real, sigma_k_0: Real) -> Real {
+pub fn cooperation_factor(
+    sigma_ego_i: Real,
+    sigma_k_i: Real,
+    sigma_ego_0: Real,
+    sigma_k_0: Real,
+) -> Real {
     (sigma_ego_0 / sigma_ego_i) * (sigma_k_0 / sigma_k_i)
 }
 
@@ -94,7 +99,8 @@ mod tests {
     #[test]
     fn eq3_is_product_of_eq1_and_eq2() {
         let p = cooperative_collision_probability(0.3, 0.2, 0.25, S0, S0);
-        let q = collision_probability(0.3, 0.2, 0.25, S0, S0) * cooperation_factor(0.2, 0.25, S0, S0);
+        let q =
+            collision_probability(0.3, 0.2, 0.25, S0, S0) * cooperation_factor(0.2, 0.25, S0, S0);
         assert_eq!(p, q);
         assert_eq!(cooperative_collision_probability(0.0, S0, S0, S0, S0), 1.0);
     }

@@ -4,7 +4,13 @@ use crate::math::vec2;
 use crate::model::AgentKind;
 
 fn ego_at_origin() -> EgoState {
-    EgoState { position: vec2(0.0, 0.0), heading: 0.0, velocity: vec2(1.0, 0.0), yaw_rate: 0.0, radius: 0.3 }
+    EgoState {
+        position: vec2(0.0, 0.0),
+        heading: 0.0,
+        velocity: vec2(1.0, 0.0),
+        yaw_rate: 0.0,
+        radius: 0.3,
+    }
 }
 
 fn standing(id: u64, x: Real, y: Real) -> Neighbour {
@@ -20,14 +26,28 @@ fn fan_has_22_candidates_over_the_papers_angles() {
     let d = plan(&[], &StaticMap::empty());
     let fan = d.fan.expect("fan recorded by default");
     assert_eq!(fan.candidates.len(), 22);
-    let degrees: Vec<i64> = fan.candidates.iter().step_by(2).map(|c| c.alpha.to_degrees().round() as i64).collect();
-    assert_eq!(degrees, vec![-80, -64, -48, -32, -16, 0, 16, 32, 48, 64, 80]);
+    let degrees: Vec<i64> = fan
+        .candidates
+        .iter()
+        .step_by(2)
+        .map(|c| c.alpha.to_degrees().round() as i64)
+        .collect();
+    assert_eq!(
+        degrees,
+        vec![-80, -64, -48, -32, -16, 0, 16, 32, 48, 64, 80]
+    );
     for c in &fan.candidates {
         assert_eq!(c.positions.len(), 33);
         assert_eq!(c.survival.len(), 33);
-        assert!(c.survival.windows(2).all(|w| w[1] <= w[0]), "survival must not increase");
+        assert!(
+            c.survival.windows(2).all(|w| w[1] <= w[0]),
+            "survival must not increase"
+        );
     }
-    assert!((fan.pgp_goal - vec2(8.0, 0.0)).norm() < 1e-12, "d_goal = 8 m along the goal line");
+    assert!(
+        (fan.pgp_goal - vec2(8.0, 0.0)).norm() < 1e-12,
+        "d_goal = 8 m along the goal line"
+    );
 }
 
 #[test]
@@ -76,11 +96,27 @@ fn picks_the_open_gap_in_a_wall_of_pedestrians() {
     let fan = d.fan.expect("fan");
     let best = &fan.candidates[fan.best];
     // Where the chosen candidate crosses the wall line.
-    let crossing = best.positions.windows(2).find(|w| w[0].x < 4.0 && w[1].x >= 4.0).expect("crosses x = 4");
-    assert!((1.2..=2.7).contains(&crossing[1].y), "crosses at y = {}, not in the gap", crossing[1].y);
-    assert!(best.alpha > 0.0 && d.subgoal.y > 0.5, "subgoal {:?} should lean towards the gap", d.subgoal);
+    let crossing = best
+        .positions
+        .windows(2)
+        .find(|w| w[0].x < 4.0 && w[1].x >= 4.0)
+        .expect("crosses x = 4");
+    assert!(
+        (1.2..=2.7).contains(&crossing[1].y),
+        "crosses at y = {}, not in the gap",
+        crossing[1].y
+    );
+    assert!(
+        best.alpha > 0.0 && d.subgoal.y > 0.5,
+        "subgoal {:?} should lean towards the gap",
+        d.subgoal
+    );
     // It beats going straight into the wall.
-    let straight = fan.candidates.iter().find(|c| c.alpha == 0.0).expect("straight candidate");
+    let straight = fan
+        .candidates
+        .iter()
+        .find(|c| c.alpha == 0.0)
+        .expect("straight candidate");
     assert!(best.expected_utility > straight.expected_utility + 1.0);
 }
 
@@ -89,21 +125,49 @@ fn passes_behind_a_crossing_pedestrian_like_fig_6() {
     // Paper Fig. 6: the person crosses the robot's path ahead of it, towards the robot's
     // right; PGP biases to the left, behind them. They reach the goal line at t = 3 s, when
     // the robot is 1 m short of their crossing point.
-    let walker = |vy: Real| vec![Neighbour::new(7, vec2(4.0, -3.0 * vy), vec2(0.0, vy), 0.35, AgentKind::Human)];
+    let walker = |vy: Real| {
+        vec![Neighbour::new(
+            7,
+            vec2(4.0, -3.0 * vy),
+            vec2(0.0, vy),
+            0.35,
+            AgentKind::Human,
+        )]
+    };
     let to_right = plan(&walker(-1.0), &StaticMap::empty());
-    assert!(to_right.subgoal.y > 0.1, "subgoal {:?} should be on the left", to_right.subgoal);
+    assert!(
+        to_right.subgoal.y > 0.1,
+        "subgoal {:?} should be on the left",
+        to_right.subgoal
+    );
     let to_left = plan(&walker(1.0), &StaticMap::empty());
-    assert!(to_left.subgoal.y < -0.1, "subgoal {:?} should be on the right", to_left.subgoal);
+    assert!(
+        to_left.subgoal.y < -0.1,
+        "subgoal {:?} should be on the right",
+        to_left.subgoal
+    );
 }
 
 #[test]
 fn a_shelf_on_the_goal_line_lowers_survival_of_the_straight_candidate() {
-    let shelf = Obstacle::Polygon(vec![vec2(3.0, -0.5), vec2(5.0, -0.5), vec2(5.0, 0.5), vec2(3.0, 0.5)]);
+    let shelf = Obstacle::Polygon(vec![
+        vec2(3.0, -0.5),
+        vec2(5.0, -0.5),
+        vec2(5.0, 0.5),
+        vec2(3.0, 0.5),
+    ]);
     let map = StaticMap::new(vec![shelf]).expect("valid shelf");
     let d = plan(&[], &map);
     let fan = d.fan.expect("fan");
-    let straight = fan.candidates.iter().find(|c| c.alpha == 0.0).expect("straight");
-    assert!(straight.survival[32] < 1e-3, "driving through a shelf must not survive");
+    let straight = fan
+        .candidates
+        .iter()
+        .find(|c| c.alpha == 0.0)
+        .expect("straight");
+    assert!(
+        straight.survival[32] < 1e-3,
+        "driving through a shelf must not survive"
+    );
     assert_ne!(fan.candidates[fan.best].alpha, 0.0);
 }
 
@@ -117,18 +181,34 @@ fn shared_intent_changes_the_prediction_pgp_uses() {
         samples: (1..=16)
             .map(|i| {
                 let t = i as Real * 0.25;
-                TrajectorySample { t, position: vec2(4.0, (3.0 - t).max(0.0)), sigma: 0.1666 }
+                TrajectorySample {
+                    t,
+                    position: vec2(4.0, (3.0 - t).max(0.0)),
+                    sigma: 0.1666,
+                }
             })
             .collect(),
     });
     let shared = plan(&[robot], &StaticMap::empty());
-    let u = |d: &PgpDecision| d.fan.as_ref().map(|f| f.candidates[10].expected_utility).expect("fan");
-    assert!(u(&shared) < u(&still), "the announced crossing must make the straight line riskier");
+    let u = |d: &PgpDecision| {
+        d.fan
+            .as_ref()
+            .map(|f| f.candidates[10].expected_utility)
+            .expect("fan")
+    };
+    assert!(
+        u(&shared) < u(&still),
+        "the announced crossing must make the straight line riskier"
+    );
 }
 
 #[test]
 fn same_input_same_output() {
-    let crowd: Vec<_> = (0..30).map(|i| standing(i, 2.0 + (i % 6) as Real, -3.0 + (i / 6) as Real * 1.3)).collect();
-    assert_eq!(plan(&crowd, &StaticMap::empty()), plan(&crowd, &StaticMap::empty()));
+    let crowd: Vec<_> = (0..30)
+        .map(|i| standing(i, 2.0 + (i % 6) as Real, -3.0 + (i / 6) as Real * 1.3))
+        .collect();
+    assert_eq!(
+        plan(&crowd, &StaticMap::empty()),
+        plan(&crowd, &StaticMap::empty())
+    );
 }
-
