@@ -7,6 +7,7 @@
 //! vertex `i`.
 
 use crate::math::{Real, Vec2, det};
+use crate::social_force::ObstaclePoints;
 use parry2d_f64::bounding_volume::Aabb;
 use parry2d_f64::math::{Isometry, Point, Vector};
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
@@ -71,6 +72,8 @@ pub struct StaticMap {
     polygons: Vec<(Aabb, Vec<Vec2>)>,
     /// For each vertex, the index into `polygons` of its obstacle (`None` for walls).
     vertex_polygon: Vec<Option<usize>>,
+    /// Social Force wall points, sampled on first use at the default resolution.
+    sampled: std::sync::OnceLock<ObstaclePoints>,
 }
 
 /// The edges and polygons near a region, gathered once so that a planner can query many
@@ -190,6 +193,7 @@ impl StaticMap {
             polyline,
             polygons,
             vertex_polygon,
+            sampled: Default::default(),
         })
     }
 
@@ -268,6 +272,20 @@ impl StaticMap {
                     local.polygons.push(p);
                 }
             }
+        }
+    }
+
+    /// The Social Force model's wall points at `resolution` per metre; cached for
+    /// PySocialForce's default of 10.
+    pub fn sampled_points(&self, resolution: Real) -> std::borrow::Cow<'_, ObstaclePoints> {
+        const DEFAULT_RESOLUTION: Real = 10.0;
+        if resolution == DEFAULT_RESOLUTION {
+            std::borrow::Cow::Borrowed(
+                self.sampled
+                    .get_or_init(|| ObstaclePoints::from_map(self, resolution)),
+            )
+        } else {
+            std::borrow::Cow::Owned(ObstaclePoints::from_map(self, resolution))
         }
     }
 

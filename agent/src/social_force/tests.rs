@@ -1,0 +1,115 @@
+use super::*;
+
+const EPS: Real = 1e-12;
+
+#[test]
+fn desired_force_relaxes_towards_max_speed_along_goal_direction() {
+    let p = SfParams::default().desired;
+    // At rest, goal along +x, max speed 1.3: F = (1.3, 0) / 0.5.
+    let f = desired_force(vec2(0.0, 0.0), vec2(0.0, 0.0), vec2(5.0, 0.0), 1.3, &p);
+    assert!((f - vec2(2.6, 0.0)).norm() < EPS);
+    // Moving sideways at 1 m/s: F = ((1.3, 0) − (0, 1)) / 0.5.
+    let f = desired_force(vec2(0.0, 0.0), vec2(0.0, 1.0), vec2(5.0, 0.0), 1.3, &p);
+    assert!((f - vec2(2.6, -2.0)).norm() < EPS);
+    // Within the goal threshold it only brakes.
+    let f = desired_force(vec2(0.0, 0.0), vec2(0.4, 0.0), vec2(0.1, 0.0), 1.3, &p);
+    assert!((f - vec2(-0.8, 0.0)).norm() < EPS);
+}
+
+#[test]
+fn social_force_hand_computed_head_on() {
+    // a at origin, b 2 m ahead on +x, both still: D = λ·0 + e(a−b) = (−1, 0), ‖D‖ = 1,
+    // B = γ = 0.35, θ = π − π = 0, so only the deceleration term acts:
+    // f = exp(−2/0.35)·(−1, 0).
+    let p = SfParams::default().social;
+    let f = social_force_pair(
+        vec2(0.0, 0.0),
+        vec2(0.0, 0.0),
+        vec2(2.0, 0.0),
+        vec2(0.0, 0.0),
+        &p,
+    );
+    let expected = vec2(-(-2.0f64 / 0.35).exp(), 0.0);
+    assert!((f - expected).norm() < EPS, "{f:?} vs {expected:?}");
+}
+
+#[test]
+fn social_force_hand_computed_with_angle() {
+    // a at origin moving +x at 1 m/s, b at (2, 1) still. e = (a−b)/‖a−b‖ = (−2, −1)/√5;
+    // D = λ(v_b − v_a) + e = 2·(−1, 0) + e; B = γ‖D‖; θ = atan2(D) − atan2(e).
+    let p = SfParams::default().social;
+    let e = vec2(-2.0, -1.0) / 5f64.sqrt();
+    let d = vec2(-2.0, 0.0) + e;
+    let t = d / d.norm();
+    let b = 0.35 * d.norm();
+    let theta = t.y.atan2(t.x) - e.y.atan2(e.x);
+    let dist = 5f64.sqrt();
+    let fv = (-dist / b - (3.0 * b * theta).powi(2)).exp();
+    let fa = -theta.signum() * (-dist / b - (2.0 * b * theta).powi(2)).exp();
+    let expected = t * fv + vec2(-t.y, t.x) * fa;
+    let f = social_force_pair(
+        vec2(0.0, 0.0),
+        vec2(1.0, 0.0),
+        vec2(2.0, 1.0),
+        vec2(0.0, 0.0),
+        &p,
+    );
+    assert!((f - expected).norm() < EPS);
+    assert!(
+        f.norm() > 1e-4,
+        "the force must not vanish in this configuration"
+    );
+}
+
+#[test]
+fn obstacle_points_follow_pysocialforce_linspace() {
+    // A 1 m line at resolution 10: int(10) = 10 points from start to end inclusive.
+    let pts = ObstaclePoints::from_segments([(vec2(0.0, 0.0), vec2(1.0, 0.0))], 10.0);
+    assert_eq!(pts.points().len(), 10);
+    assert_eq!(pts.points()[0], vec2(0.0, 0.0));
+    assert_eq!(pts.points()[9], vec2(1.0, 0.0));
+    assert!((pts.points()[1].x - 1.0 / 9.0).abs() < EPS);
+}
+
+#[test]
+fn obstacle_force_hand_computed_single_point() {
+    // One point 1 m below: dist = 1 − 0.35 = 0.65 < 3.35, F = 10·exp(−0.65/0.2)·(0, 1).
+    let p = SfParams::default().obstacle;
+    let f = obstacle_force(vec2(0.0, 1.0), &[vec2(0.0, 0.0)], 0.35, &p);
+    assert!((f - vec2(0.0, 10.0 * (-0.65f64 / 0.2).exp())).norm() < EPS);
+    // Out of range: nothing.
+    let f = obstacle_force(vec2(0.0, 4.0), &[vec2(0.0, 0.0)], 0.35, &p);
+    assert_eq!(f, vec2(0.0, 0.0));
+}
+
+#[test]
+fn group_forces_hand_computed_for_a_pair() {
+    // Two members 2 m apart, both heading to +x goals 10 m away; no other forces by setting
+    // their weights to zero.
+    let mut p = SfParams::default();
+    p.desired.factor = 0.0;
+    p.social.factor = 0.0;
+    p.obstacle.factor = 0.0;
+    let crowd = Crowd::new(
+        vec![vec2(0.0, 0.0), vec2(0.0, 2.0)],
+        vec![vec2(1.0, 0.0), vec2(1.0, 0.0)],
+        vec![vec2(10.0, 0.0), vec2(10.0, 2.0)],
+        vec![vec![0, 1]],
+        &p,
+    );
+    let mut f = Vec::new();
+    crowd.forces(&ObstaclePoints::default(), &p, &mut f);
+    // Coherence: com − p = (0, 1), threshold 0.5: softened = (tanh(0 − 0.5) + 1) / 2 (PySF
+    // measures the distance as 0), weight 1. Repulsion: 2 m > 0.55, none. Gaze:
+    // e·com_dir = 0, none.
+    let expected = ((-0.5f64).tanh() + 1.0) / 2.0;
+    assert!((f[0] - vec2(0.0, expected)).norm() < EPS);
+    assert!((f[1] - vec2(0.0, -expected)).norm() < EPS);
+}
+
+#[test]
+fn capped_velocity_scales_down_only() {
+    assert!((capped_velocity(vec2(3.0, 4.0), 1.0) - vec2(0.6, 0.8)).norm() < EPS);
+    assert_eq!(capped_velocity(vec2(0.3, 0.4), 1.0), vec2(0.3, 0.4));
+    assert_eq!(capped_velocity(vec2(0.0, 0.0), 1.0), vec2(0.0, 0.0));
+}
