@@ -1,1 +1,378 @@
-//! placeholder
+//! One interface for every planner: [`PlannerStack`] runs an optional long-term planner (PGP)
+//! and a short-term planner (DWA, ORCA or Social Force); PGP's subgoal becomes the short-term
+//! planner's goal. Planners are named as on the command line: `dwa`, `orca`, `sf`,
+//! `pgp+dwa`, `pgp+orca`, `pgp+sf`.
+
+use crate::dwa::{Dwa, DwaParams};
+use crate::map::StaticMap;
+use crate::math::{Real, Vec2, clamp_norm};
+use crate::model::{Command, EgoState, Intent, Neighbour, Plan, TrajectorySample};
+use crate::orca::{Body, Orca, OrcaParams, V};
+use crate::pgp::{Pgp, PgpParams};
+use crate::prediction::SigmaModel;
+use crate::social_force::{SfAgentParams, SocialForceAgent};
+use std::fmt;
+use std::str::FromStr;
+
+/// Everything a planner sees in one step.
+#[derive(Debug, Clone, Copy)]
+pub struct PlanningInput<'a> {
+    /// The robot.
+    pub ego: &'a EgoState,
+    /// What it perceives around it.
+    pub neighbours: &'a [Neighbour],
+    /// Walls and shelves.
+    pub map: &'a StaticMap,
+    /// Where it wants to go.
+    pub goal: Vec2,
+    /// Control period: time until the next plan (s).
+    pub dt: Real,
+}
+
+/// The short-term planners.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum LocalKind {
+    /// Predictive Dynamic Window Approach.
+    Dwa,
+    /// Optimal Reciprocal Collision Avoidance.
+    Orca,
+    /// Social Force agent.
+    SocialForce,
+}
+
+/// Which planners a stack runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct PlannerSpec {
+    /// Whether PGP picks the short-term planner's goal.
+    pub pgp: bool,
+    /// The short-term planner.
+    pub local: LocalKind,
+}
+
+impl PlannerSpec {
+    /// The six planners of the PGP paper's study, baselines first.
+    pub const STUDY: [PlannerSpec; 6] = [
+        PlannerSpec {
+            pgp: false,
+            local: LocalKind::Dwa,
+        },
+        PlannerSpec {
+            pgp: false,
+            local: LocalKind::Orca,
+        },
+        PlannerSpec {
+            pgp: false,
+            local: LocalKind::SocialForce,
+        },
+        PlannerSpec {
+            pgp: true,
+            local: LocalKind::Dwa,
+        },
+        PlannerSpec {
+            pgp: true,
+            local: LocalKind::Orca,
+        },
+        PlannerSpec {
+            pgp: true,
+            local: LocalKind::SocialForce,
+        },
+    ];
+}
+
+/// A planner name that is not one of ours.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown planner {0:?}; expected one of dwa, orca, sf, pgp+dwa, pgp+orca, pgp+sf")]
+pub struct UnknownPlanner(pub String);
+
+impl FromStr for PlannerSpec {
+    type Err = UnknownPlanner;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let lower = s.trim().to_ascii_lowercase();
+        let (pgp, local) = match lower.strip_prefix("pgp+") {
+            Some(rest) => (true, rest),
+            None => (false, lower.as_str()),
+        };
+        let local = match local {
+            "dwa" => LocalKind::Dwa,
+            "orca" => LocalKind::Orca,
+            "sf" | "social-force" => LocalKind::SocialForce,
+            _ => return Err(UnknownPlanner(s.to_string())),
+        };
+        Ok(Self { pgp, local })
+    }
+}
+
+impl fmt::Display for PlannerSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let local = match self.local {
+            LocalKind::Dwa => "dwa",
+            LocalKind::Orca => "orca",
+            LocalKind::SocialForce => "sf",
+        };
+        if self.pgp {
+            write!(f, "pgp+{local}")
+        } else {
+            f.write_str(local)
+        }
+    }
+}
+
+/// What a short-term planner returns: the command and the trajectory it expects.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LocalPlan {
+    /// The command.
+    pub command: Command,
+    /// The short-term trajectory with σ.
+    pub trajectory: Vec<TrajectorySample>,
+}
+
+/// A short-term (cooperative) collision-avoidance planner driving towards a target.
+pub trait LocalPlanner: Send + fmt::Debug {
+    /// v^max,CCA · t^plan,CCA: where PGP should put the subgoal (m).
+    fn subgoal_distance(&self) -> Real;
+    /// One step towards `target`.
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan;
+}
+
+impl LocalPlanner for Dwa {
+    fn subgoal_distance(&self) -> Real {
+        self.params().v_max * self.params().t_plan
+    }
+
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
+        let c = Dwa::plan(
+            self,
+            input.ego,
+            input.neighbours,
+            input.map,
+            target,
+            input.dt,
+        );
+        LocalPlan {
+            command: Command::Unicycle {
+                speed: c.speed,
+                yaw_rate: c.yaw_rate,
+            },
+            trajectory: c.trajectory,
+        }
+    }
+}
+
+/// ORCA as a planner: RVO2's preferred velocity towards the target, capped at v^max, with
+/// the ego's radius inflated by a safety margin.
+#[derive(Debug, Clone)]
+pub struct OrcaPlanner {
+    orca: Orca<f64>,
+    others: Vec<Body<f64>>,
+    sigma: SigmaModel,
+    /// Added to the ego's radius (m). ORCA leaves exactly the combined radius between agents
+    /// that both follow it; people do not, so a robot needs some room. Not in the paper; ours.
+    pub safety_margin: Real,
+}
+
+impl OrcaPlanner {
+    /// A planner with the given parameters.
+    pub fn new(params: OrcaParams) -> Self {
+        Self {
+            orca: Orca::new(params),
+            others: Vec::new(),
+            sigma: SigmaModel::default(),
+            safety_margin: 0.1,
+        }
+    }
+}
+
+impl LocalPlanner for OrcaPlanner {
+    fn subgoal_distance(&self) -> Real {
+        self.orca.params().max_speed * self.orca.params().time_horizon
+    }
+
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
+        let p = *self.orca.params();
+        let body = |position: &Vec2, velocity: &Vec2, radius: Real| Body {
+            position: V::from_vec2(position),
+            velocity: V::from_vec2(velocity),
+            radius,
+        };
+        let ego = body(
+            &input.ego.position,
+            &input.ego.velocity,
+            input.ego.radius + self.safety_margin,
+        );
+        self.others.clear();
+        self.others.extend(
+            input
+                .neighbours
+                .iter()
+                .map(|n| body(&n.position, &n.velocity, n.radius)),
+        );
+        let pref = clamp_norm(target - input.ego.position, p.max_speed);
+        let v = self
+            .orca
+            .new_velocity(&ego, V::from_vec2(&pref), &self.others, input.map)
+            .to_vec2();
+        LocalPlan {
+            command: Command::Velocity(v),
+            trajectory: straight(input.ego.position, v, p.time_horizon, 0.25, &self.sigma),
+        }
+    }
+}
+
+/// The Social Force agent as a planner.
+#[derive(Debug, Clone)]
+pub struct SfPlanner {
+    agent: SocialForceAgent,
+    sigma: SigmaModel,
+    /// t^plan for the subgoal distance; Table I gives none for SF, so DWA's 2 s is used.
+    t_plan: Real,
+}
+
+impl SfPlanner {
+    /// A planner with the given parameters.
+    pub fn new(params: SfAgentParams) -> Self {
+        Self {
+            agent: SocialForceAgent::new(params),
+            sigma: SigmaModel::default(),
+            t_plan: 2.0,
+        }
+    }
+}
+
+impl LocalPlanner for SfPlanner {
+    fn subgoal_distance(&self) -> Real {
+        self.agent.params().max_speed * self.t_plan
+    }
+
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
+        let v = self
+            .agent
+            .command(input.ego, input.neighbours, input.map, target, input.dt);
+        LocalPlan {
+            command: Command::Velocity(v),
+            trajectory: straight(input.ego.position, v, self.t_plan, 0.25, &self.sigma),
+        }
+    }
+}
+
+/// A constant-velocity trajectory with σ growth, t = dt..=horizon.
+fn straight(
+    start: Vec2,
+    v: Vec2,
+    horizon: Real,
+    dt: Real,
+    sigma: &SigmaModel,
+) -> Vec<TrajectorySample> {
+    let speed = v.norm();
+    let cap = sigma.sigma_max(speed);
+    let mut s = sigma.sigma0;
+    let steps = (horizon / dt).round() as usize;
+    (1..=steps)
+        .map(|i| {
+            let t = i as Real * dt;
+            s = cap.min(s + sigma.delta * speed);
+            TrajectorySample {
+                t,
+                position: start + v * t,
+                sigma: s,
+            }
+        })
+        .collect()
+}
+
+/// A full planner stack: optional PGP on top of one short-term planner.
+#[derive(Debug)]
+pub struct PlannerStack {
+    spec: PlannerSpec,
+    pgp: Option<Pgp>,
+    local: Box<dyn LocalPlanner>,
+}
+
+impl PlannerStack {
+    /// The stack `spec` with the PGP paper's parameters.
+    pub fn new(spec: PlannerSpec) -> Self {
+        let local: Box<dyn LocalPlanner> = match spec.local {
+            LocalKind::Dwa => Box::new(Dwa::new(DwaParams::default())),
+            LocalKind::Orca => Box::new(OrcaPlanner::new(OrcaParams::default())),
+            LocalKind::SocialForce => Box::new(SfPlanner::new(SfAgentParams::default())),
+        };
+        let pgp = spec.pgp.then(|| {
+            Pgp::new(PgpParams {
+                subgoal_distance: local.subgoal_distance(),
+                ..PgpParams::default()
+            })
+        });
+        Self { spec, pgp, local }
+    }
+
+    /// A stack with explicit PGP parameters (its subgoal distance is used as given).
+    pub fn with_pgp(spec: PlannerSpec, pgp: PgpParams) -> Self {
+        let mut stack = Self::new(spec);
+        if stack.pgp.is_some() {
+            stack.pgp = Some(Pgp::new(pgp));
+        }
+        stack
+    }
+
+    /// Which planners run.
+    pub fn spec(&self) -> PlannerSpec {
+        self.spec
+    }
+
+    /// One planning step.
+    pub fn plan(&mut self, input: &PlanningInput<'_>) -> Plan {
+        match &mut self.pgp {
+            Some(pgp) => {
+                let decision = pgp.plan(input.ego, input.neighbours, input.map, input.goal);
+                let local = self.local.plan(input, decision.subgoal);
+                Plan {
+                    command: local.command,
+                    intent: Intent {
+                        subgoal: decision.subgoal,
+                        trajectory: decision.trajectory,
+                    },
+                    fan: decision.fan,
+                }
+            }
+            None => {
+                let local = self.local.plan(input, input.goal);
+                Plan {
+                    command: local.command,
+                    intent: Intent {
+                        subgoal: input.goal,
+                        trajectory: local.trajectory,
+                    },
+                    fan: None,
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn planner_names_round_trip() {
+        for spec in PlannerSpec::STUDY {
+            assert_eq!(spec.to_string().parse::<PlannerSpec>(), Ok(spec));
+        }
+        assert_eq!(
+            "PGP+ORCA".parse::<PlannerSpec>().map(|s| s.to_string()),
+            Ok("pgp+orca".to_string())
+        );
+        let err = "pgp+rrt".parse::<PlannerSpec>().unwrap_err();
+        assert!(err.to_string().contains("pgp+rrt") && err.to_string().contains("pgp+sf"));
+    }
+
+    #[test]
+    fn pgp_subgoal_distance_is_the_short_term_planners_reach() {
+        // Table I: DWA 1 m/s · 2 s, ORCA 1 m/s · 2.5 s.
+        assert_eq!(Dwa::new(DwaParams::default()).subgoal_distance(), 2.0);
+        assert_eq!(
+            OrcaPlanner::new(OrcaParams::default()).subgoal_distance(),
+            2.5
+        );
+    }
+}
