@@ -105,19 +105,15 @@ pub struct DwaChoice {
     pub admissible: bool,
 }
 
-/// A linearly predicted neighbour, relative to the ego's start.
-#[derive(Debug, Clone, Copy)]
-struct Mover {
-    position: Vec2,
-    velocity: Vec2,
-    radius: Real,
-}
-
 /// The predictive DWA with reusable buffers.
 #[derive(Debug, Clone, Default)]
 pub struct Dwa {
     params: DwaParams,
-    movers: Vec<Mover>,
+    /// Relevant neighbours' linear predictions at t = i·dt, i = 1..=steps, step-major
+    /// (index (i − 1)·M + m), and their radii.
+    mover_x: Vec<Real>,
+    mover_y: Vec<Real>,
+    mover_radius: Vec<Real>,
     local: LocalMap,
 }
 
@@ -169,16 +165,26 @@ impl Dwa {
         let steps = (p.t_plan / p.dt).round() as usize;
         let reach = window.v.1 * p.t_plan + ego.radius;
 
-        // Only neighbours that can come within reach over the horizon matter.
-        self.movers.clear();
-        for nb in neighbours {
-            let gap = (nb.position - ego.position).norm() - ego.radius - nb.radius;
-            if gap < reach + nb.velocity.norm() * p.t_plan {
-                self.movers.push(Mover {
-                    position: nb.position,
-                    velocity: nb.velocity,
-                    radius: nb.radius,
-                });
+        // Only neighbours that can come within reach over the horizon matter; their linear
+        // predictions are computed once for all arcs.
+        self.mover_radius.clear();
+        self.mover_x.clear();
+        self.mover_y.clear();
+        let relevant: Vec<&Neighbour> = neighbours
+            .iter()
+            .filter(|nb| {
+                let gap = (nb.position - ego.position).norm() - ego.radius - nb.radius;
+                gap < reach + p.clearance_cap + nb.velocity.norm() * p.t_plan
+            })
+            .collect();
+        self.mover_radius
+            .extend(relevant.iter().map(|nb| nb.radius));
+        for i in 1..=steps {
+            let t = i as Real * p.dt;
+            for nb in &relevant {
+                let q = nb.position + nb.velocity * t;
+                self.mover_x.push(q.x);
+                self.mover_y.push(q.y);
             }
         }
         let corner = Vec2::new(reach, reach);
@@ -240,9 +246,19 @@ impl Dwa {
             } else {
                 self.local.distance(map, &pos) - ego.radius
             };
-            for m in &self.movers {
-                let d = (pos - (m.position + m.velocity * t)).norm() - ego.radius - m.radius;
-                clearance = clearance.min(d);
+            let m = self.mover_radius.len();
+            let row = (i - 1) * m..i * m;
+            let movers = self.mover_x[row.clone()]
+                .iter()
+                .zip(&self.mover_y[row])
+                .zip(&self.mover_radius);
+            for ((&x, &y), &r) in movers {
+                let (dx, dy) = (pos.x - x, pos.y - y);
+                let reach = ego.radius + r + p.clearance_cap;
+                // Beyond the clearance cap the exact distance does not matter.
+                if dx * dx + dy * dy < reach * reach {
+                    clearance = clearance.min((dx * dx + dy * dy).sqrt() - ego.radius - r);
+                }
             }
             if clearance <= p.safety_margin {
                 return None;

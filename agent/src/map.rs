@@ -267,10 +267,10 @@ impl StaticMap {
                 continue;
             }
             local.segments.push((v.point, self.vertices[v.next].point));
-            if let Some(p) = self.vertex_polygon[i] {
-                if !local.polygons.contains(&p) {
-                    local.polygons.push(p);
-                }
+            if let Some(p) = self.vertex_polygon[i]
+                && !local.polygons.contains(&p)
+            {
+                local.polygons.push(p);
             }
         }
     }

@@ -10,11 +10,7 @@ use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, angle_of, rotate, unit, wrap_angle};
 use crate::model::{EgoState, Neighbour, TrajectorySample};
 use crate::prediction::{SigmaModel, Track, predict};
-use crate::risk::static_collision_probability;
-
-/// Terms of Eq. 1 whose exponent is below −40 (≈ 4·10⁻¹⁸, under half an ulp of p^escape) are
-/// skipped: they cannot change the hazard sum.
-const EXPONENT_CUTOFF: Real = 40.0;
+use crate::risk::{exp_neg, static_collision_probability};
 /// Edges farther than this many σ_max from every sample add less than erfc(7) ≈ 4·10⁻²³
 /// static risk, so they are not gathered.
 const STATIC_RANGE_SIGMAS: Real = 10.0;
@@ -52,6 +48,10 @@ pub struct PgpParams {
     /// Distance of the subgoal along the best candidate's initial heading (m):
     /// v^max,CCA · t^plan,CCA of the short-term planner.
     pub subgoal_distance: Real,
+    /// Terms of Eq. 3 that are provably smaller than this are skipped (their exponent is
+    /// bounded by ln(factor / floor)). 0 evaluates every term. The default, 10⁻⁹, is 10⁻⁷ of
+    /// p^escape: far below anything that can change which candidate wins.
+    pub risk_floor: Real,
     /// Whether to return the evaluated fan with each plan.
     pub record_fan: bool,
 }
@@ -73,6 +73,7 @@ impl Default for PgpParams {
             sigma: SigmaModel::default(),
             p_escape: 0.01,
             subgoal_distance: 2.0,
+            risk_floor: 1e-9,
             record_fan: true,
         }
     }
@@ -115,13 +116,34 @@ pub struct PgpDecision {
     pub fan: Option<Fan>,
 }
 
-/// A sampled candidate: positions, per-interval speeds, utilities and ego σ, i = 0..=steps.
+/// Every candidate sampled at t = i·dt, i = 0..=steps, flattened candidate-major
+/// (index l·(steps + 1) + i): positions, per-interval speeds, utilities, ego σ.
 #[derive(Debug, Clone, Default)]
 struct Sampled {
     positions: Vec<Vec2>,
     speeds: Vec<Real>,
     utility: Vec<Real>,
     sigma: Vec<Real>,
+    /// Speed profile (index into `Pgp::profiles`) of each candidate.
+    profile: Vec<usize>,
+}
+
+/// What Eqs. 1–3 need besides positions, split so that tables stay small: per profile and
+/// step (index g·steps + j) the ego's σ², σ_0/σ_j and cull term; per step and neighbour
+/// (index j·K + k) the neighbour's σ², σ_0/σ_j and cull term; per neighbour σ_0².
+///
+/// A term factor · exp(−d²/(2σ̃)) with factor = (σ̃_0/σ̃)·τ ≤ (σ_0,ego/σ_j,ego)·(σ_0,k/σ_j,k)
+/// is below `risk_floor` once d² ≥ 2σ̃·(ego_cull + nb_cull), where ego_cull and nb_cull are
+/// upper bounds of ln((σ_0,ego/σ_j,ego)/floor) and ln(σ_0,k/σ_j,k).
+#[derive(Debug, Clone, Default)]
+struct PairTables {
+    ego_var: Vec<Real>,
+    ego_ratio: Vec<Real>,
+    ego_cull: Vec<Real>,
+    nb_var: Vec<Real>,
+    nb_ratio: Vec<Real>,
+    nb_cull: Vec<Real>,
+    nb_var0: Vec<Real>,
 }
 
 /// The Probabilistic Gap Planner with its reusable buffers.
@@ -129,13 +151,15 @@ struct Sampled {
 pub struct Pgp {
     params: PgpParams,
     tracks: Vec<Track>,
-    /// Neighbour predictions flattened step-major: index j·K + k.
-    nb_pos: Vec<Vec2>,
-    nb_var: Vec<Real>,
-    nb_sigma_ratio: Vec<Real>,
-    nb_var0: Vec<Real>,
+    /// Neighbour positions flattened step-major (index j·K + k).
+    nb_x: Vec<Real>,
+    nb_y: Vec<Real>,
     local: LocalMap,
     sampled: Sampled,
+    /// Distinct ego σ profiles, each `steps + 1` long.
+    profiles: Vec<Vec<Real>>,
+    tables: PairTables,
+    /// Hazards per candidate (index l·steps + j) and survival per candidate (l·(steps+1) + i).
     hazards: Vec<Real>,
     survival: Vec<Real>,
 }
@@ -175,42 +199,39 @@ impl Pgp {
         let dir = to_goal / dist_goal;
         let pgp_goal = p0 + dir * self.params.d_goal.min(dist_goal);
         let geometries = self.candidate_geometries(p0, dir, pgp_goal);
-        self.prepare(neighbours, map, p0, &geometries);
+        self.sample_all(ego, &geometries, pgp_goal);
+        self.predict(neighbours, map, p0, &geometries);
+        self.build_tables(neighbours.len());
+        let expected = self.evaluate_all(&geometries, neighbours.len(), map);
 
-        let mut best = (0, Real::NEG_INFINITY);
-        let mut fan = Vec::with_capacity(if self.params.record_fan {
-            geometries.len()
-        } else {
-            0
-        });
-        let mut best_trajectory = Vec::new();
-        for (c, geometry) in geometries.iter().enumerate() {
-            self.sample(ego, geometry, pgp_goal);
-            let expected = self.evaluate(neighbours.len(), map);
-            if expected > best.1 {
-                best = (c, expected);
-                best_trajectory = self.trajectory();
-            }
-            if self.params.record_fan {
-                fan.push(Candidate {
-                    alpha: geometry.alpha,
-                    d_outside: geometry.d_outside,
-                    positions: self.sampled.positions.clone(),
-                    survival: self.survival.clone(),
-                    expected_utility: expected,
-                });
+        // The first best wins ties, so the result does not depend on float noise order.
+        let mut best = 0;
+        for (l, &u) in expected.iter().enumerate() {
+            if u > expected[best] {
+                best = l;
             }
         }
-        let alpha = geometries[best.0].alpha;
-        let subgoal = p0 + rotate(&dir, alpha) * self.params.subgoal_distance.min(dist_goal);
-        let fan = self.params.record_fan.then_some(Fan {
+        let stride = self.params.steps + 1;
+        let fan = self.params.record_fan.then(|| Fan {
             pgp_goal,
-            candidates: fan,
-            best: best.0,
+            candidates: geometries
+                .iter()
+                .enumerate()
+                .map(|(l, g)| Candidate {
+                    alpha: g.alpha,
+                    d_outside: g.d_outside,
+                    positions: self.sampled.positions[l * stride..(l + 1) * stride].to_vec(),
+                    survival: self.survival[l * stride..(l + 1) * stride].to_vec(),
+                    expected_utility: expected[l],
+                })
+                .collect(),
+            best,
         });
+        let alpha = geometries[best].alpha;
+        let subgoal = p0 + rotate(&dir, alpha) * self.params.subgoal_distance.min(dist_goal);
         PgpDecision {
             subgoal,
-            trajectory: best_trajectory,
+            trajectory: self.trajectory(best),
             fan,
         }
     }
@@ -234,8 +255,32 @@ impl Pgp {
         out
     }
 
+    /// Samples every candidate and groups them by ego σ profile.
+    fn sample_all(&mut self, ego: &EgoState, geometries: &[Geometry], pgp_goal: Vec2) {
+        let n = self.params.steps;
+        let s = &mut self.sampled;
+        s.positions.clear();
+        s.speeds.clear();
+        s.utility.clear();
+        s.sigma.clear();
+        s.profile.clear();
+        self.profiles.clear();
+        for g in geometries {
+            sample(&self.params, ego, g, pgp_goal, s);
+            let sigma = &s.sigma[s.sigma.len() - (n + 1)..];
+            let profile = match self.profiles.iter().position(|q| q.as_slice() == sigma) {
+                Some(i) => i,
+                None => {
+                    self.profiles.push(sigma.to_vec());
+                    self.profiles.len() - 1
+                }
+            };
+            s.profile.push(profile);
+        }
+    }
+
     /// Predicts the neighbours and gathers the static geometry around the fan.
-    fn prepare(
+    fn predict(
         &mut self,
         neighbours: &[Neighbour],
         map: &StaticMap,
@@ -244,29 +289,18 @@ impl Pgp {
     ) {
         let p = &self.params;
         let n = p.steps;
-        let k_count = neighbours.len();
-        self.tracks.resize_with(k_count, Track::default);
+        self.tracks.resize_with(neighbours.len(), Track::default);
         for (nb, track) in neighbours.iter().zip(&mut self.tracks) {
             predict(nb, p.dt, n, &p.sigma, track);
         }
-        self.nb_pos.clear();
-        self.nb_var.clear();
-        self.nb_sigma_ratio.clear();
-        self.nb_var0.clear();
+        self.nb_x.clear();
+        self.nb_y.clear();
         for j in 0..=n {
-            for track in &self.tracks[..k_count] {
-                let s = track.sigma[j];
-                self.nb_pos.push(track.positions[j]);
-                self.nb_var.push(s * s);
-                self.nb_sigma_ratio.push(track.sigma[0] / s);
+            for track in &self.tracks[..neighbours.len()] {
+                self.nb_x.push(track.positions[j].x);
+                self.nb_y.push(track.positions[j].y);
             }
         }
-        self.nb_var0.extend(
-            self.tracks[..k_count]
-                .iter()
-                .map(|t| t.sigma[0] * t.sigma[0]),
-        );
-
         let (mut min, mut max) = (p0, p0);
         for g in geometries {
             for w in &g.waypoints {
@@ -278,118 +312,245 @@ impl Pgp {
         map.gather(min, max, STATIC_RANGE_SIGMAS * sigma_cap, &mut self.local);
     }
 
-    /// Samples one candidate at t = i·dt with the turn slow-down, and its utility (Eq. 6).
-    fn sample(&mut self, ego: &EgoState, g: &Geometry, pgp_goal: Vec2) {
-        let p = &self.params;
-        let n = p.steps;
-        let s = &mut self.sampled;
-        s.positions.clear();
-        s.speeds.clear();
-        s.utility.clear();
-        s.sigma.resize(n + 1, 0.0);
-
-        let seg_len = [
-            (g.waypoints[1] - g.waypoints[0]).norm(),
-            (g.waypoints[2] - g.waypoints[1]).norm(),
-            (g.waypoints[3] - g.waypoints[2]).norm(),
-        ];
-        let total = seg_len[0] + seg_len[1] + seg_len[2];
-        // t^turn = γ^turn / γ̇^max at 0.5·v when the first segment needs more than 30° of turn.
-        let turn = wrap_angle(angle_of(&(g.waypoints[1] - g.waypoints[0])) - ego.heading).abs();
-        let t_turn = if turn > p.turn_threshold {
-            turn / p.max_turn_rate
-        } else {
-            0.0
-        };
-        let slow = p.turn_slowdown * p.speed;
-        let travelled = |t: Real| {
-            if t <= t_turn {
-                slow * t
-            } else {
-                slow * t_turn + p.speed * (t - t_turn)
-            }
-        };
-
-        s.positions.push(g.waypoints[0]);
-        s.speeds.push(0.0);
-        s.utility.push(0.0);
-        let mut prev = 0.0;
-        for i in 1..=n {
-            let arc = travelled(i as Real * p.dt).min(total);
-            let (pos, heading) = point_on_path(&g.waypoints, &seg_len, arc);
-            let v = (arc - prev) / p.dt;
-            prev = arc;
-            s.positions.push(pos);
-            s.speeds.push(v);
-            let to_goal = pgp_goal - pos;
-            let d = to_goal.norm();
-            // Once PGP's goal is reached the rest of the horizon is spent there; the paper does
-            // not say what that earns (it places its goal a full horizon away). We give full
-            // utility, so that a goal nearer than d_goal does not make detours look better.
-            let u = if arc >= total - 1e-9 || d < 1e-9 {
-                1.0
-            } else {
-                let cos_beta = heading.dot(&to_goal) / d;
-                // Eq. 6: u = v / v^max · (cos β + 1) / 2.
-                v / p.v_max * (cos_beta + 1.0) / 2.0
-            };
-            s.utility.push(u);
+    /// Everything of Eqs. 1–3 that does not depend on where the candidate is.
+    fn build_tables(&mut self, k_count: usize) {
+        let n = self.params.steps;
+        let floor = self.params.risk_floor;
+        let t = &mut self.tables;
+        for v in [
+            &mut t.ego_var,
+            &mut t.ego_ratio,
+            &mut t.ego_cull,
+            &mut t.nb_var,
+            &mut t.nb_ratio,
+            &mut t.nb_cull,
+            &mut t.nb_var0,
+        ] {
+            v.clear();
         }
-        p.sigma.fill(&s.speeds, &mut s.sigma);
+        for profile in &self.profiles {
+            for &se in &profile[..n] {
+                let ratio = profile[0] / se;
+                t.ego_var.push(se * se);
+                t.ego_ratio.push(ratio);
+                t.ego_cull.push(if floor > 0.0 {
+                    ln_upper_bound(ratio / floor)
+                } else {
+                    Real::INFINITY
+                });
+            }
+        }
+        for j in 0..n {
+            for track in &self.tracks[..k_count] {
+                let (s0, sj) = (track.sigma[0], track.sigma[j]);
+                t.nb_var.push(sj * sj);
+                t.nb_ratio.push(s0 / sj);
+                t.nb_cull.push(ln_upper_bound(s0 / sj));
+            }
+        }
+        t.nb_var0.extend(
+            self.tracks[..k_count]
+                .iter()
+                .map(|tr| tr.sigma[0] * tr.sigma[0]),
+        );
     }
 
     /// Hazards (Eqs. 1–4 plus p^escape), survival (Eq. 5) and expected utility (Eqs. 7–8) of
-    /// the sampled candidate.
-    fn evaluate(&mut self, k_count: usize, map: &StaticMap) -> Real {
-        let p = &self.params;
-        let n = p.steps;
+    /// every candidate. A candidate that starts like the previous one (same α, same first
+    /// segment) reuses that one's hazards over the shared samples.
+    fn evaluate_all(
+        &mut self,
+        geometries: &[Geometry],
+        k_count: usize,
+        map: &StaticMap,
+    ) -> Vec<Real> {
+        let n = self.params.steps;
+        let stride = n + 1;
         let s = &self.sampled;
-        let sigma0 = s.sigma[0];
         self.hazards.clear();
-        for j in 0..n {
-            let pos = s.positions[j];
-            let se = s.sigma[j];
-            let se2 = se * se;
-            let ego_ratio = sigma0 / se;
-            let base = j * k_count;
-            let mut dynamic = 0.0;
-            for k in 0..k_count {
-                let d = pos - self.nb_pos[base + k];
-                let d2 = d.x * d.x + d.y * d.y;
-                let var = se2 + self.nb_var[base + k];
-                if d2 >= 2.0 * EXPONENT_CUTOFF * var {
-                    continue;
-                }
-                let var0 = sigma0 * sigma0 + self.nb_var0[k];
-                // Eq. 1 · Eq. 2 = Eq. 3.
-                let p_coll = (-d2 / (2.0 * var)).exp() * var0 / var;
-                let tau = ego_ratio * self.nb_sigma_ratio[base + k];
-                dynamic += p_coll * tau;
-            }
-            let p_static = if self.local.is_empty() {
-                0.0
+        self.hazards.resize(geometries.len() * n, 0.0);
+        for l in 0..geometries.len() {
+            let shared = if l > 0 && s.profile[l] == s.profile[l - 1] {
+                let (a, b) = (
+                    &s.positions[(l - 1) * stride..l * stride],
+                    &s.positions[l * stride..(l + 1) * stride],
+                );
+                a.iter().zip(b).take(n).take_while(|(x, y)| x == y).count()
             } else {
-                // Eq. 4 with the distance from the ego's mean to the nearest surface.
-                static_collision_probability(self.local.distance(map, &pos), se)
+                0
             };
-            self.hazards.push(dynamic + p_static + p.p_escape);
+            if shared > 0 {
+                self.hazards
+                    .copy_within((l - 1) * n..(l - 1) * n + shared, l * n);
+            }
+            let g = s.profile[l];
+            for j in shared..n {
+                let pos = s.positions[l * stride + j];
+                let t = &self.tables;
+                let ego = EgoTerms {
+                    pos,
+                    var: t.ego_var[g * n + j],
+                    var0: self.profiles[g][0] * self.profiles[g][0],
+                    ratio: t.ego_ratio[g * n + j],
+                    cull: t.ego_cull[g * n + j],
+                };
+                let row = j * k_count..(j + 1) * k_count;
+                let dynamic = dynamic_hazard(
+                    &ego,
+                    &self.nb_x[row.clone()],
+                    &self.nb_y[row.clone()],
+                    &t.nb_var[row.clone()],
+                    &t.nb_ratio[row.clone()],
+                    &t.nb_cull[row],
+                    &t.nb_var0,
+                );
+                let p_static = if self.local.is_empty() {
+                    0.0
+                } else {
+                    // Eq. 4 with the distance from the ego's mean to the nearest surface.
+                    static_collision_probability(
+                        self.local.distance(map, &pos),
+                        s.sigma[l * stride + j],
+                    )
+                };
+                self.hazards[l * n + j] = dynamic + p_static + self.params.p_escape;
+            }
         }
-        self.survival.resize(n + 1, 0.0);
-        crate::risk::survival(&self.hazards, &mut self.survival);
-        // Eqs. 7–8: Σ_i p^surv_i · u_i over the planned samples i = 1..=steps.
-        (1..=n).map(|i| self.survival[i] * s.utility[i]).sum()
-    }
-
-    fn trajectory(&self) -> Vec<TrajectorySample> {
-        let s = &self.sampled;
-        (1..s.positions.len())
-            .map(|i| TrajectorySample {
-                t: i as Real * self.params.dt,
-                position: s.positions[i],
-                sigma: s.sigma[i],
+        self.survival.resize(geometries.len() * stride, 0.0);
+        (0..geometries.len())
+            .map(|l| {
+                let surv = &mut self.survival[l * stride..(l + 1) * stride];
+                crate::risk::survival(&self.hazards[l * n..(l + 1) * n], surv);
+                // Eqs. 7–8: Σ_i p^surv_i · u_i over the planned samples i = 1..=steps.
+                (1..=n).map(|i| surv[i] * s.utility[l * stride + i]).sum()
             })
             .collect()
     }
+
+    fn trajectory(&self, l: usize) -> Vec<TrajectorySample> {
+        let s = &self.sampled;
+        let stride = self.params.steps + 1;
+        (1..stride)
+            .map(|i| TrajectorySample {
+                t: i as Real * self.params.dt,
+                position: s.positions[l * stride + i],
+                sigma: s.sigma[l * stride + i],
+            })
+            .collect()
+    }
+}
+
+/// Samples one candidate at t = i·dt with the turn slow-down, and its utility (Eq. 6),
+/// appending to `s`.
+fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut Sampled) {
+    let n = p.steps;
+    let seg_len = [
+        (g.waypoints[1] - g.waypoints[0]).norm(),
+        (g.waypoints[2] - g.waypoints[1]).norm(),
+        (g.waypoints[3] - g.waypoints[2]).norm(),
+    ];
+    let total = seg_len[0] + seg_len[1] + seg_len[2];
+    // t^turn = γ^turn / γ̇^max at 0.5·v when the first segment needs more than 30° of turn.
+    let turn = wrap_angle(angle_of(&(g.waypoints[1] - g.waypoints[0])) - ego.heading).abs();
+    let t_turn = if turn > p.turn_threshold {
+        turn / p.max_turn_rate
+    } else {
+        0.0
+    };
+    let slow = p.turn_slowdown * p.speed;
+    let travelled = |t: Real| {
+        if t <= t_turn {
+            slow * t
+        } else {
+            slow * t_turn + p.speed * (t - t_turn)
+        }
+    };
+
+    let first = s.speeds.len();
+    s.positions.push(g.waypoints[0]);
+    s.speeds.push(0.0);
+    s.utility.push(0.0);
+    let mut prev = 0.0;
+    for i in 1..=n {
+        let arc = travelled(i as Real * p.dt).min(total);
+        let (pos, heading) = point_on_path(&g.waypoints, &seg_len, arc);
+        let v = (arc - prev) / p.dt;
+        prev = arc;
+        s.positions.push(pos);
+        s.speeds.push(v);
+        let to_goal = pgp_goal - pos;
+        let d = to_goal.norm();
+        // Once PGP's goal is reached the rest of the horizon is spent there; the paper does
+        // not say what that earns (it places its goal a full horizon away). We give full
+        // utility, so that a goal nearer than d_goal does not make detours look better.
+        let u = if arc >= total - 1e-9 || d < 1e-9 {
+            1.0
+        } else {
+            let cos_beta = heading.dot(&to_goal) / d;
+            // Eq. 6: u = v / v^max · (cos β + 1) / 2.
+            v / p.v_max * (cos_beta + 1.0) / 2.0
+        };
+        s.utility.push(u);
+    }
+    s.sigma.resize(first + n + 1, 0.0);
+    p.sigma.fill(&s.speeds[first..], &mut s.sigma[first..]);
+}
+
+/// An upper bound on ln(x) for normal x > 0, within 1 − ln 2 ≈ 0.31 of it: with x = m·2^e,
+/// m ∈ [1, 2), ln x = e·ln 2 + ln m ≤ e·ln 2 + (m − 1). Far cheaper than `ln`.
+#[inline]
+fn ln_upper_bound(x: Real) -> Real {
+    let bits = x.to_bits();
+    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let m = Real::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    e as Real * std::f64::consts::LN_2 + (m - 1.0)
+}
+
+/// The ego's side of Eqs. 1–3 at one sample.
+struct EgoTerms {
+    pos: Vec2,
+    /// σ_j,ego².
+    var: Real,
+    /// σ_0,ego².
+    var0: Real,
+    /// σ_0,ego / σ_j,ego.
+    ratio: Real,
+    /// Upper bound of ln(ratio / risk_floor).
+    cull: Real,
+}
+
+/// Σ_k p^coll,coop_{j,k} (Eq. 3) at one ego sample. Terms provably below `risk_floor` (see
+/// [`PairTables`]) are skipped.
+#[inline]
+fn dynamic_hazard(
+    ego: &EgoTerms,
+    xs: &[Real],
+    ys: &[Real],
+    nb_var: &[Real],
+    nb_ratio: &[Real],
+    nb_cull: &[Real],
+    nb_var0: &[Real],
+) -> Real {
+    let mut sum = 0.0;
+    let neighbours = xs
+        .iter()
+        .zip(ys)
+        .zip(nb_var)
+        .zip(nb_ratio)
+        .zip(nb_cull)
+        .zip(nb_var0);
+    for (((((&x, &y), &nv), &nr), &nc), &nv0) in neighbours {
+        let (dx, dy) = (ego.pos.x - x, ego.pos.y - y);
+        let d2 = dx * dx + dy * dy;
+        let var = ego.var + nv;
+        if d2 >= 2.0 * var * (ego.cull + nc) {
+            continue;
+        }
+        let inv = 1.0 / var;
+        // Eq. 1: exp(−‖Δμ‖² / (2σ̃_i)) · σ̃_0 / σ̃_i, times Eq. 2's τ.
+        sum += exp_neg(0.5 * d2 * inv) * (ego.var0 + nv0) * inv * (ego.ratio * nr);
+    }
+    sum
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -419,3 +580,19 @@ fn point_on_path(w: &[Vec2; 4], seg_len: &[Real; 3], arc: Real) -> (Vec2, Vec2) 
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod ln_bound_tests {
+    #[test]
+    fn ln_upper_bound_bounds_ln_from_above_and_closely() {
+        let mut x: f64 = 1e-3;
+        while x < 1e12 {
+            let (b, l) = (super::ln_upper_bound(x), x.ln());
+            assert!(
+                b >= l - 1e-12 && b - l <= 0.31,
+                "x = {x}: bound {b}, ln {l}"
+            );
+            x *= 1.37;
+        }
+    }
+}

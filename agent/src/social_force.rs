@@ -308,14 +308,14 @@ impl Crowd {
         let n = self.len();
         out.clear();
         out.resize(n, vec2(0.0, 0.0));
-        for a in 0..n {
+        for (a, force) in out.iter_mut().enumerate() {
             let (pa, va) = (self.positions[a], self.velocities[a]);
             let mut social = vec2(0.0, 0.0);
             for b in (0..n).filter(|&b| b != a) {
                 social +=
                     social_force_pair(pa, va, self.positions[b], self.velocities[b], &p.social);
             }
-            out[a] = desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
+            *force = desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
                 + social * p.social.factor
                 + obstacle_force(pa, obstacles.points(), p.agent_radius, &p.obstacle);
         }
@@ -373,9 +373,9 @@ impl Crowd {
     /// One `Simulator.step_once`: Euler step of the velocity, capped, zero near the goal.
     pub fn step(&mut self, obstacles: &ObstaclePoints, p: &SfParams, scratch: &mut Vec<Vec2>) {
         self.forces(obstacles, p, scratch);
-        for i in 0..self.len() {
+        for (i, force) in scratch.iter().enumerate() {
             let mut v = capped_velocity(
-                self.velocities[i] + scratch[i] * p.step_width,
+                self.velocities[i] + force * p.step_width,
                 self.max_speeds[i],
             );
             if (self.goals[i] - self.positions[i]).norm() < p.arrival_distance {
@@ -400,15 +400,17 @@ pub struct SfAgentParams {
 
 impl Default for SfAgentParams {
     fn default() -> Self {
-        let mut model = SfParams::default();
-        model.social = SocialForceParams {
-            factor: 5.1,
-            lambda_importance: 3.0,
-            gamma: 0.35,
-            n: 1.0,
-            n_prime: 3.0,
+        let model = SfParams {
+            social: SocialForceParams {
+                factor: 5.1,
+                lambda_importance: 3.0,
+                gamma: 0.35,
+                n: 1.0,
+                n_prime: 3.0,
+            },
+            enable_group: false,
+            ..SfParams::default()
         };
-        model.enable_group = false;
         Self {
             model,
             max_speed: 1.0,

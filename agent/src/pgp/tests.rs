@@ -212,3 +212,43 @@ fn same_input_same_output() {
         plan(&crowd, &StaticMap::empty())
     );
 }
+
+#[test]
+fn risk_floor_culling_changes_no_decision_and_utilities_by_under_1e_6() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    for scene in 0..20 {
+        let n = 5 + scene * 5;
+        let half = (n as Real / 0.5).sqrt() / 2.0;
+        let crowd: Vec<_> = (0..n)
+            .map(|i| {
+                let p = vec2(rng.random_range(-half..half), rng.random_range(-half..half));
+                let v = crate::math::unit(rng.random_range(0.0..6.28)) * rng.random_range(0.0..1.3);
+                Neighbour::new(i as u64, p, v, 0.35, AgentKind::Human)
+            })
+            .collect();
+        let exact = Pgp::new(PgpParams {
+            risk_floor: 0.0,
+            ..PgpParams::default()
+        })
+        .plan(
+            &ego_at_origin(),
+            &crowd,
+            &StaticMap::empty(),
+            vec2(20.0, 0.0),
+        );
+        let culled = plan(&crowd, &StaticMap::empty());
+        let (fe, fc) = (exact.fan.expect("fan"), culled.fan.expect("fan"));
+        assert_eq!(
+            fe.best, fc.best,
+            "scene {scene}: culling changed the decision"
+        );
+        assert_eq!(exact.subgoal, culled.subgoal);
+        for (a, b) in fe.candidates.iter().zip(&fc.candidates) {
+            assert!(
+                (a.expected_utility - b.expected_utility).abs() < 1e-6,
+                "scene {scene}"
+            );
+        }
+    }
+}
