@@ -223,7 +223,8 @@ fn risk_floor_culling_changes_no_decision_and_utilities_by_under_1e_6() {
         let crowd: Vec<_> = (0..n)
             .map(|i| {
                 let p = vec2(rng.random_range(-half..half), rng.random_range(-half..half));
-                let v = crate::math::unit(rng.random_range(0.0..6.28)) * rng.random_range(0.0..1.3);
+                let v = crate::math::unit(rng.random_range(0.0..std::f64::consts::TAU))
+                    * rng.random_range(0.0..1.3);
                 Neighbour::new(i as u64, p, v, 0.35, AgentKind::Human)
             })
             .collect();
