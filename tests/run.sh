@@ -15,4 +15,11 @@ if cargo clippy --version >/dev/null 2>&1; then
 else
     echo "tests/run.sh: clippy not installed, lint check skipped" >&2
 fi
-cargo test --workspace --locked
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+status=0
+cargo test --workspace --locked 2>&1 | tee "$log" || status=$?
+# One closing line for the whole workspace (cargo ends on the doc-test summary otherwise).
+awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed/) p += $(i-1); if ($i ~ /^failed/) f += $(i-1); if ($i ~ /^ignored/) s += $(i-1) } }
+     END { printf "gapfleet: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
+exit "$status"
