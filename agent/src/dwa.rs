@@ -109,11 +109,15 @@ pub struct DwaChoice {
 #[derive(Debug, Clone, Default)]
 pub struct Dwa {
     params: DwaParams,
-    /// Relevant neighbours' linear predictions at t = i·dt, i = 1..=steps, step-major
-    /// (index (i − 1)·M + m), and their radii.
+    /// Per sample time t = i·dt, i = 1..=steps, the linear predictions of the neighbours that
+    /// any arc could come near (entries `mover_start[i − 1]..mover_start[i]`), with radii.
+    mover_start: Vec<usize>,
     mover_x: Vec<Real>,
     mover_y: Vec<Real>,
     mover_radius: Vec<Real>,
+    /// Per yaw rate of the grid and sample time, the displacement of a unit-speed arc
+    /// (index iw·steps + i − 1): the same for every speed, so computed once per plan.
+    unit_offsets: Vec<Vec2>,
     local: LocalMap,
 }
 
@@ -165,28 +169,27 @@ impl Dwa {
         let steps = (p.t_plan / p.dt).round() as usize;
         let reach = window.v.1 * p.t_plan + ego.radius;
 
-        // Only neighbours that can come within reach over the horizon matter; their linear
-        // predictions are computed once for all arcs.
+        // Every arc's sample at time t lies within v_hi·t of the start, so only neighbours
+        // predicted that close (plus radii and the clearance cap) can matter at t. Their
+        // linear predictions are computed once for all arcs.
+        self.mover_start.clear();
         self.mover_radius.clear();
         self.mover_x.clear();
         self.mover_y.clear();
-        let relevant: Vec<&Neighbour> = neighbours
-            .iter()
-            .filter(|nb| {
-                let gap = (nb.position - ego.position).norm() - ego.radius - nb.radius;
-                gap < reach + p.clearance_cap + nb.velocity.norm() * p.t_plan
-            })
-            .collect();
-        self.mover_radius
-            .extend(relevant.iter().map(|nb| nb.radius));
         for i in 1..=steps {
             let t = i as Real * p.dt;
-            for nb in &relevant {
+            self.mover_start.push(self.mover_x.len());
+            for nb in neighbours {
                 let q = nb.position + nb.velocity * t;
-                self.mover_x.push(q.x);
-                self.mover_y.push(q.y);
+                let range = window.v.1 * t + ego.radius + nb.radius + p.clearance_cap;
+                if (q - ego.position).norm_squared() < range * range {
+                    self.mover_x.push(q.x);
+                    self.mover_y.push(q.y);
+                    self.mover_radius.push(nb.radius);
+                }
             }
         }
+        self.mover_start.push(self.mover_x.len());
         let corner = Vec2::new(reach, reach);
         map.gather(
             ego.position - corner,
@@ -195,12 +198,22 @@ impl Dwa {
             &mut self.local,
         );
 
+        self.unit_offsets.clear();
+        for iw in 0..p.yaw_samples {
+            let w = lerp(window.yaw_rate, iw, p.yaw_samples);
+            for i in 1..=steps {
+                self.unit_offsets
+                    .push(ctrv_offset(1.0, ego.heading, w, i as Real * p.dt));
+            }
+        }
+
         let mut best: Option<(Real, Real, Real)> = None;
         for iv in 0..p.v_samples {
             let v = lerp(window.v, iv, p.v_samples);
             for iw in 0..p.yaw_samples {
                 let w = lerp(window.yaw_rate, iw, p.yaw_samples);
-                let Some(score) = self.score(ego, map, target, v, w, steps) else {
+                let offsets = &self.unit_offsets[iw * steps..(iw + 1) * steps];
+                let Some(score) = self.score(ego, map, target, v, w, offsets) else {
                     continue;
                 };
                 if best.is_none_or(|b| score > b.0) {
@@ -232,26 +245,26 @@ impl Dwa {
         target: Vec2,
         v: Real,
         w: Real,
-        steps: usize,
+        unit_offsets: &[Vec2],
     ) -> Option<Real> {
         let p = &self.params;
         let mut min_clearance = Real::INFINITY;
         let mut reaches_target = false;
         let mut end = (ego.position, ego.heading);
-        for i in 1..=steps {
+        for (i, offset) in (1..).zip(unit_offsets) {
             let t = i as Real * p.dt;
-            let pos = ego.position + ctrv_offset(v, ego.heading, w, t);
+            // ctrv_offset scales linearly with speed.
+            let pos = ego.position + offset * v;
             let mut clearance = if self.local.is_empty() {
                 Real::INFINITY
             } else {
                 self.local.distance(map, &pos) - ego.radius
             };
-            let m = self.mover_radius.len();
-            let row = (i - 1) * m..i * m;
+            let row = self.mover_start[i - 1]..self.mover_start[i];
             let movers = self.mover_x[row.clone()]
                 .iter()
-                .zip(&self.mover_y[row])
-                .zip(&self.mover_radius);
+                .zip(&self.mover_y[row.clone()])
+                .zip(&self.mover_radius[row]);
             for ((&x, &y), &r) in movers {
                 let (dx, dy) = (pos.x - x, pos.y - y);
                 let reach = ego.radius + r + p.clearance_cap;

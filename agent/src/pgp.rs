@@ -129,17 +129,22 @@ struct Sampled {
 }
 
 /// What Eqs. 1–3 need besides positions, split so that tables stay small: per profile and
-/// step (index g·steps + j) the ego's σ², σ_0/σ_j and cull term; per step and neighbour
-/// (index j·K + k) the neighbour's σ², σ_0/σ_j and cull term; per neighbour σ_0².
+/// step (index g·steps + j) the ego's σ², σ_0/σ_j and cull term; per step, for the neighbours
+/// that can matter at that step (entries `start[j]..start[j + 1]`), the neighbour's position,
+/// σ², σ_0/σ_j, cull term and σ_0².
 ///
 /// A term factor · exp(−d²/(2σ̃)) with factor = (σ̃_0/σ̃)·τ ≤ (σ_0,ego/σ_j,ego)·(σ_0,k/σ_j,k)
 /// is below `risk_floor` once d² ≥ 2σ̃·(ego_cull + nb_cull), where ego_cull and nb_cull are
-/// upper bounds of ln((σ_0,ego/σ_j,ego)/floor) and ln(σ_0,k/σ_j,k).
+/// upper bounds of ln((σ_0,ego/σ_j,ego)/floor) and ln(σ_0,k/σ_j,k). A neighbour that is that
+/// far from the bounding box of every candidate's sample at step j is left out of step j.
 #[derive(Debug, Clone, Default)]
 struct PairTables {
     ego_var: Vec<Real>,
     ego_ratio: Vec<Real>,
     ego_cull: Vec<Real>,
+    start: Vec<usize>,
+    nb_x: Vec<Real>,
+    nb_y: Vec<Real>,
     nb_var: Vec<Real>,
     nb_ratio: Vec<Real>,
     nb_cull: Vec<Real>,
@@ -202,7 +207,7 @@ impl Pgp {
         self.sample_all(ego, &geometries, pgp_goal);
         self.predict(neighbours, map, p0, &geometries);
         self.build_tables(neighbours.len());
-        let expected = self.evaluate_all(&geometries, neighbours.len(), map);
+        let expected = self.evaluate_all(&geometries, map);
 
         // The first best wins ties, so the result does not depend on float noise order.
         let mut best = 0;
@@ -312,15 +317,20 @@ impl Pgp {
         map.gather(min, max, STATIC_RANGE_SIGMAS * sigma_cap, &mut self.local);
     }
 
-    /// Everything of Eqs. 1–3 that does not depend on where the candidate is.
+    /// Everything of Eqs. 1–3 that does not depend on where the candidate is, and per step
+    /// the neighbours that can matter.
     fn build_tables(&mut self, k_count: usize) {
         let n = self.params.steps;
+        let stride = n + 1;
+        let candidates = self.sampled.profile.len();
         let floor = self.params.risk_floor;
         let t = &mut self.tables;
         for v in [
             &mut t.ego_var,
             &mut t.ego_ratio,
             &mut t.ego_cull,
+            &mut t.nb_x,
+            &mut t.nb_y,
             &mut t.nb_var,
             &mut t.nb_ratio,
             &mut t.nb_cull,
@@ -328,6 +338,7 @@ impl Pgp {
         ] {
             v.clear();
         }
+        t.start.clear();
         for profile in &self.profiles {
             for &se in &profile[..n] {
                 let ratio = profile[0] / se;
@@ -340,30 +351,46 @@ impl Pgp {
                 });
             }
         }
+        let profiles = self.profiles.len();
         for j in 0..n {
-            for track in &self.tracks[..k_count] {
+            t.start.push(t.nb_x.len());
+            // Bounding box of every candidate's sample j, and the largest ego terms at j.
+            let (mut min, mut max) = (self.sampled.positions[j], self.sampled.positions[j]);
+            for l in 1..candidates {
+                let q = self.sampled.positions[l * stride + j];
+                min = min.inf(&q);
+                max = max.sup(&q);
+            }
+            let ego_var = (0..profiles)
+                .map(|g| t.ego_var[g * n + j])
+                .fold(0.0, Real::max);
+            let ego_cull = (0..profiles)
+                .map(|g| t.ego_cull[g * n + j])
+                .fold(Real::NEG_INFINITY, Real::max);
+            for (k, track) in self.tracks[..k_count].iter().enumerate() {
                 let (s0, sj) = (track.sigma[0], track.sigma[j]);
+                let nb_cull = ln_upper_bound(s0 / sj);
+                let (x, y) = (self.nb_x[j * k_count + k], self.nb_y[j * k_count + k]);
+                let dx = (min.x - x).max(x - max.x).max(0.0);
+                let dy = (min.y - y).max(y - max.y).max(0.0);
+                if dx * dx + dy * dy >= 2.0 * (ego_var + sj * sj) * (ego_cull + nb_cull) {
+                    continue;
+                }
+                t.nb_x.push(x);
+                t.nb_y.push(y);
                 t.nb_var.push(sj * sj);
                 t.nb_ratio.push(s0 / sj);
-                t.nb_cull.push(ln_upper_bound(s0 / sj));
+                t.nb_cull.push(nb_cull);
+                t.nb_var0.push(s0 * s0);
             }
         }
-        t.nb_var0.extend(
-            self.tracks[..k_count]
-                .iter()
-                .map(|tr| tr.sigma[0] * tr.sigma[0]),
-        );
+        t.start.push(t.nb_x.len());
     }
 
     /// Hazards (Eqs. 1–4 plus p^escape), survival (Eq. 5) and expected utility (Eqs. 7–8) of
     /// every candidate. A candidate that starts like the previous one (same α, same first
     /// segment) reuses that one's hazards over the shared samples.
-    fn evaluate_all(
-        &mut self,
-        geometries: &[Geometry],
-        k_count: usize,
-        map: &StaticMap,
-    ) -> Vec<Real> {
+    fn evaluate_all(&mut self, geometries: &[Geometry], map: &StaticMap) -> Vec<Real> {
         let n = self.params.steps;
         let stride = n + 1;
         let s = &self.sampled;
@@ -394,15 +421,15 @@ impl Pgp {
                     ratio: t.ego_ratio[g * n + j],
                     cull: t.ego_cull[g * n + j],
                 };
-                let row = j * k_count..(j + 1) * k_count;
+                let row = t.start[j]..t.start[j + 1];
                 let dynamic = dynamic_hazard(
                     &ego,
-                    &self.nb_x[row.clone()],
-                    &self.nb_y[row.clone()],
+                    &t.nb_x[row.clone()],
+                    &t.nb_y[row.clone()],
                     &t.nb_var[row.clone()],
                     &t.nb_ratio[row.clone()],
-                    &t.nb_cull[row],
-                    &t.nb_var0,
+                    &t.nb_cull[row.clone()],
+                    &t.nb_var0[row],
                 );
                 let p_static = if self.local.is_empty() {
                     0.0

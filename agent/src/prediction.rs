@@ -72,23 +72,30 @@ pub fn extrapolate_ctrv(
     track: &mut Track,
 ) {
     let speed = neighbour.velocity.norm();
-    let heading = angle_of(&neighbour.velocity);
     let omega = neighbour.yaw_rate;
-    track.positions.clear();
-    track.positions.reserve(n + 1);
-    for i in 0..=n {
-        let t = i as Real * dt;
-        track
-            .positions
-            .push(neighbour.position + ctrv_offset(speed, heading, omega, t));
+    track.positions.resize(n + 1, neighbour.position);
+    if omega.abs() < 1e-9 {
+        // Constant velocity: no trigonometry per sample.
+        let step = neighbour.velocity * dt;
+        let mut p = neighbour.position;
+        for slot in &mut track.positions[1..] {
+            p += step;
+            *slot = p;
+        }
+    } else {
+        let heading = angle_of(&neighbour.velocity);
+        for (i, slot) in track.positions.iter_mut().enumerate() {
+            *slot = neighbour.position + ctrv_offset(speed, heading, omega, i as Real * dt);
+        }
     }
     // Constant speed: every step grows σ by δ·|v| up to the cap.
     let cap = model.sigma_max(speed);
-    track.sigma.clear();
-    track.sigma.push(model.sigma0);
-    for i in 1..=n {
-        let prev = track.sigma[i - 1];
-        track.sigma.push(cap.min(prev + model.delta * speed));
+    let growth = model.delta * speed;
+    track.sigma.resize(n + 1, model.sigma0);
+    let mut sigma = model.sigma0;
+    for slot in &mut track.sigma[1..] {
+        sigma = cap.min(sigma + growth);
+        *slot = sigma;
     }
 }
 
