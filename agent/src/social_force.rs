@@ -305,6 +305,19 @@ impl Crowd {
 
     /// Sum of all forces on every agent (`Simulator.compute_forces`).
     pub fn forces(&self, obstacles: &ObstaclePoints, p: &SfParams, out: &mut Vec<Vec2>) {
+        self.forces_with_externals(obstacles, p, &[], out);
+    }
+
+    /// As [`Crowd::forces`], with `externals` (position, velocity) pushing on every agent as
+    /// further pedestrians would, without being moved themselves: how simulated people react
+    /// to robots.
+    pub fn forces_with_externals(
+        &self,
+        obstacles: &ObstaclePoints,
+        p: &SfParams,
+        externals: &[(Vec2, Vec2)],
+        out: &mut Vec<Vec2>,
+    ) {
         let n = self.len();
         out.clear();
         out.resize(n, vec2(0.0, 0.0));
@@ -314,6 +327,9 @@ impl Crowd {
             for b in (0..n).filter(|&b| b != a) {
                 social +=
                     social_force_pair(pa, va, self.positions[b], self.velocities[b], &p.social);
+            }
+            for (pb, vb) in externals {
+                social += social_force_pair(pa, va, *pb, *vb, &p.social);
             }
             *force = desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
                 + social * p.social.factor
@@ -372,7 +388,18 @@ impl Crowd {
 
     /// One `Simulator.step_once`: Euler step of the velocity, capped, zero near the goal.
     pub fn step(&mut self, obstacles: &ObstaclePoints, p: &SfParams, scratch: &mut Vec<Vec2>) {
-        self.forces(obstacles, p, scratch);
+        self.step_with_externals(obstacles, p, &[], scratch);
+    }
+
+    /// [`Crowd::step`] with external agents pushing (see [`Crowd::forces_with_externals`]).
+    pub fn step_with_externals(
+        &mut self,
+        obstacles: &ObstaclePoints,
+        p: &SfParams,
+        externals: &[(Vec2, Vec2)],
+        scratch: &mut Vec<Vec2>,
+    ) {
+        self.forces_with_externals(obstacles, p, externals, scratch);
         for (i, force) in scratch.iter().enumerate() {
             let mut v = capped_velocity(
                 self.velocities[i] + force * p.step_width,

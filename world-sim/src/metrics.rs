@@ -1,0 +1,280 @@
+//! Social-navigation metrics, per robot and over a fleet, as the PGP paper and the literature
+//! it follows (Francis et al. 2025; Gao & Huang 2022) define them.
+//!
+//! Definitions (all per robot, over one run; "moving" means speed > 0.05 m/s, because "if an
+//! agent is standing, it should not be responsible for avoiding collisions"):
+//! - **success**: the goal was reached within the scenario's time limit;
+//! - **time to goal**: seconds until the goal was reached (successful runs only);
+//! - **path length**: metres driven until the goal was reached or time ran out;
+//! - **collision rate**: share of moving steps with a body overlap (centre distance below the
+//!   sum of radii) with a person or another robot;
+//! - **space-violation rate (SVR)**: share of moving steps with any person or robot closer
+//!   than 1.0 m, centre to centre;
+//! - **social force**: the magnitude of the summed Social Force (PySocialForce's interaction
+//!   force with its default parameters) that all people exert on the robot, averaged over all
+//!   steps;
+//! - **minimum human distance**: smallest centre distance to any person;
+//! - **intimate / personal time**: seconds with any person's body closer than 0.45 m / 1.2 m
+//!   to the robot's body (Hall's zones, surface to surface);
+//! - **still time**: seconds at speed ≤ 0.05 m/s before the goal;
+//! - **robot near misses**: steps with another robot's body closer than 0.3 m without overlap;
+//! - **force on people**: the Social Force the robot exerts on all people, summed over people
+//!   and averaged over steps (how much the robot pushes people around).
+
+use crate::world::World;
+use agent::math::{Real, Vec2};
+use agent::social_force::social_force_pair;
+
+/// A robot moves when faster than this (m/s).
+pub const MOVING_SPEED: Real = 0.05;
+/// Space-violation threshold, centre to centre (m).
+pub const SVR_DISTANCE: Real = 1.0;
+/// Hall's intimate zone, body to body (m).
+pub const INTIMATE_GAP: Real = 0.45;
+/// Hall's personal zone, body to body (m).
+pub const PERSONAL_GAP: Real = 1.2;
+/// Robot–robot near miss, body to body (m).
+pub const NEAR_MISS_GAP: Real = 0.3;
+
+/// One robot's metrics over a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RobotMetrics {
+    /// Reached the goal in time.
+    pub success: bool,
+    /// Seconds to the goal (NaN if not reached).
+    pub time_to_goal_s: Real,
+    /// Metres driven.
+    pub path_length_m: Real,
+    /// Share of moving steps with a body overlap.
+    pub collision_rate: Real,
+    /// Share of moving steps with someone within 1 m.
+    pub svr: Real,
+    /// Mean magnitude of the Social Force on the robot.
+    pub social_force: Real,
+    /// Smallest centre distance to a person (m).
+    pub min_human_distance_m: Real,
+    /// Seconds with a person in the intimate zone.
+    pub intimate_time_s: Real,
+    /// Seconds with a person in the personal zone.
+    pub personal_time_s: Real,
+    /// Seconds standing still before arriving.
+    pub still_time_s: Real,
+    /// Steps with a robot–robot near miss.
+    pub robot_near_misses: u64,
+    /// Mean Social Force the robot exerts on people (summed over people).
+    pub force_on_people: Real,
+}
+
+/// Accumulates one robot's metrics step by step.
+#[derive(Debug, Clone)]
+pub struct MetricsRecorder {
+    index: usize,
+    steps: u64,
+    moving_steps: u64,
+    collision_steps: u64,
+    violation_steps: u64,
+    social_force_sum: Real,
+    force_on_people_sum: Real,
+    min_human_distance: Real,
+    intimate_steps: u64,
+    personal_steps: u64,
+    still_steps: u64,
+    near_miss_steps: u64,
+    path_length: Real,
+    last_position: Vec2,
+    arrived_at: Option<Real>,
+    dt: Real,
+}
+
+impl MetricsRecorder {
+    /// Starts recording robot `index` of `world`.
+    pub fn new(world: &World, index: usize) -> Self {
+        Self {
+            index,
+            steps: 0,
+            moving_steps: 0,
+            collision_steps: 0,
+            violation_steps: 0,
+            social_force_sum: 0.0,
+            force_on_people_sum: 0.0,
+            min_human_distance: Real::INFINITY,
+            intimate_steps: 0,
+            personal_steps: 0,
+            still_steps: 0,
+            near_miss_steps: 0,
+            path_length: 0.0,
+            last_position: world.robots[index].state.position,
+            arrived_at: None,
+            dt: world.dt,
+        }
+    }
+
+    /// Whether the robot has arrived (recording stops then).
+    pub fn arrived(&self) -> bool {
+        self.arrived_at.is_some()
+    }
+
+    /// Records the world after a step.
+    pub fn record(&mut self, world: &World) {
+        if self.arrived_at.is_some() {
+            return;
+        }
+        let robot = &world.robots[self.index];
+        let ego = robot.state;
+        let sf = world.sf_params().social;
+        self.steps += 1;
+        self.path_length += (ego.position - self.last_position).norm();
+        self.last_position = ego.position;
+        let moving = ego.velocity.norm() > MOVING_SPEED;
+
+        let (mut overlap, mut violation, mut intimate, mut personal) = (false, false, false, false);
+        let mut force = Vec2::zeros();
+        let mut force_on_people = 0.0;
+        let crowd = &world.humans.crowd;
+        for i in 0..crowd.len() {
+            let d = (crowd.positions[i] - ego.position).norm();
+            let gap = d - ego.radius - world.humans.radius;
+            self.min_human_distance = self.min_human_distance.min(d);
+            overlap |= gap < 0.0;
+            violation |= d < SVR_DISTANCE;
+            intimate |= gap < INTIMATE_GAP;
+            personal |= gap < PERSONAL_GAP;
+            force += social_force_pair(
+                ego.position,
+                ego.velocity,
+                crowd.positions[i],
+                crowd.velocities[i],
+                &sf,
+            );
+            force_on_people += (social_force_pair(
+                crowd.positions[i],
+                crowd.velocities[i],
+                ego.position,
+                ego.velocity,
+                &sf,
+            ) * sf.factor)
+                .norm();
+        }
+        for (j, other) in world.robots.iter().enumerate() {
+            if j == self.index {
+                continue;
+            }
+            let d = (other.state.position - ego.position).norm();
+            let gap = d - ego.radius - other.state.radius;
+            overlap |= gap < 0.0;
+            violation |= d < SVR_DISTANCE;
+            if (0.0..NEAR_MISS_GAP).contains(&gap) {
+                self.near_miss_steps += 1;
+            }
+        }
+        if moving {
+            self.moving_steps += 1;
+            self.collision_steps += u64::from(overlap);
+            self.violation_steps += u64::from(violation);
+        } else {
+            self.still_steps += 1;
+        }
+        self.intimate_steps += u64::from(intimate);
+        self.personal_steps += u64::from(personal);
+        self.social_force_sum += (force * sf.factor).norm();
+        self.force_on_people_sum += force_on_people;
+        if robot.arrived() {
+            self.arrived_at = Some(world.time);
+        }
+    }
+
+    /// The metrics so far.
+    pub fn finish(&self) -> RobotMetrics {
+        let per_moving = |k: u64| {
+            if self.moving_steps > 0 {
+                k as Real / self.moving_steps as Real
+            } else {
+                0.0
+            }
+        };
+        let per_step = |x: Real| {
+            if self.steps > 0 {
+                x / self.steps as Real
+            } else {
+                0.0
+            }
+        };
+        RobotMetrics {
+            success: self.arrived_at.is_some(),
+            time_to_goal_s: self.arrived_at.unwrap_or(Real::NAN),
+            path_length_m: self.path_length,
+            collision_rate: per_moving(self.collision_steps),
+            svr: per_moving(self.violation_steps),
+            social_force: per_step(self.social_force_sum),
+            min_human_distance_m: self.min_human_distance,
+            intimate_time_s: self.intimate_steps as Real * self.dt,
+            personal_time_s: self.personal_steps as Real * self.dt,
+            still_time_s: self.still_steps as Real * self.dt,
+            robot_near_misses: self.near_miss_steps,
+            force_on_people: per_step(self.force_on_people_sum),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+    use agent::math::vec2;
+    use agent::model::Command;
+
+    fn world_with_one_person(at: Vec2) -> World {
+        let mut s = Scenario::builtin("open-space").expect("valid");
+        s.open_space.as_mut().expect("layout").density = 0.01;
+        let mut w = World::open_space(&s);
+        w.humans.crowd.positions[0] = at;
+        w.humans.crowd.velocities[0] = vec2(0.0, 0.0);
+        w.humans.crowd.goals[0] = at;
+        w.humans.react_to_robots = false;
+        w
+    }
+
+    #[test]
+    fn overlap_while_moving_counts_as_collision_and_violation() {
+        let start = vec2(0.0, 5.0);
+        let mut w = world_with_one_person(start + vec2(0.5, 0.0));
+        let mut m = MetricsRecorder::new(&w, 0);
+        w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+        m.record(&w);
+        let r = m.finish();
+        assert_eq!((r.collision_rate, r.svr), (1.0, 1.0));
+        assert!(
+            (r.min_human_distance_m - (0.5 - 0.015)).abs() < 1e-9,
+            "moved 0.015 m at 1.5 m/s²"
+        );
+        assert!(r.intimate_time_s > 0.0 && r.personal_time_s > 0.0);
+        assert!(r.social_force > 0.0 && r.force_on_people > 0.0);
+    }
+
+    #[test]
+    fn standing_overlap_is_not_a_collision_while_moving() {
+        let start = vec2(0.0, 5.0);
+        let mut w = world_with_one_person(start + vec2(0.5, 0.0));
+        let mut m = MetricsRecorder::new(&w, 0);
+        w.step(&[Command::STOP]);
+        m.record(&w);
+        let r = m.finish();
+        assert_eq!((r.collision_rate, r.svr), (0.0, 0.0));
+        assert!((r.still_time_s - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn far_person_gives_no_violation_and_path_length_adds_up() {
+        let mut w = world_with_one_person(vec2(8.0, 9.0));
+        let mut m = MetricsRecorder::new(&w, 0);
+        for _ in 0..20 {
+            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+            m.record(&w);
+        }
+        let r = m.finish();
+        assert_eq!((r.collision_rate, r.svr), (0.0, 0.0));
+        let driven = w.robots[0].state.position.x;
+        assert!((r.path_length_m - driven).abs() < 1e-9);
+        assert!(!r.success && r.time_to_goal_s.is_nan());
+    }
+}

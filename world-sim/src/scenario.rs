@@ -1,0 +1,275 @@
+//! Scenarios: TOML files describing a world and its robots. Parsing rejects unknown fields;
+//! validation rejects out-of-range values naming the field, so a typo never silently becomes a
+//! default.
+
+use agent::math::Real;
+use serde::Deserialize;
+
+/// The scenarios shipped with gapfleet, by name.
+pub const BUILTIN: &[(&str, &str)] =
+    &[("open-space", include_str!("../scenarios/open-space.toml"))];
+
+/// Why a scenario could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    /// Not valid TOML, an unknown field, or a value of the wrong type.
+    #[error("scenario {source_name}: {message}")]
+    Parse {
+        /// File name or built-in name.
+        source_name: String,
+        /// The parser's message (it names the field and the line).
+        message: String,
+    },
+    /// A value out of range.
+    #[error("scenario {source_name}: field `{field}` {reason}")]
+    Invalid {
+        /// File name or built-in name.
+        source_name: String,
+        /// Dotted path of the field.
+        field: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// No built-in scenario of that name.
+    #[error("unknown scenario {0:?}; built in: open-space, or give a path to a .toml file")]
+    Unknown(String),
+}
+
+/// A whole scenario file.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name, for reports.
+    pub name: String,
+    /// Seed of every random choice in the world.
+    pub seed: u64,
+    /// Simulation step (s).
+    pub dt_s: Real,
+    /// A run ends unsuccessfully after this long (s).
+    pub max_time_s: Real,
+    /// The paper's open stage (the only layout so far).
+    pub open_space: Option<OpenSpace>,
+    /// The people.
+    pub humans: Humans,
+    /// The robots' bodies and sensors.
+    pub robot: RobotSpec,
+}
+
+/// A square stage without walls, as in the PGP paper's study.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OpenSpace {
+    /// Side of the square stage (m).
+    pub size_m: Real,
+    /// People per m²; the stage holds max(1, round(density · size²)) people.
+    pub density: Real,
+    /// Groups have 1 to this many members.
+    pub max_group_size: usize,
+}
+
+/// The simulated people.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Humans {
+    /// Preferred walking speed (m/s); PySocialForce lets people reach 1.3× this.
+    pub speed: Real,
+    /// Body radius (m).
+    pub radius_m: Real,
+    /// Whether people treat robots as other pedestrians (Social Force), or ignore them.
+    pub react_to_robots: bool,
+}
+
+/// A robot's body, limits and sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// Body radius (m).
+    pub radius_m: Real,
+    /// Largest speed (m/s).
+    pub max_speed: Real,
+    /// Largest linear acceleration (m/s²).
+    pub max_accel: Real,
+    /// Largest turn rate (rad/s).
+    pub max_yaw_rate: Real,
+    /// Largest turn acceleration (rad/s²).
+    pub max_yaw_accel: Real,
+    /// The goal is reached within this distance (m).
+    pub goal_tolerance_m: Real,
+    /// Bodies farther than this are not perceived (m).
+    pub sensor_range_m: Real,
+    /// Standard deviation of perceived positions (m).
+    pub position_noise_m: Real,
+    /// Standard deviation of perceived velocities (m/s).
+    pub velocity_noise: Real,
+}
+
+impl Scenario {
+    /// Parses and validates TOML text; `source_name` names it in errors.
+    pub fn from_toml(text: &str, source_name: &str) -> Result<Self, ScenarioError> {
+        let scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
+            source_name: source_name.to_string(),
+            message: e.to_string(),
+        })?;
+        scenario.validate(source_name)?;
+        Ok(scenario)
+    }
+
+    /// A built-in scenario by name.
+    pub fn builtin(name: &str) -> Result<Self, ScenarioError> {
+        let (_, text) = BUILTIN
+            .iter()
+            .find(|(n, _)| *n == name)
+            .ok_or_else(|| ScenarioError::Unknown(name.to_string()))?;
+        Self::from_toml(text, name)
+    }
+
+    /// Checks every value's range, naming the first bad field.
+    pub fn validate(&self, source_name: &str) -> Result<(), ScenarioError> {
+        let bad = |field: &str, reason: &str| {
+            Err(ScenarioError::Invalid {
+                source_name: source_name.to_string(),
+                field: field.to_string(),
+                reason: reason.to_string(),
+            })
+        };
+        let positive = |v: Real| v.is_finite() && v > 0.0;
+        let non_negative = |v: Real| v.is_finite() && v >= 0.0;
+        if !positive(self.dt_s) || self.dt_s > 1.0 {
+            return bad("dt_s", "must be in (0, 1] s");
+        }
+        if !positive(self.max_time_s) {
+            return bad("max_time_s", "must be positive");
+        }
+        let Some(open) = &self.open_space else {
+            return bad(
+                "open_space",
+                "is missing: a scenario needs a layout table ([open_space])",
+            );
+        };
+        if !positive(open.size_m) || open.size_m > 1000.0 {
+            return bad("open_space.size_m", "must be in (0, 1000] m");
+        }
+        if !positive(open.density) || open.density > 3.0 {
+            return bad("open_space.density", "must be in (0, 3] people per m²");
+        }
+        if open.max_group_size == 0 {
+            return bad("open_space.max_group_size", "must be at least 1");
+        }
+        let h = &self.humans;
+        if !positive(h.speed) || h.speed > 3.0 {
+            return bad("humans.speed", "must be in (0, 3] m/s");
+        }
+        if !positive(h.radius_m) || h.radius_m > 1.0 {
+            return bad("humans.radius_m", "must be in (0, 1] m");
+        }
+        let r = &self.robot;
+        for (field, value) in [
+            ("robot.radius_m", r.radius_m),
+            ("robot.max_speed", r.max_speed),
+            ("robot.max_accel", r.max_accel),
+            ("robot.max_yaw_rate", r.max_yaw_rate),
+            ("robot.max_yaw_accel", r.max_yaw_accel),
+            ("robot.goal_tolerance_m", r.goal_tolerance_m),
+            ("robot.sensor_range_m", r.sensor_range_m),
+        ] {
+            if !positive(value) {
+                return bad(field, "must be positive");
+            }
+        }
+        for (field, value) in [
+            ("robot.position_noise_m", r.position_noise_m),
+            ("robot.velocity_noise", r.velocity_noise),
+        ] {
+            if !non_negative(value) {
+                return bad(field, "must be zero or positive");
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of people on the open stage: max(1, round(density · size²)).
+    pub fn human_count(&self) -> usize {
+        self.open_space.map_or(0, |o| {
+            ((o.density * o.size_m * o.size_m).round() as usize).max(1)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn default_text() -> &'static str {
+        BUILTIN[0].1
+    }
+
+    #[test]
+    fn builtin_open_space_parses_with_the_papers_stage() {
+        let s = Scenario::builtin("open-space").expect("valid");
+        let open = s.open_space.expect("layout");
+        assert_eq!((open.size_m, open.max_group_size), (10.0, 4));
+        assert_eq!(s.human_count(), 50);
+    }
+
+    #[test]
+    fn density_001_means_one_person() {
+        let mut s = Scenario::builtin("open-space").expect("valid");
+        s.open_space.as_mut().expect("layout").density = 0.01;
+        assert_eq!(s.human_count(), 1);
+    }
+
+    #[test]
+    fn unknown_field_is_named() {
+        let text = default_text().replace("density = 0.5", "densty = 0.5");
+        let err = Scenario::from_toml(&text, "typo.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("typo.toml") && err.contains("densty"), "{err}");
+    }
+
+    #[test]
+    fn wrong_type_is_named() {
+        let text = default_text().replace("max_speed = 1.0", "max_speed = \"fast\"");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("max_speed"), "{err}");
+    }
+
+    #[test]
+    fn out_of_range_value_is_named() {
+        let text = default_text().replace("density = 0.5", "density = -1.0");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("open_space.density") && err.contains("(0, 3]"),
+            "{err}"
+        );
+        let text = default_text().replace("velocity_noise = 0.0", "velocity_noise = nan");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("robot.velocity_noise"), "{err}");
+    }
+
+    #[test]
+    fn missing_layout_is_named() {
+        let text = default_text()
+            .replace("[open_space]", "[unused]")
+            .replace("size_m = 10.0\n", "");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("unused") || err.contains("open_space"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn unknown_builtin_lists_the_choices() {
+        let err = Scenario::builtin("moon").unwrap_err().to_string();
+        assert!(err.contains("moon") && err.contains("open-space"), "{err}");
+    }
+}

@@ -1,0 +1,393 @@
+//! The world: people walking in groups (PySocialForce's model), robots, and what each robot
+//! perceives. Fixed steps, one seed, no clock: the same scenario gives the same numbers.
+
+use crate::robot::RobotBody;
+use crate::scenario::Scenario;
+use agent::map::StaticMap;
+use agent::math::{Real, Vec2, unit, vec2};
+use agent::model::{AgentKind, Command, EgoState, Neighbour};
+use agent::social_force::{Crowd, ObstaclePoints, SfParams};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Random streams, one per purpose, so that adding a draw in one does not shift the others.
+const SPAWN_STREAM: u64 = 1;
+const GOAL_STREAM: u64 = 2;
+const NOISE_STREAM: u64 = 3;
+
+/// Group members keep goals within this radius of the group's goal (m).
+const GROUP_SPREAD_M: Real = 0.6;
+/// People do not spawn closer than this to a robot's start (m).
+const ROBOT_CLEARANCE_M: Real = 1.5;
+
+/// The people of a world.
+#[derive(Debug, Clone)]
+pub struct Humans {
+    /// Their state, stepped by PySocialForce's model.
+    pub crowd: Crowd,
+    /// Each member's offset from its group's goal.
+    offsets: Vec<Vec2>,
+    /// Body radius (m).
+    pub radius: Real,
+    /// Whether robots push on people.
+    pub react_to_robots: bool,
+}
+
+/// A world: map, people, robots, time.
+#[derive(Debug, Clone)]
+pub struct World {
+    /// Seconds since the start.
+    pub time: Real,
+    /// Steps since the start.
+    pub step: u64,
+    /// Step length (s).
+    pub dt: Real,
+    /// Walls and shelves.
+    pub map: StaticMap,
+    /// People.
+    pub humans: Humans,
+    /// Robots.
+    pub robots: Vec<RobotBody>,
+    sf: SfParams,
+    obstacle_points: ObstaclePoints,
+    stage_min: Vec2,
+    stage_max: Vec2,
+    goal_rng: ChaCha8Rng,
+    noise_rng: ChaCha8Rng,
+    scratch: Vec<Vec2>,
+    externals: Vec<(Vec2, Vec2)>,
+}
+
+fn stream(seed: u64, stream: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(stream);
+    rng
+}
+
+impl World {
+    /// The PGP paper's open stage with one robot crossing it from the middle of the left edge
+    /// to the middle of the right edge; people in groups of 1..=max_group_size between random
+    /// goals on the stage.
+    pub fn open_space(scenario: &Scenario) -> Self {
+        let open = scenario
+            .open_space
+            .expect("validated scenarios have a layout");
+        let size = open.size_m;
+        let start = vec2(0.0, size / 2.0);
+        let goal = vec2(size, size / 2.0);
+        let robot = RobotBody::new(start, goal, scenario.robot);
+        let (min, max) = (vec2(0.0, 0.0), vec2(size, size));
+        let mut spawn = stream(scenario.seed, SPAWN_STREAM);
+        let mut goal_rng = stream(scenario.seed, GOAL_STREAM);
+        let h = &scenario.humans;
+        let n = scenario.human_count();
+
+        let (mut positions, mut goals, mut offsets, mut groups) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let min_gap = 2.0 * h.radius_m + 0.05;
+        while positions.len() < n {
+            let size_left = n - positions.len();
+            let members = spawn.random_range(1..=open.max_group_size.min(size_left));
+            let centre = uniform(&mut spawn, min, max);
+            let group_goal = uniform(&mut goal_rng, min, max);
+            let mut group = Vec::new();
+            for _ in 0..members {
+                // Rejection sampling near the group's centre, then anywhere.
+                let mut placed = None;
+                for attempt in 0..200 {
+                    let p = if attempt < 50 {
+                        centre + disc(&mut spawn, GROUP_SPREAD_M * 1.5)
+                    } else {
+                        uniform(&mut spawn, min, max)
+                    };
+                    let inside = p.x >= min.x && p.y >= min.y && p.x <= max.x && p.y <= max.y;
+                    let free = positions.iter().all(|q: &Vec2| (q - p).norm() >= min_gap)
+                        && (p - start).norm() >= ROBOT_CLEARANCE_M;
+                    if inside && free {
+                        placed = Some(p);
+                        break;
+                    }
+                }
+                let Some(p) = placed else { break };
+                let offset = disc(&mut spawn, GROUP_SPREAD_M);
+                group.push(positions.len());
+                positions.push(p);
+                offsets.push(offset);
+                goals.push(clamp_box(group_goal + offset, min, max));
+            }
+            if group.is_empty() {
+                break; // The stage is full; fewer people than asked.
+            }
+            groups.push(group);
+        }
+        // PySocialForce derives each person's maximum speed from the initial speed.
+        let velocities: Vec<Vec2> = positions
+            .iter()
+            .zip(&goals)
+            .map(|(p, g): (&Vec2, &Vec2)| {
+                let d = g - p;
+                if d.norm() > 1e-9 {
+                    d / d.norm() * h.speed
+                } else {
+                    unit(0.0) * h.speed
+                }
+            })
+            .collect();
+        let sf = SfParams {
+            step_width: scenario.dt_s,
+            agent_radius: h.radius_m,
+            ..SfParams::default()
+        };
+        let crowd = Crowd::new(positions, velocities, goals, groups, &sf);
+        let map = StaticMap::empty();
+        let obstacle_points = ObstaclePoints::from_map(&map, sf.resolution);
+        World {
+            time: 0.0,
+            step: 0,
+            dt: scenario.dt_s,
+            map,
+            humans: Humans {
+                crowd,
+                offsets,
+                radius: h.radius_m,
+                react_to_robots: h.react_to_robots,
+            },
+            robots: vec![robot],
+            sf,
+            obstacle_points,
+            stage_min: min,
+            stage_max: max,
+            goal_rng,
+            noise_rng: stream(scenario.seed, NOISE_STREAM),
+            scratch: Vec::new(),
+            externals: Vec::new(),
+        }
+    }
+
+    /// The Social Force parameters people walk with.
+    pub fn sf_params(&self) -> &SfParams {
+        &self.sf
+    }
+
+    /// Advances one step: robots execute `commands` (one per robot), people walk.
+    pub fn step(&mut self, commands: &[Command]) {
+        assert_eq!(commands.len(), self.robots.len(), "one command per robot");
+        // People react to where the robots are at the start of the step, as to each other.
+        self.externals.clear();
+        if self.humans.react_to_robots {
+            self.externals.extend(
+                self.robots
+                    .iter()
+                    .map(|r| (r.state.position, r.state.velocity)),
+            );
+        }
+        for (robot, command) in self.robots.iter_mut().zip(commands) {
+            robot.apply(*command, self.dt);
+        }
+        self.humans.crowd.step_with_externals(
+            &self.obstacle_points,
+            &self.sf,
+            &self.externals,
+            &mut self.scratch,
+        );
+        self.regoal_arrived_groups();
+        self.time += self.dt;
+        self.step += 1;
+    }
+
+    /// When any member of a group arrives, the whole group gets a new goal (PGP paper,
+    /// Sec. IV-A), so that nobody stands still on the stage.
+    fn regoal_arrived_groups(&mut self) {
+        let crowd = &mut self.humans.crowd;
+        for group in &crowd.groups {
+            let arrived = group
+                .iter()
+                .any(|&i| (crowd.goals[i] - crowd.positions[i]).norm() < self.sf.arrival_distance);
+            if arrived {
+                let goal = uniform(&mut self.goal_rng, self.stage_min, self.stage_max);
+                for &i in group {
+                    crowd.goals[i] = clamp_box(
+                        goal + self.humans.offsets[i],
+                        self.stage_min,
+                        self.stage_max,
+                    );
+                }
+            }
+        }
+    }
+
+    /// What robot `index` perceives: itself, and every person and other robot within its
+    /// sensor range (with the scenario's noise).
+    pub fn observe(&mut self, index: usize) -> (EgoState, Vec<Neighbour>) {
+        let robot = &self.robots[index];
+        let ego = robot.state;
+        let range = robot.spec.sensor_range_m;
+        let (pos_noise, vel_noise) = (robot.spec.position_noise_m, robot.spec.velocity_noise);
+        let mut seen = Vec::new();
+        let crowd = &self.humans.crowd;
+        for i in 0..crowd.len() {
+            if (crowd.positions[i] - ego.position).norm() <= range {
+                seen.push(Neighbour::new(
+                    i as u64,
+                    crowd.positions[i],
+                    crowd.velocities[i],
+                    self.humans.radius,
+                    AgentKind::Human,
+                ));
+            }
+        }
+        for (j, other) in self.robots.iter().enumerate() {
+            if j != index && (other.state.position - ego.position).norm() <= range {
+                let id = (1u64 << 32) | j as u64;
+                seen.push(Neighbour::new(
+                    id,
+                    other.state.position,
+                    other.state.velocity,
+                    other.state.radius,
+                    AgentKind::Robot,
+                ));
+            }
+        }
+        if pos_noise > 0.0 || vel_noise > 0.0 {
+            for n in &mut seen {
+                n.position += gaussian2(&mut self.noise_rng) * pos_noise;
+                n.velocity += gaussian2(&mut self.noise_rng) * vel_noise;
+            }
+        }
+        (ego, seen)
+    }
+}
+
+fn uniform(rng: &mut ChaCha8Rng, min: Vec2, max: Vec2) -> Vec2 {
+    vec2(
+        rng.random_range(min.x..=max.x),
+        rng.random_range(min.y..=max.y),
+    )
+}
+
+fn disc(rng: &mut ChaCha8Rng, radius: Real) -> Vec2 {
+    let r = radius * rng.random::<Real>().sqrt();
+    unit(rng.random_range(0.0..std::f64::consts::TAU)) * r
+}
+
+fn clamp_box(p: Vec2, min: Vec2, max: Vec2) -> Vec2 {
+    vec2(p.x.clamp(min.x, max.x), p.y.clamp(min.y, max.y))
+}
+
+/// A standard normal 2-D sample (Box–Muller).
+fn gaussian2(rng: &mut ChaCha8Rng) -> Vec2 {
+    let u1: Real = rng.random::<Real>().max(Real::MIN_POSITIVE);
+    let u2: Real = rng.random();
+    unit(std::f64::consts::TAU * u2) * (-2.0 * u1.ln()).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scenario(density: Real, seed: u64) -> Scenario {
+        let mut s = Scenario::builtin("open-space").expect("valid");
+        s.open_space.as_mut().expect("layout").density = density;
+        s.seed = seed;
+        s
+    }
+
+    #[test]
+    fn spawns_the_requested_people_in_groups_without_overlap() {
+        for density in [0.01, 0.1, 0.5, 1.0] {
+            let s = scenario(density, 3);
+            let w = World::open_space(&s);
+            let c = &w.humans.crowd;
+            assert_eq!(c.len(), s.human_count(), "density {density}");
+            assert!(c.groups.iter().all(|g| (1..=4).contains(&g.len())));
+            assert_eq!(c.groups.iter().map(Vec::len).sum::<usize>(), c.len());
+            for i in 0..c.len() {
+                assert!((c.positions[i] - w.robots[0].state.position).norm() >= ROBOT_CLEARANCE_M);
+                for j in i + 1..c.len() {
+                    assert!(
+                        (c.positions[i] - c.positions[j]).norm() >= 0.7,
+                        "overlap at density {density}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn same_seed_same_world_different_seed_different_world() {
+        let run = |seed| {
+            let mut w = World::open_space(&scenario(0.3, seed));
+            for _ in 0..100 {
+                w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+            }
+            (w.humans.crowd.positions.clone(), w.robots[0].state)
+        };
+        assert_eq!(run(5), run(5));
+        assert_ne!(run(5).0, run(6).0);
+    }
+
+    #[test]
+    fn groups_get_new_goals_and_keep_walking() {
+        let mut w = World::open_space(&scenario(0.1, 9));
+        for _ in 0..600 {
+            w.step(&[Command::STOP]);
+        }
+        let moving = w
+            .humans
+            .crowd
+            .velocities
+            .iter()
+            .filter(|v| v.norm() > 0.2)
+            .count();
+        assert!(
+            moving * 2 > w.humans.crowd.len(),
+            "after 60 s most people still walk ({moving} moving)"
+        );
+    }
+
+    #[test]
+    fn people_avoid_a_robot_only_when_they_react_to_robots() {
+        // One person walking straight at a parked robot.
+        let mut s = scenario(0.01, 1);
+        s.humans.react_to_robots = true;
+        let mut w = World::open_space(&s);
+        let robot = w.robots[0].state.position;
+        w.humans.crowd.positions[0] = robot + vec2(4.0, 0.02);
+        w.humans.crowd.goals[0] = robot + vec2(-4.0, 0.02);
+        w.humans.crowd.velocities[0] = vec2(-1.0, 0.0);
+        let mut ignoring = w.clone();
+        ignoring.humans.react_to_robots = false;
+        let closest = |w: &mut World| {
+            let mut d = Real::INFINITY;
+            for _ in 0..80 {
+                w.step(&[Command::STOP]);
+                d = d.min((w.humans.crowd.positions[0] - robot).norm());
+            }
+            d
+        };
+        let (react, ignore) = (closest(&mut w), closest(&mut ignoring));
+        assert!(
+            ignore < 0.1,
+            "ignoring robots, the person walks through it ({ignore})"
+        );
+        assert!(
+            react > ignore + 0.3,
+            "reacting, the person keeps away ({react} vs {ignore})"
+        );
+    }
+
+    #[test]
+    fn perception_respects_range_and_noise_is_seeded() {
+        let mut s = scenario(0.5, 2);
+        s.robot.sensor_range_m = 3.0;
+        let mut w = World::open_space(&s);
+        let (ego, seen) = w.observe(0);
+        assert!(
+            seen.iter()
+                .all(|n| (n.position - ego.position).norm() <= 3.0)
+        );
+        s.robot.position_noise_m = 0.1;
+        let (mut a, mut b) = (World::open_space(&s), World::open_space(&s));
+        assert_eq!(a.observe(0).1, b.observe(0).1);
+    }
+}
