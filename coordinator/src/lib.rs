@@ -1,0 +1,5 @@
+//! gapfleet's command line and the work behind it: batch experiments now; the fleet
+//! coordinator and the demo follow.
+
+pub mod experiment;
+pub mod stats;

@@ -1,0 +1,134 @@
+//! `gapfleet`: the user-facing binary.
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+use coordinator::experiment::{StudyPlan, write_outputs};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::time::Instant;
+use world_sim::scenario::Scenario;
+
+#[derive(Parser)]
+#[command(
+    name = "gapfleet",
+    version,
+    about = "Fleet coordination among people: planners, simulation, experiments"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Batch experiments with the planners in-process.
+    #[command(subcommand)]
+    Experiment(Experiment),
+}
+
+#[derive(Subcommand)]
+enum Experiment {
+    /// The PGP paper's open-space study: algorithms × densities × seeds.
+    OpenSpace {
+        /// Planners, comma-separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "dwa,orca,sf,pgp+dwa,pgp+orca,pgp+sf"
+        )]
+        algorithms: Vec<String>,
+        /// People per m², comma-separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "0.01,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,1.0"
+        )]
+        densities: Vec<f64>,
+        /// Seeds per (algorithm, density): 1..=N, the same for every algorithm.
+        #[arg(long, default_value_t = 100)]
+        seeds: u64,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Output folder for runs.csv and summary.json.
+        #[arg(long, default_value = "results/open-space")]
+        out: PathBuf,
+        /// A scenario file to start from (default: the built-in open-space).
+        #[arg(long)]
+        scenario: Option<PathBuf>,
+    },
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Experiment(Experiment::OpenSpace {
+            algorithms,
+            densities,
+            seeds,
+            jobs,
+            out,
+            scenario,
+        }) => {
+            let scenario = match scenario {
+                Some(path) => {
+                    let text = std::fs::read_to_string(&path)
+                        .with_context(|| format!("reading {}", path.display()))?;
+                    Scenario::from_toml(&text, &path.display().to_string())?
+                }
+                None => Scenario::builtin("open-space")?,
+            };
+            let algorithms = algorithms
+                .iter()
+                .map(|a| a.parse())
+                .collect::<Result<Vec<_>, _>>()?;
+            if let Some(bad) = densities
+                .iter()
+                .find(|d| !(d.is_finite() && **d > 0.0 && **d <= 3.0))
+            {
+                bail!("--densities: {bad} is not in (0, 3] people per m²");
+            }
+            if seeds == 0 {
+                bail!("--seeds must be at least 1");
+            }
+            let plan = StudyPlan {
+                scenario,
+                algorithms,
+                densities,
+                seeds,
+            };
+            let threads =
+                jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?;
+            let total = plan.runs().len() as u64;
+            let bar = ProgressBar::new(total).with_style(
+                ProgressStyle::with_template(
+                    "{elapsed_precise} [{bar:40}] {pos}/{len} runs, eta {eta}",
+                )?
+                .progress_chars("=> "),
+            );
+            let started = Instant::now();
+            let rows = pool.install(|| plan.execute(&|| bar.inc(1)));
+            bar.finish();
+            let summary = write_outputs(&out, &plan, &rows)
+                .with_context(|| format!("writing {}", out.display()))?;
+            eprintln!(
+                "{} runs on {threads} threads in {:.1} s; wrote {0}/runs.csv and summary.json",
+                rows.len(),
+                started.elapsed().as_secs_f64(),
+            );
+            for c in summary.comparisons.iter().filter(|c| c.metric == "svr") {
+                eprintln!(
+                    "  svr {:>8} {:.4} vs {:>4} {:.4} (Wilcoxon p = {})",
+                    c.with_pgp,
+                    c.mean_with.unwrap_or(f64::NAN),
+                    c.baseline,
+                    c.mean_without.unwrap_or(f64::NAN),
+                    c.wilcoxon_p.map_or("n/a".into(), |p| format!("{p:.3e}"))
+                );
+            }
+            Ok(())
+        }
+    }
+}
