@@ -7,9 +7,10 @@
 //! against linear predictions, so an arc predicted to overlap anything within t^plan is not
 //! admissible. (Fox et al.'s weaker rule, admissible while the robot could still brake before
 //! the hit, let our DWA drive at people whose paths then bent back.) The admissible arc with
-//! the best G = α·heading + β·clearance + γ·velocity wins; if none is admissible the robot
-//! brakes as hard as the window allows. The weights are ours: the PGP paper does not give
-//! them.
+//! the best G = α·heading + β·clearance + γ·velocity wins. If none is admissible (in a dense
+//! crowd someone is nearly always predicted within reach), the arc whose predicted collision
+//! comes latest is taken: braking to a standstill instead froze the robot in crowds. The
+//! weights are ours: the PGP paper does not give them.
 
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, unit, wrap_angle};
@@ -101,7 +102,7 @@ pub struct DwaChoice {
     pub trajectory: Vec<TrajectorySample>,
     /// The window it was chosen from.
     pub window: Window,
-    /// Whether any arc was admissible (false: emergency braking).
+    /// Whether any arc was admissible (false: the arc colliding latest was taken).
     pub admissible: bool,
 }
 
@@ -207,26 +208,33 @@ impl Dwa {
             }
         }
 
+        // The best admissible arc; failing that, the arc whose predicted collision comes
+        // latest (ties: the slower arc, which the loop meets first).
         let mut best: Option<(Real, Real, Real)> = None;
+        let mut latest_hit: Option<(Real, Real, Real)> = None;
         for iv in 0..p.v_samples {
             let v = lerp(window.v, iv, p.v_samples);
             for iw in 0..p.yaw_samples {
                 let w = lerp(window.yaw_rate, iw, p.yaw_samples);
                 let offsets = &self.unit_offsets[iw * steps..(iw + 1) * steps];
-                let Some(score) = self.score(ego, map, target, v, w, offsets) else {
-                    continue;
-                };
-                if best.is_none_or(|b| score > b.0) {
-                    best = Some((score, v, w));
+                match self.score(ego, map, target, v, w, offsets) {
+                    Ok(score) => {
+                        if best.is_none_or(|b| score > b.0) {
+                            best = Some((score, v, w));
+                        }
+                    }
+                    Err(hit_time) => {
+                        if latest_hit.is_none_or(|b| hit_time > b.0) {
+                            latest_hit = Some((hit_time, v, w));
+                        }
+                    }
                 }
             }
         }
         let admissible = best.is_some();
-        let (_, speed, yaw_rate) = best.unwrap_or((
-            0.0,
-            window.v.0,
-            0.0_f64.clamp(window.yaw_rate.0, window.yaw_rate.1),
-        ));
+        let (_, speed, yaw_rate) = best
+            .or(latest_hit)
+            .expect("the window has at least one arc");
         let trajectory = self.arc(ego, speed, yaw_rate, steps);
         DwaChoice {
             speed,
@@ -237,7 +245,8 @@ impl Dwa {
         }
     }
 
-    /// G(v, ω), or `None` if the arc is not admissible.
+    /// G(v, ω), or, for an arc that is not admissible, the time of its first predicted
+    /// collision (clearance below the safety margin).
     fn score(
         &self,
         ego: &EgoState,
@@ -246,7 +255,7 @@ impl Dwa {
         v: Real,
         w: Real,
         unit_offsets: &[Vec2],
-    ) -> Option<Real> {
+    ) -> Result<Real, Real> {
         let p = &self.params;
         let mut min_clearance = Real::INFINITY;
         let mut reaches_target = false;
@@ -274,7 +283,7 @@ impl Dwa {
                 }
             }
             if clearance <= p.safety_margin {
-                return None;
+                return Err(t);
             }
             min_clearance = min_clearance.min(clearance);
             reaches_target |= (pos - target).norm() < 0.2;
@@ -289,11 +298,9 @@ impl Dwa {
         };
         let clearance = min_clearance.clamp(0.0, p.clearance_cap) / p.clearance_cap;
         let velocity = if p.v_max > 0.0 { v / p.v_max } else { 0.0 };
-        Some(
-            p.heading_weight * heading
-                + p.clearance_weight * clearance
-                + p.velocity_weight * velocity,
-        )
+        Ok(p.heading_weight * heading
+            + p.clearance_weight * clearance
+            + p.velocity_weight * velocity)
     }
 
     fn arc(&self, ego: &EgoState, v: Real, w: Real, steps: usize) -> Vec<TrajectorySample> {
