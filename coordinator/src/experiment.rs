@@ -112,6 +112,91 @@ pub fn runs_csv(rows: &[RunRow]) -> String {
     out
 }
 
+/// Why a `runs.csv` could not be read back.
+#[derive(Debug, thiserror::Error)]
+#[error("runs.csv line {line}: {message}")]
+pub struct CsvError {
+    line: usize,
+    message: String,
+}
+
+/// A `runs.csv` read back.
+#[derive(Debug, Clone)]
+pub struct ParsedRuns {
+    /// The rows, in file order.
+    pub rows: Vec<RunRow>,
+    /// The algorithms, in order of first appearance.
+    pub algorithms: Vec<PlannerSpec>,
+    /// The densities, in order of first appearance.
+    pub densities: Vec<f64>,
+}
+
+/// Reads `runs.csv` back (the inverse of [`runs_csv`]), so that summaries and figures can be
+/// rebuilt without re-running.
+pub fn parse_runs_csv(text: &str) -> Result<ParsedRuns, CsvError> {
+    let mut lines = text.lines().enumerate();
+    let header = lines.next().map(|(_, h)| h).unwrap_or_default();
+    if !header.starts_with("algorithm,density,seed,success,") {
+        return Err(CsvError {
+            line: 1,
+            message: "not a gapfleet runs.csv header".into(),
+        });
+    }
+    let (mut rows, mut algorithms, mut densities) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, line) in lines {
+        let err = |message: String| CsvError {
+            line: i + 1,
+            message,
+        };
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 14 {
+            return Err(err(format!("expected 14 fields, got {}", f.len())));
+        }
+        let num = |k: usize| -> Result<f64, CsvError> {
+            if f[k].is_empty() {
+                Ok(f64::NAN)
+            } else {
+                f[k].parse()
+                    .map_err(|e| err(format!("field {}: {e}", k + 1)))
+            }
+        };
+        let algorithm: PlannerSpec = f[0].parse().map_err(|e| err(format!("{e}")))?;
+        let density = num(1)?;
+        let seed = f[2].parse().map_err(|e| err(format!("seed: {e}")))?;
+        let metrics = RobotMetrics {
+            success: f[3] == "true",
+            time_to_goal_s: num(4)?,
+            path_length_m: num(5)?,
+            collision_rate: num(6)?,
+            svr: num(7)?,
+            social_force: num(8)?,
+            min_human_distance_m: num(9)?,
+            intimate_time_s: num(10)?,
+            personal_time_s: num(11)?,
+            still_time_s: num(12)?,
+            robot_near_misses: 0,
+            force_on_people: num(13)?,
+        };
+        if !algorithms.contains(&algorithm) {
+            algorithms.push(algorithm);
+        }
+        if !densities.contains(&density) {
+            densities.push(density);
+        }
+        rows.push(RunRow {
+            algorithm,
+            density,
+            seed,
+            metrics,
+        });
+    }
+    Ok(ParsedRuns {
+        rows,
+        algorithms,
+        densities,
+    })
+}
+
 /// Means of one (algorithm, density) group.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Group {
@@ -133,6 +218,8 @@ pub struct Group {
     pub svr: Option<f64>,
     /// Mean average social force on the robot.
     pub social_force: Option<f64>,
+    /// Mean smallest centre distance to a person (m).
+    pub min_human_distance_m: Option<f64>,
 }
 
 /// PGP+X against X on one metric, pooled over densities, paired by (density, seed).
@@ -196,6 +283,7 @@ pub fn summarize(plan: &StudyPlan, rows: &[RunRow]) -> Summary {
                 collision_rate: mean(g.iter().map(|m| m.collision_rate)),
                 svr: mean(g.iter().map(|m| m.svr)),
                 social_force: mean(g.iter().map(|m| m.social_force)),
+                min_human_distance_m: mean(g.iter().map(|m| m.min_human_distance_m)),
             });
         }
     }
@@ -239,12 +327,18 @@ pub fn summarize(plan: &StudyPlan, rows: &[RunRow]) -> Summary {
     }
 }
 
-/// Writes `runs.csv` and `summary.json` into `out`.
+/// Writes `runs.csv`, `summary.json` and the two figures into `out`.
 pub fn write_outputs(out: &Path, plan: &StudyPlan, rows: &[RunRow]) -> std::io::Result<Summary> {
     std::fs::create_dir_all(out)?;
     std::fs::write(out.join("runs.csv"), runs_csv(rows))?;
+    write_summary(out, plan, rows)
+}
+
+/// Writes `summary.json` and the two figures into `out`.
+pub fn write_summary(out: &Path, plan: &StudyPlan, rows: &[RunRow]) -> std::io::Result<Summary> {
     let summary = summarize(plan, rows);
     let json = serde_json::to_string_pretty(&summary).map_err(std::io::Error::other)?;
     std::fs::write(out.join("summary.json"), json + "\n")?;
+    crate::plots::write_figures(&summary, out).map_err(std::io::Error::other)?;
     Ok(summary)
 }

@@ -2,4 +2,5 @@
 //! coordinator and the demo follow.
 
 pub mod experiment;
+pub mod plots;
 pub mod stats;

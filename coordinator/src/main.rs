@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
-use coordinator::experiment::{StudyPlan, write_outputs};
+use coordinator::experiment::{StudyPlan, parse_runs_csv, write_outputs, write_summary};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -56,6 +56,12 @@ enum Experiment {
         /// A scenario file to start from (default: the built-in open-space).
         #[arg(long)]
         scenario: Option<PathBuf>,
+    },
+    /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
+    Summarize {
+        /// The study's output folder.
+        #[arg(long, default_value = "results/open-space")]
+        dir: PathBuf,
     },
 }
 
@@ -128,6 +134,28 @@ fn main() -> Result<()> {
                     c.wilcoxon_p.map_or("n/a".into(), |p| format!("{p:.3e}"))
                 );
             }
+            Ok(())
+        }
+        Command::Experiment(Experiment::Summarize { dir }) => {
+            let path = dir.join("runs.csv");
+            let text = std::fs::read_to_string(&path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let parsed = parse_runs_csv(&text)?;
+            let rows = parsed.rows;
+            let seeds = rows.iter().map(|r| r.seed).max().unwrap_or(0);
+            let plan = StudyPlan {
+                scenario: Scenario::builtin("open-space")?,
+                algorithms: parsed.algorithms,
+                densities: parsed.densities,
+                seeds,
+            };
+            write_summary(&dir, &plan, &rows)
+                .with_context(|| format!("writing {}", dir.display()))?;
+            eprintln!(
+                "{} runs: wrote {1}/summary.json, fig4_success.png, fig5_social.png",
+                rows.len(),
+                dir.display()
+            );
             Ok(())
         }
     }

@@ -1,0 +1,145 @@
+//! Plots in the style of the PGP paper's Fig. 4 (success metrics) and Fig. 5 (quality and
+//! social metrics): a metric against crowd density, one colour per short-term planner, PGP+X
+//! solid and X dashed.
+
+use crate::experiment::{Group, Summary};
+use plotters::prelude::*;
+use plotters::series::DashedLineSeries;
+use std::path::Path;
+use std::sync::Once;
+
+/// DejaVu Sans (see `assets/DejaVuSans.LICENSE`), bundled so that plots need no system fonts.
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+/// A plot could not be drawn or written.
+#[derive(Debug, thiserror::Error)]
+#[error("plot {path}: {message}")]
+pub struct PlotError {
+    path: String,
+    message: String,
+}
+
+/// One panel: its y-axis label and how to read the value from a group.
+type Panel = (&'static str, fn(&Group) -> Option<f64>);
+
+/// Writes `fig4_success.png` and `fig5_social.png` into `out`.
+pub fn write_figures(summary: &Summary, out: &Path) -> Result<(), PlotError> {
+    REGISTER.call_once(|| {
+        // The bundled font is valid; a failure would only leave labels blank.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+    let fig4: [Panel; 3] = [
+        ("time to goal (s)", |g| g.time_to_goal_s),
+        ("path length (m)", |g| g.path_length_m),
+        ("collision rate while moving (%)", |g| {
+            g.collision_rate.map(|v| 100.0 * v)
+        }),
+    ];
+    let fig5: [Panel; 3] = [
+        ("min. distance to people (m)", |g| g.min_human_distance_m),
+        ("space-violation rate while moving (%)", |g| {
+            g.svr.map(|v| 100.0 * v)
+        }),
+        ("avg. social force on robot", |g| g.social_force),
+    ];
+    figure(
+        &out.join("fig4_success.png"),
+        "Success metrics (cf. PGP paper Fig. 4)",
+        &fig4,
+        summary,
+    )?;
+    figure(
+        &out.join("fig5_social.png"),
+        "Quality / social metrics (cf. PGP paper Fig. 5)",
+        &fig5,
+        summary,
+    )
+}
+
+fn colour(algorithm: &str) -> RGBColor {
+    match algorithm.trim_start_matches("pgp+") {
+        "dwa" => RGBColor(31, 119, 180),
+        "orca" => RGBColor(214, 39, 40),
+        _ => RGBColor(44, 160, 44),
+    }
+}
+
+fn figure(path: &Path, title: &str, panels: &[Panel], summary: &Summary) -> Result<(), PlotError> {
+    let err = |e: &dyn std::fmt::Display| PlotError {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    let root = BitMapBackend::new(path, (900, 1150)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let root = root
+        .titled(title, ("sans-serif", 24))
+        .map_err(|e| err(&e))?;
+    let mut algorithms: Vec<&str> = Vec::new();
+    for g in &summary.groups {
+        if !algorithms.contains(&g.algorithm.as_str()) {
+            algorithms.push(&g.algorithm);
+        }
+    }
+    let x_max = summary.groups.iter().map(|g| g.density).fold(0.0, f64::max) * 1.05;
+    for (area, (label, get)) in root.split_evenly((panels.len(), 1)).iter().zip(panels) {
+        let series: Vec<(&str, Vec<(f64, f64)>)> = algorithms
+            .iter()
+            .map(|a| {
+                let mut pts: Vec<(f64, f64)> = summary
+                    .groups
+                    .iter()
+                    .filter(|g| g.algorithm == *a)
+                    .filter_map(|g| get(g).map(|v| (g.density, v)))
+                    .collect();
+                pts.sort_by(|p, q| p.0.total_cmp(&q.0));
+                (*a, pts)
+            })
+            .collect();
+        let y_max = series
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|q| q.1))
+            .fold(0.0, f64::max)
+            .max(1e-9)
+            * 1.1;
+        let mut chart = ChartBuilder::on(area)
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+            .map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("density (people / m²)")
+            .y_desc(*label)
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| err(&e))?;
+        for (name, pts) in series {
+            let style = colour(name).stroke_width(2);
+            let name = name.to_uppercase();
+            if name.starts_with("PGP") {
+                chart
+                    .draw_series(LineSeries::new(pts, style))
+                    .map_err(|e| err(&e))?
+                    .label(name)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+            } else {
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 7, 5, style))
+                    .map_err(|e| err(&e))?
+                    .label(name)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], style));
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 13))
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.85))
+            .draw()
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))
+}
