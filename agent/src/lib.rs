@@ -9,6 +9,7 @@
 //! input gives the same output, bit for bit.
 
 pub mod dwa;
+pub mod grid;
 pub mod map;
 pub mod math;
 pub mod model;

@@ -11,6 +11,7 @@
 //! - the desired force pulls towards `max_speed` (1.3 × the initial speed by default);
 //! - an agent closer than 0.5 m to its goal stops.
 
+use crate::grid::PointGrid;
 use crate::map::StaticMap;
 use crate::math::{Real, Vec2, angle_of, left_normal, vec2};
 use crate::model::{EgoState, Neighbour};
@@ -92,6 +93,10 @@ pub struct SfParams {
     pub group_gaze_factor: Real,
     /// An agent closer than this to its goal stops (m).
     pub arrival_distance: Real,
+    /// `None`: every pair interacts, as in PySocialForce (O(N²)). `Some(r)`: only pairs
+    /// closer than r (m), found through a grid (O(N)); for large crowds. Not a PySocialForce
+    /// parameter.
+    pub interaction_range: Option<Real>,
 }
 
 impl Default for SfParams {
@@ -129,6 +134,7 @@ impl Default for SfParams {
             },
             group_gaze_factor: 1.0,
             arrival_distance: 0.5,
+            interaction_range: None,
         }
     }
 }
@@ -321,15 +327,32 @@ impl Crowd {
         let n = self.len();
         out.clear();
         out.resize(n, vec2(0.0, 0.0));
+        let mut grid = PointGrid::default();
+        if let Some(range) = p.interaction_range {
+            grid.build(&self.positions, range);
+        }
         for (a, force) in out.iter_mut().enumerate() {
             let (pa, va) = (self.positions[a], self.velocities[a]);
             let mut social = vec2(0.0, 0.0);
-            for b in (0..n).filter(|&b| b != a) {
-                social +=
-                    social_force_pair(pa, va, self.positions[b], self.velocities[b], &p.social);
+            let mut add = |pb: Vec2, vb: Vec2| {
+                if p.interaction_range
+                    .is_none_or(|r| (pb - pa).norm_squared() < r * r)
+                {
+                    social += social_force_pair(pa, va, pb, vb, &p.social);
+                }
+            };
+            match p.interaction_range {
+                None => (0..n)
+                    .filter(|&b| b != a)
+                    .for_each(|b| add(self.positions[b], self.velocities[b])),
+                Some(_) => grid.for_each_near(pa, |b| {
+                    if b != a {
+                        add(self.positions[b], self.velocities[b]);
+                    }
+                }),
             }
             for (pb, vb) in externals {
-                social += social_force_pair(pa, va, *pb, *vb, &p.social);
+                add(*pb, *vb);
             }
             *force = desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
                 + social * p.social.factor
@@ -510,3 +533,58 @@ impl SocialForceAgent {
 }
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod range_tests {
+    use super::*;
+
+    /// With a range longer than the stage, the grid path gives PySocialForce's all-pairs sums
+    /// up to summation order.
+    #[test]
+    fn long_range_grid_matches_all_pairs() {
+        let p = SfParams::default();
+        let positions: Vec<Vec2> = (0..30)
+            .map(|i| vec2((i % 6) as Real * 0.9, (i / 6) as Real * 1.1))
+            .collect();
+        let velocities: Vec<Vec2> = (0..30)
+            .map(|i| {
+                vec2(
+                    ((i * 7) % 5) as Real * 0.2 - 0.4,
+                    ((i * 3) % 4) as Real * 0.2 - 0.3,
+                )
+            })
+            .collect();
+        let goals: Vec<Vec2> = (0..30)
+            .map(|i| vec2(10.0 - (i % 6) as Real, (i / 6) as Real))
+            .collect();
+        let crowd = Crowd::new(
+            positions,
+            velocities,
+            goals,
+            vec![vec![0, 1, 2], vec![3, 4]],
+            &p,
+        );
+        let (mut exact, mut ranged) = (Vec::new(), Vec::new());
+        crowd.forces(&ObstaclePoints::default(), &p, &mut exact);
+        let far = SfParams {
+            interaction_range: Some(100.0),
+            ..p
+        };
+        crowd.forces(&ObstaclePoints::default(), &far, &mut ranged);
+        for (e, r) in exact.iter().zip(&ranged) {
+            assert!((e - r).norm() < 1e-12);
+        }
+        // A short range drops distant pairs, so some force must change.
+        let near = SfParams {
+            interaction_range: Some(1.0),
+            ..p
+        };
+        crowd.forces(&ObstaclePoints::default(), &near, &mut ranged);
+        assert!(
+            exact
+                .iter()
+                .zip(&ranged)
+                .any(|(e, r)| (e - r).norm() > 1e-9)
+        );
+    }
+}

@@ -24,6 +24,31 @@ enum Command {
     /// Batch experiments with the planners in-process.
     #[command(subcommand)]
     Experiment(Experiment),
+    /// Measure how fast things run on this machine, to size a deployment.
+    #[command(subcommand)]
+    Bench(Bench),
+}
+
+#[derive(Subcommand)]
+enum Bench {
+    /// World steps per second: people walking (robots parked, planners not included).
+    World {
+        /// Only the open stage exists so far.
+        #[arg(long, default_value = "open-space")]
+        scenario: String,
+        /// Number of people.
+        #[arg(long, default_value_t = 1000)]
+        humans: usize,
+        /// People per m² (the stage is sized to fit them).
+        #[arg(long, default_value_t = 0.3)]
+        density: f64,
+        /// Steps to time (after 20 warm-up steps).
+        #[arg(long, default_value_t = 500)]
+        steps: usize,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 #[derive(Subcommand)]
@@ -67,6 +92,13 @@ enum Experiment {
 
 fn main() -> Result<()> {
     match Cli::parse().command {
+        Command::Bench(Bench::World {
+            scenario,
+            humans,
+            density,
+            steps,
+            json,
+        }) => bench_world(&scenario, humans, density, steps, json),
         Command::Experiment(Experiment::OpenSpace {
             algorithms,
             densities,
@@ -159,4 +191,53 @@ fn main() -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Times `steps` world steps; reports the median and mean step time and steps per second.
+fn bench_world(
+    scenario: &str,
+    humans: usize,
+    density: f64,
+    steps: usize,
+    json: bool,
+) -> Result<()> {
+    if scenario != "open-space" {
+        bail!("--scenario {scenario:?}: only open-space exists so far");
+    }
+    if humans == 0 || steps == 0 || !(density > 0.0 && density <= 3.0) {
+        bail!("--humans and --steps must be positive and --density in (0, 3]");
+    }
+    let s = Scenario::sized_for(humans, density)?;
+    let mut world = world_sim::world::World::open_space(&s);
+    let park = vec![agent::model::Command::STOP; world.robots.len()];
+    for _ in 0..20 {
+        world.step(&park);
+    }
+    let mut times = Vec::with_capacity(steps);
+    let started = Instant::now();
+    for _ in 0..steps {
+        let t = Instant::now();
+        world.step(&park);
+        times.push(t.elapsed().as_secs_f64() * 1e6);
+    }
+    let total = started.elapsed().as_secs_f64();
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    let mean = times.iter().sum::<f64>() / times.len() as f64;
+    let people = world.humans.crowd.len();
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "scenario": scenario, "humans": people, "density": density, "steps": steps,
+                "median_us_per_step": median, "mean_us_per_step": mean, "steps_per_s": steps as f64 / total,
+            })
+        );
+    } else {
+        println!(
+            "{scenario}: {people} people at {density}/m², {steps} steps: median {median:.1} µs/step, mean {mean:.1} µs/step, {:.0} steps/s",
+            steps as f64 / total
+        );
+    }
+    Ok(())
 }

@@ -77,6 +77,10 @@ pub struct Humans {
     pub radius_m: Real,
     /// Whether people treat robots as other pedestrians (Social Force), or ignore them.
     pub react_to_robots: bool,
+    /// People farther apart than this (m) do not interact; absent: everyone interacts with
+    /// everyone, as in PySocialForce (O(N²), fine up to a few hundred people).
+    #[serde(default)]
+    pub interaction_range_m: Option<Real>,
 }
 
 /// A robot's body, limits and sensor.
@@ -162,6 +166,9 @@ impl Scenario {
         if !positive(h.radius_m) || h.radius_m > 1.0 {
             return bad("humans.radius_m", "must be in (0, 1] m");
         }
+        if h.interaction_range_m.is_some_and(|r| !positive(r)) {
+            return bad("humans.interaction_range_m", "must be positive");
+        }
         let r = &self.robot;
         for (field, value) in [
             ("robot.radius_m", r.radius_m),
@@ -185,6 +192,18 @@ impl Scenario {
             }
         }
         Ok(())
+    }
+
+    /// The built-in open stage resized to hold `people` at `density` (for benchmarks and
+    /// sizing studies), with a 6 m interaction range so that large crowds step in O(N).
+    pub fn sized_for(people: usize, density: Real) -> Result<Self, ScenarioError> {
+        let mut s = Self::builtin("open-space")?;
+        let open = s.open_space.as_mut().expect("the built-in has a layout");
+        open.density = density;
+        open.size_m = (people as Real / density).sqrt();
+        s.humans.interaction_range_m = Some(6.0);
+        s.validate("sized open-space")?;
+        Ok(s)
     }
 
     /// Number of people on the open stage: max(1, round(density · size²)).
@@ -265,6 +284,39 @@ mod tests {
             err.contains("unused") || err.contains("open_space"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn interaction_range_is_optional_and_checked() {
+        let s = Scenario::builtin("open-space").expect("valid");
+        assert_eq!(
+            s.humans.interaction_range_m, None,
+            "PySocialForce's all-pairs by default"
+        );
+        let text = default_text().replace(
+            "react_to_robots = true",
+            "react_to_robots = true\ninteraction_range_m = 6.0",
+        );
+        assert_eq!(
+            Scenario::from_toml(&text, "t")
+                .expect("valid")
+                .humans
+                .interaction_range_m,
+            Some(6.0)
+        );
+        let text = default_text().replace(
+            "react_to_robots = true",
+            "react_to_robots = true\ninteraction_range_m = 0.0",
+        );
+        let err = Scenario::from_toml(&text, "t").unwrap_err().to_string();
+        assert!(err.contains("humans.interaction_range_m"), "{err}");
+    }
+
+    /// A scenario for `n` people on an open stage at `density`, sized to fit them.
+    #[test]
+    fn sized_for_gives_the_requested_count() {
+        let s = Scenario::sized_for(1000, 0.3).expect("valid");
+        assert_eq!(s.human_count(), 1000);
     }
 
     #[test]

@@ -136,6 +136,7 @@ impl World {
         let sf = SfParams {
             step_width: scenario.dt_s,
             agent_radius: h.radius_m,
+            interaction_range: h.interaction_range_m,
             ..SfParams::default()
         };
         let crowd = Crowd::new(positions, velocities, goals, groups, &sf);

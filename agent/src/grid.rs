@@ -1,0 +1,117 @@
+//! A uniform grid over points, for "who is near me" queries in O(1) per query. Items are
+//! visited in a fixed order (cells row by row, ascending index within a cell), so results that
+//! sum over neighbours are deterministic.
+
+use crate::math::{Real, Vec2};
+
+/// Points bucketed into square cells.
+#[derive(Debug, Clone, Default)]
+pub struct PointGrid {
+    cell: Real,
+    min: Vec2,
+    cols: usize,
+    rows: usize,
+    /// `starts[c]..starts[c + 1]` indexes `items` for cell c.
+    starts: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl PointGrid {
+    /// Buckets `points` into cells of side `cell` (> 0).
+    pub fn build(&mut self, points: &[Vec2], cell: Real) {
+        debug_assert!(cell > 0.0);
+        self.cell = cell;
+        let (mut min, mut max) = (Vec2::zeros(), Vec2::zeros());
+        if let Some(first) = points.first() {
+            (min, max) = (*first, *first);
+            for p in points {
+                min = min.inf(p);
+                max = max.sup(p);
+            }
+        }
+        self.min = min;
+        self.cols = ((max.x - min.x) / cell) as usize + 1;
+        self.rows = ((max.y - min.y) / cell) as usize + 1;
+        let cells = self.cols * self.rows;
+        self.starts.clear();
+        self.starts.resize(cells + 1, 0);
+        for p in points {
+            let c = self.cell_of(p);
+            self.starts[c + 1] += 1;
+        }
+        for c in 0..cells {
+            self.starts[c + 1] += self.starts[c];
+        }
+        self.items.clear();
+        self.items.resize(points.len(), 0);
+        let mut fill = self.starts.clone();
+        for (i, p) in points.iter().enumerate() {
+            let c = self.cell_of(p);
+            self.items[fill[c] as usize] = i as u32;
+            fill[c] += 1;
+        }
+    }
+
+    fn cell_of(&self, p: &Vec2) -> usize {
+        let cx = (((p.x - self.min.x) / self.cell) as usize).min(self.cols - 1);
+        let cy = (((p.y - self.min.y) / self.cell) as usize).min(self.rows - 1);
+        cy * self.cols + cx
+    }
+
+    /// Calls `f` with every item in the 3 × 3 cells around `p`: a superset of the items within
+    /// one cell side of `p`.
+    pub fn for_each_near(&self, p: Vec2, mut f: impl FnMut(usize)) {
+        if self.items.is_empty() {
+            return;
+        }
+        let fx = ((p.x - self.min.x) / self.cell).floor();
+        let fy = ((p.y - self.min.y) / self.cell).floor();
+        for dy in -1..=1 {
+            let y = fy + dy as Real;
+            if y < 0.0 || y >= self.rows as Real {
+                continue;
+            }
+            for dx in -1..=1 {
+                let x = fx + dx as Real;
+                if x < 0.0 || x >= self.cols as Real {
+                    continue;
+                }
+                let c = y as usize * self.cols + x as usize;
+                for &i in &self.items[self.starts[c] as usize..self.starts[c + 1] as usize] {
+                    f(i as usize);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::vec2;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn finds_every_point_within_one_cell(
+            pts in proptest::collection::vec((-20.0..20.0f64, -20.0..20.0f64), 0..80),
+            q in (-25.0..25.0f64, -25.0..25.0f64),
+            cell in 0.5..6.0f64,
+        ) {
+            let points: Vec<Vec2> = pts.iter().map(|&(x, y)| vec2(x, y)).collect();
+            let mut grid = PointGrid::default();
+            grid.build(&points, cell);
+            let q = vec2(q.0, q.1);
+            let mut found = Vec::new();
+            grid.for_each_near(q, |i| found.push(i));
+            for (i, p) in points.iter().enumerate() {
+                if (p - q).norm() < cell {
+                    prop_assert!(found.contains(&i), "point {i} at distance {} missed", (p - q).norm());
+                }
+            }
+            found.sort_unstable();
+            found.dedup();
+            prop_assert!(found.iter().all(|&i| i < points.len()));
+        }
+    }
+}
