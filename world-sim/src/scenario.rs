@@ -6,8 +6,10 @@ use agent::math::Real;
 use serde::Deserialize;
 
 /// The scenarios shipped with gapfleet, by name.
-pub const BUILTIN: &[(&str, &str)] =
-    &[("open-space", include_str!("../scenarios/open-space.toml"))];
+pub const BUILTIN: &[(&str, &str)] = &[
+    ("open-space", include_str!("../scenarios/open-space.toml")),
+    ("hallway", include_str!("../scenarios/hallway.toml")),
+];
 
 /// Why a scenario could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -31,7 +33,9 @@ pub enum ScenarioError {
         reason: String,
     },
     /// No built-in scenario of that name.
-    #[error("unknown scenario {0:?}; built in: open-space, or give a path to a .toml file")]
+    #[error(
+        "unknown scenario {0:?}; built in: open-space, hallway, or give a path to a .toml file"
+    )]
     Unknown(String),
 }
 
@@ -47,8 +51,10 @@ pub struct Scenario {
     pub dt_s: Real,
     /// A run ends unsuccessfully after this long (s).
     pub max_time_s: Real,
-    /// The paper's open stage (the only layout so far).
+    /// The paper's open stage.
     pub open_space: Option<OpenSpace>,
+    /// A straight corridor with two-way traffic.
+    pub hallway: Option<Hallway>,
     /// The people.
     pub humans: Humans,
     /// The robots' bodies and sensors.
@@ -63,6 +69,21 @@ pub struct OpenSpace {
     pub size_m: Real,
     /// People per m²; the stage holds max(1, round(density · size²)) people.
     pub density: Real,
+    /// Groups have 1 to this many members.
+    pub max_group_size: usize,
+}
+
+/// A straight corridor along x, walled on both long sides and open at the ends, with people
+/// walking end to end in both directions. The robot drives from one end to the other.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Hallway {
+    /// Length (m): 25, 50 or 100 in the product's standard set; any positive value works.
+    pub length_m: Real,
+    /// Width between the walls (m).
+    pub width_m: Real,
+    /// Number of people.
+    pub humans: usize,
     /// Groups have 1 to this many members.
     pub max_group_size: usize,
 }
@@ -144,20 +165,41 @@ impl Scenario {
         if !positive(self.max_time_s) {
             return bad("max_time_s", "must be positive");
         }
-        let Some(open) = &self.open_space else {
-            return bad(
-                "open_space",
-                "is missing: a scenario needs a layout table ([open_space])",
-            );
-        };
-        if !positive(open.size_m) || open.size_m > 1000.0 {
-            return bad("open_space.size_m", "must be in (0, 1000] m");
-        }
-        if !positive(open.density) || open.density > 3.0 {
-            return bad("open_space.density", "must be in (0, 3] people per m²");
-        }
-        if open.max_group_size == 0 {
-            return bad("open_space.max_group_size", "must be at least 1");
+        match (&self.open_space, &self.hallway) {
+            (None, None) => {
+                return bad(
+                    "open_space",
+                    "is missing: a scenario needs one layout table ([open_space] or [hallway])",
+                );
+            }
+            (Some(_), Some(_)) => {
+                return bad(
+                    "hallway",
+                    "conflicts with [open_space]: give one layout table",
+                );
+            }
+            (Some(open), None) => {
+                if !positive(open.size_m) || open.size_m > 1000.0 {
+                    return bad("open_space.size_m", "must be in (0, 1000] m");
+                }
+                if !positive(open.density) || open.density > 3.0 {
+                    return bad("open_space.density", "must be in (0, 3] people per m²");
+                }
+                if open.max_group_size == 0 {
+                    return bad("open_space.max_group_size", "must be at least 1");
+                }
+            }
+            (None, Some(hall)) => {
+                if !positive(hall.length_m) || hall.length_m < 2.0 || hall.length_m > 10_000.0 {
+                    return bad("hallway.length_m", "must be in [2, 10000] m");
+                }
+                if !positive(hall.width_m) || hall.width_m < 1.0 || hall.width_m > 100.0 {
+                    return bad("hallway.width_m", "must be in [1, 100] m");
+                }
+                if hall.max_group_size == 0 {
+                    return bad("hallway.max_group_size", "must be at least 1");
+                }
+            }
         }
         let h = &self.humans;
         if !positive(h.speed) || h.speed > 3.0 {
@@ -317,6 +359,29 @@ mod tests {
     fn sized_for_gives_the_requested_count() {
         let s = Scenario::sized_for(1000, 0.3).expect("valid");
         assert_eq!(s.human_count(), 1000);
+    }
+
+    #[test]
+    fn builtin_hallway_parses_and_one_layout_is_required() {
+        let s = Scenario::builtin("hallway").expect("valid");
+        let hall = s.hallway.expect("layout");
+        assert_eq!((hall.length_m, hall.width_m), (25.0, 3.0));
+        let both = format!(
+            "{}\n[open_space]\nsize_m = 10.0\ndensity = 0.5\nmax_group_size = 4\n",
+            BUILTIN[1].1
+        );
+        let err = Scenario::from_toml(&both, "both.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("hallway") && err.contains("one layout"),
+            "{err}"
+        );
+        let narrow = BUILTIN[1].1.replace("width_m = 3.0", "width_m = 0.5");
+        let err = Scenario::from_toml(&narrow, "narrow.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("hallway.width_m"), "{err}");
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use crate::robot::RobotBody;
 use crate::scenario::Scenario;
-use agent::map::StaticMap;
+use agent::map::{Obstacle, StaticMap};
 use agent::math::{Real, Vec2, unit, vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::social_force::{Crowd, ObstaclePoints, SfParams};
@@ -52,6 +52,7 @@ pub struct World {
     obstacle_points: ObstaclePoints,
     stage_min: Vec2,
     stage_max: Vec2,
+    goal_rule: GoalRule,
     goal_rng: ChaCha8Rng,
     noise_rng: ChaCha8Rng,
     scratch: Vec<Vec2>,
@@ -65,6 +66,32 @@ fn stream(seed: u64, stream: u64) -> ChaCha8Rng {
 }
 
 impl World {
+    /// The world a scenario describes.
+    pub fn from_scenario(scenario: &Scenario) -> Self {
+        if let Some(hall) = &scenario.hallway {
+            let (length, width) = (hall.length_m, hall.width_m);
+            let walls = vec![
+                Obstacle::Wall(vec2(0.0, 0.0), vec2(length, 0.0)),
+                Obstacle::Wall(vec2(0.0, width), vec2(length, width)),
+            ];
+            let map =
+                StaticMap::new(walls).expect("two straight walls of positive length are valid");
+            let margin = (scenario.humans.radius_m + 0.05).min(width / 2.0);
+            let layout = Layout {
+                spawn_min: vec2(END_MARGIN_M, margin),
+                spawn_max: vec2(length - END_MARGIN_M, width - margin),
+                map,
+                robot_start: vec2(END_MARGIN_M, width / 2.0),
+                robot_goal: vec2(length - END_MARGIN_M, width / 2.0),
+                goals: GoalRule::OppositeEnd,
+                people: hall.humans,
+                max_group_size: hall.max_group_size,
+            };
+            return Self::build(scenario, layout);
+        }
+        Self::open_space(scenario)
+    }
+
     /// The PGP paper's open stage with one robot crossing it from the middle of the left edge
     /// to the middle of the right edge; people in groups of 1..=max_group_size between random
     /// goals on the stage.
@@ -73,23 +100,36 @@ impl World {
             .open_space
             .expect("validated scenarios have a layout");
         let size = open.size_m;
-        let start = vec2(0.0, size / 2.0);
-        let goal = vec2(size, size / 2.0);
-        let robot = RobotBody::new(start, goal, scenario.robot);
-        let (min, max) = (vec2(0.0, 0.0), vec2(size, size));
+        let layout = Layout {
+            spawn_min: vec2(0.0, 0.0),
+            spawn_max: vec2(size, size),
+            map: StaticMap::empty(),
+            robot_start: vec2(0.0, size / 2.0),
+            robot_goal: vec2(size, size / 2.0),
+            goals: GoalRule::Anywhere,
+            people: scenario.human_count(),
+            max_group_size: open.max_group_size,
+        };
+        Self::build(scenario, layout)
+    }
+
+    fn build(scenario: &Scenario, layout: Layout) -> Self {
+        let (min, max) = (layout.spawn_min, layout.spawn_max);
+        let start = layout.robot_start;
+        let robot = RobotBody::new(start, layout.robot_goal, scenario.robot);
         let mut spawn = stream(scenario.seed, SPAWN_STREAM);
         let mut goal_rng = stream(scenario.seed, GOAL_STREAM);
         let h = &scenario.humans;
-        let n = scenario.human_count();
+        let n = layout.people;
 
         let (mut positions, mut goals, mut offsets, mut groups) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let min_gap = 2.0 * h.radius_m + 0.05;
         while positions.len() < n {
             let size_left = n - positions.len();
-            let members = spawn.random_range(1..=open.max_group_size.min(size_left));
+            let members = spawn.random_range(1..=layout.max_group_size.min(size_left));
             let centre = uniform(&mut spawn, min, max);
-            let group_goal = uniform(&mut goal_rng, min, max);
+            let group_goal = layout.goals.first(&mut goal_rng, min, max);
             let mut group = Vec::new();
             for _ in 0..members {
                 // Rejection sampling near the group's centre, then anywhere.
@@ -140,13 +180,12 @@ impl World {
             ..SfParams::default()
         };
         let crowd = Crowd::new(positions, velocities, goals, groups, &sf);
-        let map = StaticMap::empty();
-        let obstacle_points = ObstaclePoints::from_map(&map, sf.resolution);
+        let obstacle_points = ObstaclePoints::from_map(&layout.map, sf.resolution);
         World {
             time: 0.0,
             step: 0,
             dt: scenario.dt_s,
-            map,
+            map: layout.map,
             humans: Humans {
                 crowd,
                 offsets,
@@ -158,6 +197,7 @@ impl World {
             obstacle_points,
             stage_min: min,
             stage_max: max,
+            goal_rule: layout.goals,
             goal_rng,
             noise_rng: stream(scenario.seed, NOISE_STREAM),
             scratch: Vec::new(),
@@ -205,7 +245,10 @@ impl World {
                 .iter()
                 .any(|&i| (crowd.goals[i] - crowd.positions[i]).norm() < self.sf.arrival_distance);
             if arrived {
-                let goal = uniform(&mut self.goal_rng, self.stage_min, self.stage_max);
+                let here = crowd.positions[group[0]];
+                let goal =
+                    self.goal_rule
+                        .next(&mut self.goal_rng, here, self.stage_min, self.stage_max);
                 for &i in group {
                     crowd.goals[i] = clamp_box(
                         goal + self.humans.offsets[i],
@@ -256,6 +299,59 @@ impl World {
             }
         }
         (ego, seen)
+    }
+}
+
+/// People keep this far from a hallway's open ends (m); robots start and stop there too.
+const END_MARGIN_M: Real = 0.5;
+
+/// What a layout contributes to a world.
+struct Layout {
+    spawn_min: Vec2,
+    spawn_max: Vec2,
+    map: StaticMap,
+    robot_start: Vec2,
+    robot_goal: Vec2,
+    goals: GoalRule,
+    people: usize,
+    max_group_size: usize,
+}
+
+/// Where a group goes when one of its members arrives.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum GoalRule {
+    /// Anywhere on the stage (the PGP paper's open space).
+    Anywhere,
+    /// The far end of a hallway along x, at a random height: two-way traffic.
+    OppositeEnd,
+}
+
+impl GoalRule {
+    /// The first goal of a newly spawned group.
+    fn first(self, rng: &mut ChaCha8Rng, min: Vec2, max: Vec2) -> Vec2 {
+        match self {
+            GoalRule::Anywhere => uniform(rng, min, max),
+            // Half the groups head each way.
+            GoalRule::OppositeEnd => {
+                let x = if rng.random::<bool>() { max.x } else { min.x };
+                vec2(x, rng.random_range(min.y..=max.y))
+            }
+        }
+    }
+
+    /// The next goal of a group that arrived at `at`.
+    fn next(self, rng: &mut ChaCha8Rng, at: Vec2, min: Vec2, max: Vec2) -> Vec2 {
+        match self {
+            GoalRule::Anywhere => uniform(rng, min, max),
+            GoalRule::OppositeEnd => {
+                let x = if at.x - min.x > max.x - at.x {
+                    min.x
+                } else {
+                    max.x
+                };
+                vec2(x, rng.random_range(min.y..=max.y))
+            }
+        }
     }
 }
 
@@ -374,6 +470,48 @@ mod tests {
         assert!(
             react > ignore + 0.3,
             "reacting, the person keeps away ({react} vs {ignore})"
+        );
+    }
+
+    #[test]
+    fn hallway_has_walls_and_two_way_traffic_that_stays_inside() {
+        let s = Scenario::builtin("hallway").expect("valid");
+        let mut w = World::from_scenario(&s);
+        assert_eq!(w.map.boundary_segments().count(), 2);
+        assert_eq!(w.humans.crowd.len(), 12);
+        let heading_right = |w: &World| {
+            (0..w.humans.crowd.len())
+                .filter(|&i| w.humans.crowd.goals[i].x > 12.5)
+                .count()
+        };
+        let right = heading_right(&w);
+        assert!(
+            right > 0 && right < 12,
+            "traffic both ways ({right} of 12 heading +x)"
+        );
+        let mut lowest: Real = Real::INFINITY;
+        let mut highest: Real = Real::NEG_INFINITY;
+        for _ in 0..600 {
+            w.step(&[Command::STOP]);
+            for p in &w.humans.crowd.positions {
+                lowest = lowest.min(p.y);
+                highest = highest.max(p.y);
+            }
+        }
+        assert!(
+            lowest > 0.0 && highest < 3.0,
+            "people left the corridor: y in [{lowest}, {highest}]"
+        );
+        let moving = w
+            .humans
+            .crowd
+            .velocities
+            .iter()
+            .filter(|v| v.norm() > 0.2)
+            .count();
+        assert!(
+            moving * 2 > 12,
+            "people keep walking end to end ({moving} moving)"
         );
     }
 
