@@ -78,7 +78,7 @@ enum Experiment {
         /// Output folder for runs.csv and summary.json.
         #[arg(long, default_value = "results/open-space")]
         out: PathBuf,
-        /// A scenario file to start from (default: the built-in open-space).
+        /// A built-in scenario name or a scenario file to start from (default: open-space).
         #[arg(long)]
         scenario: Option<PathBuf>,
     },
@@ -108,6 +108,9 @@ fn main() -> Result<()> {
             scenario,
         }) => {
             let scenario = match scenario {
+                Some(name) if Scenario::builtin(&name.display().to_string()).is_ok() => {
+                    Scenario::builtin(&name.display().to_string())?
+                }
                 Some(path) => {
                     let text = std::fs::read_to_string(&path)
                         .with_context(|| format!("reading {}", path.display()))?;

@@ -7,7 +7,8 @@
 //! - **time to goal**: seconds until the goal was reached (successful runs only);
 //! - **path length**: metres driven until the goal was reached or time ran out;
 //! - **collision rate**: share of moving steps with a body overlap (centre distance below the
-//!   sum of radii) with a person or another robot;
+//!   sum of radii) with a person or another robot, or with a wall or shelf (the simulator
+//!   does not stop robots at obstacles; it counts the contact);
 //! - **space-violation rate (SVR)**: share of moving steps with any person or robot closer
 //!   than 1.0 m, centre to centre;
 //! - **social force**: the magnitude of the summed Social Force (PySocialForce's interaction
@@ -155,6 +156,9 @@ impl MetricsRecorder {
             ) * sf.factor)
                 .norm();
         }
+        // Walls and shelves: the simulator does not stop a robot at them, so touching one is
+        // counted here as a collision.
+        overlap |= world.map.distance(&ego.position) < ego.radius;
         for (j, other) in world.robots.iter().enumerate() {
             if j == self.index {
                 continue;
@@ -261,6 +265,24 @@ mod tests {
         let r = m.finish();
         assert_eq!((r.collision_rate, r.svr), (0.0, 0.0));
         assert!((r.still_time_s - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn touching_a_wall_while_moving_is_a_collision() {
+        let s = Scenario::builtin("open-space-walled").expect("valid");
+        let mut w = World::from_scenario(&s);
+        w.humans
+            .crowd
+            .positions
+            .iter_mut()
+            .for_each(|p| *p += vec2(100.0, 0.0));
+        let mut m = MetricsRecorder::new(&w, 0);
+        // 1 m from the wall at x = −1; drive into it.
+        for _ in 0..15 {
+            w.step(&[Command::Velocity(vec2(-1.0, 0.0))]);
+            m.record(&w);
+        }
+        assert!(m.finish().collision_rate > 0.0);
     }
 
     #[test]

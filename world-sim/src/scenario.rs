@@ -9,6 +9,10 @@ use serde::Deserialize;
 pub const BUILTIN: &[(&str, &str)] = &[
     ("open-space", include_str!("../scenarios/open-space.toml")),
     ("hallway", include_str!("../scenarios/hallway.toml")),
+    (
+        "open-space-walled",
+        include_str!("../scenarios/open-space-walled.toml"),
+    ),
 ];
 
 /// Why a scenario could not be used.
@@ -34,7 +38,7 @@ pub enum ScenarioError {
     },
     /// No built-in scenario of that name.
     #[error(
-        "unknown scenario {0:?}; built in: open-space, hallway, or give a path to a .toml file"
+        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, or give a path to a .toml file"
     )]
     Unknown(String),
 }
@@ -71,6 +75,10 @@ pub struct OpenSpace {
     pub density: Real,
     /// Groups have 1 to this many members.
     pub max_group_size: usize,
+    /// Encloses the stage in walls this far (m) outside its edges, so nobody can leave it;
+    /// absent: no walls (the PGP paper does not mention any).
+    #[serde(default)]
+    pub walls_margin_m: Option<Real>,
 }
 
 /// A straight corridor along x, walled on both long sides and open at the ends, with people
@@ -187,6 +195,12 @@ impl Scenario {
                 }
                 if open.max_group_size == 0 {
                     return bad("open_space.max_group_size", "must be at least 1");
+                }
+                if open
+                    .walls_margin_m
+                    .is_some_and(|m| !(m.is_finite() && m > 0.0))
+                {
+                    return bad("open_space.walls_margin_m", "must be positive");
                 }
             }
             (None, Some(hall)) => {

@@ -100,10 +100,21 @@ impl World {
             .open_space
             .expect("validated scenarios have a layout");
         let size = open.size_m;
+        let map = match open.walls_margin_m {
+            None => StaticMap::empty(),
+            Some(m) => {
+                let (lo, hi) = (-m, size + m);
+                let corners = [vec2(lo, lo), vec2(hi, lo), vec2(hi, hi), vec2(lo, hi)];
+                let walls = (0..4)
+                    .map(|i| Obstacle::Wall(corners[i], corners[(i + 1) % 4]))
+                    .collect();
+                StaticMap::new(walls).expect("a square of positive size is valid")
+            }
+        };
         let layout = Layout {
             spawn_min: vec2(0.0, 0.0),
             spawn_max: vec2(size, size),
-            map: StaticMap::empty(),
+            map,
             robot_start: vec2(0.0, size / 2.0),
             robot_goal: vec2(size, size / 2.0),
             goals: GoalRule::Anywhere,
@@ -512,6 +523,25 @@ mod tests {
         assert!(
             moving * 2 > 12,
             "people keep walking end to end ({moving} moving)"
+        );
+    }
+
+    #[test]
+    fn walled_stage_keeps_everyone_inside_the_walls() {
+        let s = Scenario::builtin("open-space-walled").expect("valid");
+        let mut w = World::from_scenario(&s);
+        assert_eq!(w.map.boundary_segments().count(), 4);
+        // The robot starts inside, 1 m from the left wall.
+        assert!((w.map.distance(&w.robots[0].state.position) - 1.0).abs() < 1e-12);
+        for _ in 0..300 {
+            w.step(&[Command::Velocity(vec2(-1.0, 0.0))]);
+        }
+        assert!(
+            w.humans
+                .crowd
+                .positions
+                .iter()
+                .all(|p| p.x > -1.0 && p.x < 11.0 && p.y > -1.0 && p.y < 11.0)
         );
     }
 
