@@ -232,8 +232,11 @@ impl Pgp {
                 .collect(),
             best,
         });
-        let alpha = geometries[best].alpha;
-        let subgoal = p0 + rotate(&dir, alpha) * self.params.subgoal_distance.min(dist_goal);
+        // The paper puts the subgoal d_subgoal along the best candidate's initial heading, which
+        // is on the candidate's first segment while d_turned ≥ d_subgoal. We take the point
+        // d_subgoal along the candidate's path: the same point then, and still on the path when
+        // a near goal has shrunk the fan (a point along the heading could lie behind a wall).
+        let subgoal = geometries[best].point_at(self.params.subgoal_distance.min(dist_goal));
         PgpDecision {
             subgoal,
             trajectory: self.trajectory(best),
@@ -242,11 +245,18 @@ impl Pgp {
     }
 
     /// Sec. III-B: three-segment paths, 11 angles × d_outside ∈ {0, 0.9·remaining}.
+    ///
+    /// The paper sizes the fan for a goal d_goal away. When the map goal is nearer, the fan is
+    /// scaled down with it (d_turned · distance / d_goal), so that the straight candidate ends
+    /// at the goal instead of overshooting it by up to d_turned; at d_goal or more it is exactly
+    /// the paper's.
     fn candidate_geometries(&self, p0: Vec2, dir: Vec2, pgp_goal: Vec2) -> Vec<Geometry> {
         let p = &self.params;
+        let scale = ((pgp_goal - p0).norm() / p.d_goal).min(1.0);
+        let d_turned = p.d_turned * scale;
         let mut out = Vec::with_capacity(2 * p.fan_angles.len());
         for &alpha in &p.fan_angles {
-            let p_out = p0 + rotate(&dir, alpha) * p.d_turned;
+            let p_out = p0 + rotate(&dir, alpha) * d_turned;
             let remaining = (pgp_goal - p_out).norm();
             for d_outside in [0.0, p.outside_fraction * remaining] {
                 let p_back = p_out + dir * d_outside;
@@ -585,6 +595,19 @@ struct Geometry {
     alpha: Real,
     d_outside: Real,
     waypoints: [Vec2; 4],
+}
+
+impl Geometry {
+    /// The point at arc length `arc` along the path (its end if the path is shorter).
+    fn point_at(&self, arc: Real) -> Vec2 {
+        let w = &self.waypoints;
+        let seg_len = [
+            (w[1] - w[0]).norm(),
+            (w[2] - w[1]).norm(),
+            (w[3] - w[2]).norm(),
+        ];
+        point_on_path(w, &seg_len, arc).0
+    }
 }
 
 /// Position and unit direction of travel at arc length `arc` along the three-segment path.

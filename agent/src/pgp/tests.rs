@@ -253,3 +253,42 @@ fn risk_floor_culling_changes_no_decision_and_utilities_by_under_1e_6() {
         }
     }
 }
+
+/// Regression: with the goal nearer than d_turned, every candidate's first segment overshot
+/// it (the straight one into the wall behind a goal placed by a wall), so PGP preferred
+/// sideways detours and the robot circled the goal (traced in the walled open-space study).
+#[test]
+fn near_the_goal_the_fan_shrinks_and_pgp_heads_straight_for_it() {
+    let wall = Obstacle::Wall(vec2(1.6, -5.0), vec2(1.6, 5.0));
+    let map = StaticMap::new(vec![wall]).expect("valid wall");
+    let goal = vec2(0.6, 0.0);
+    let d = Pgp::new(PgpParams::default()).plan(&ego_at_origin(), &[], &map, goal);
+    let fan = d.fan.expect("fan");
+    assert_eq!(fan.candidates[fan.best].alpha, 0.0);
+    assert!(
+        (d.subgoal - goal).norm() < 1e-12,
+        "subgoal {:?} should be the goal",
+        d.subgoal
+    );
+    let straight = &fan.candidates[10];
+    assert!(
+        straight.positions.iter().all(|p| p.x <= 0.6 + 1e-9),
+        "the straight candidate must not overshoot"
+    );
+}
+
+#[test]
+fn a_goal_beyond_d_goal_keeps_the_papers_fan() {
+    let d = plan(&[], &StaticMap::empty());
+    let fan = d.fan.expect("fan");
+    // α = 16°, no slow-down (< 30°): after 2.5 s at 1 m/s the candidate is at the paper's
+    // P_out, d_turned = 2.5 m out along α.
+    let c = &fan.candidates[12];
+    assert!((c.alpha.to_degrees() - 16.0).abs() < 1e-9);
+    let p_out = crate::math::rotate(&vec2(1.0, 0.0), c.alpha) * 2.5;
+    assert!(
+        (c.positions[10] - p_out).norm() < 1e-12,
+        "{:?} vs {p_out:?}",
+        c.positions[10]
+    );
+}
