@@ -134,6 +134,13 @@ pub struct RobotSpec {
     pub position_noise_m: Real,
     /// Standard deviation of perceived velocities (m/s).
     pub velocity_noise: Real,
+    /// Whether walls and shelves hide what is behind them (line of sight to a body's centre).
+    #[serde(default = "yes")]
+    pub occlusion: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 impl Scenario {

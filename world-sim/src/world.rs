@@ -272,7 +272,8 @@ impl World {
     }
 
     /// What robot `index` perceives: itself, and every person and other robot within its
-    /// sensor range (with the scenario's noise).
+    /// sensor range whose centre it can see past walls and shelves (unless occlusion is off),
+    /// with the scenario's noise.
     pub fn observe(&mut self, index: usize) -> (EgoState, Vec<Neighbour>) {
         let robot = &self.robots[index];
         let ego = robot.state;
@@ -280,8 +281,13 @@ impl World {
         let (pos_noise, vel_noise) = (robot.spec.position_noise_m, robot.spec.velocity_noise);
         let mut seen = Vec::new();
         let crowd = &self.humans.crowd;
+        let occlusion = robot.spec.occlusion && !self.map.is_empty();
+        let visible = |p: Vec2| {
+            (p - ego.position).norm() <= range
+                && (!occlusion || self.map.line_of_sight(ego.position, p))
+        };
         for i in 0..crowd.len() {
-            if (crowd.positions[i] - ego.position).norm() <= range {
+            if visible(crowd.positions[i]) {
                 seen.push(Neighbour::new(
                     i as u64,
                     crowd.positions[i],
@@ -292,7 +298,7 @@ impl World {
             }
         }
         for (j, other) in self.robots.iter().enumerate() {
-            if j != index && (other.state.position - ego.position).norm() <= range {
+            if j != index && visible(other.state.position) {
                 let id = (1u64 << 32) | j as u64;
                 seen.push(Neighbour::new(
                     id,
@@ -543,6 +549,21 @@ mod tests {
                 .iter()
                 .all(|p| p.x > -1.0 && p.x < 11.0 && p.y > -1.0 && p.y < 11.0)
         );
+    }
+
+    #[test]
+    fn walls_hide_people_unless_occlusion_is_off() {
+        let mut s = Scenario::builtin("hallway").expect("valid");
+        let mut w = World::from_scenario(&s);
+        let ego = w.robots[0].state.position;
+        // Someone just outside the corridor's lower wall, 2 m ahead.
+        w.humans.crowd.positions[0] = ego + vec2(2.0, -2.0);
+        let seen = |w: &mut World| w.observe(0).1.iter().any(|n| n.id == 0);
+        assert!(!seen(&mut w), "the wall hides them");
+        s.robot.occlusion = false;
+        let mut transparent = World::from_scenario(&s);
+        transparent.humans.crowd.positions[0] = ego + vec2(2.0, -2.0);
+        assert!(seen(&mut transparent), "without occlusion they are seen");
     }
 
     #[test]
