@@ -305,12 +305,10 @@ impl Dwa {
 
     fn arc(&self, ego: &EgoState, v: Real, w: Real, steps: usize) -> Vec<TrajectorySample> {
         let p = &self.params;
-        let cap = p.sigma.sigma_max(v);
-        let mut sigma = p.sigma.sigma0;
         (1..=steps)
-            .map(|i| {
+            .zip(p.sigma.constant_speed(v))
+            .map(|(i, sigma)| {
                 let t = i as Real * p.dt;
-                sigma = cap.min(sigma + p.sigma.delta * v);
                 TrajectorySample {
                     t,
                     position: ego.position + ctrv_offset(v, ego.heading, w, t),

@@ -263,18 +263,15 @@ fn straight(
     dt: Real,
     sigma: &SigmaModel,
 ) -> Vec<TrajectorySample> {
-    let speed = v.norm();
-    let cap = sigma.sigma_max(speed);
-    let mut s = sigma.sigma0;
     let steps = (horizon / dt).round() as usize;
     (1..=steps)
-        .map(|i| {
+        .zip(sigma.constant_speed(v.norm()))
+        .map(|(i, sigma)| {
             let t = i as Real * dt;
-            s = cap.min(s + sigma.delta * speed);
             TrajectorySample {
                 t,
                 position: start + v * t,
-                sigma: s,
+                sigma,
             }
         })
         .collect()

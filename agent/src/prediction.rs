@@ -39,6 +39,13 @@ impl SigmaModel {
         (self.beta * self.sigma0).min(self.sigma0 + self.gamma * max_speed)
     }
 
+    /// σ_1, σ_2, … for a constant speed: each step grows σ by δ·speed up to σ_max(speed).
+    pub fn constant_speed(&self, speed: Real) -> impl Iterator<Item = Real> + use<> {
+        let cap = self.sigma_max(speed);
+        let growth = self.delta * speed;
+        std::iter::successors(Some(self.sigma0), move |s| Some(cap.min(s + growth))).skip(1)
+    }
+
     /// Fills `sigma[0..=n]` for the speeds `speeds[1..=n]` (`speeds[0]` is ignored):
     /// σ_0 = σ0, σ_i = min(σ_max, σ_{i-1} + δ·v_i).
     pub fn fill(&self, speeds: &[Real], sigma: &mut [Real]) {
@@ -88,15 +95,9 @@ pub fn extrapolate_ctrv(
             *slot = neighbour.position + ctrv_offset(speed, heading, omega, i as Real * dt);
         }
     }
-    // Constant speed: every step grows σ by δ·|v| up to the cap.
-    let cap = model.sigma_max(speed);
-    let growth = model.delta * speed;
-    track.sigma.resize(n + 1, model.sigma0);
-    let mut sigma = model.sigma0;
-    for slot in &mut track.sigma[1..] {
-        sigma = cap.min(sigma + growth);
-        *slot = sigma;
-    }
+    track.sigma.clear();
+    track.sigma.push(model.sigma0);
+    track.sigma.extend(model.constant_speed(speed).take(n));
 }
 
 /// Displacement after time `t` driving at `speed` from `heading` while turning at `omega`.
