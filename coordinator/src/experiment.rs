@@ -9,7 +9,7 @@ use agent::planner::PlannerSpec;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
-use world_sim::episode::run_open_space;
+use world_sim::episode::run_episode;
 use world_sim::metrics::RobotMetrics;
 use world_sim::scenario::Scenario;
 
@@ -63,7 +63,7 @@ impl StudyPlan {
                     open.density = density;
                 }
                 scenario.seed = seed;
-                let metrics = run_open_space(&scenario, algorithm)[0];
+                let metrics = run_episode(&scenario, algorithm)[0];
                 progress();
                 RunRow {
                     algorithm,

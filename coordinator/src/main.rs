@@ -107,16 +107,17 @@ fn main() -> Result<()> {
             out,
             scenario,
         }) => {
-            let scenario = match scenario {
-                Some(name) if Scenario::builtin(&name.display().to_string()).is_ok() => {
-                    Scenario::builtin(&name.display().to_string())?
-                }
-                Some(path) => {
+            let builtin = scenario
+                .as_ref()
+                .and_then(|s| Scenario::builtin(&s.display().to_string()).ok());
+            let scenario = match (builtin, scenario) {
+                (Some(builtin), _) => builtin,
+                (None, Some(path)) => {
                     let text = std::fs::read_to_string(&path)
                         .with_context(|| format!("reading {}", path.display()))?;
                     Scenario::from_toml(&text, &path.display().to_string())?
                 }
-                None => Scenario::builtin("open-space")?,
+                (None, None) => Scenario::builtin("open-space")?,
             };
             let algorithms = algorithms
                 .iter()

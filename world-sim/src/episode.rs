@@ -7,11 +7,6 @@ use crate::world::World;
 use agent::model::Command;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
 
-/// Runs the open-space scenario (see [`run_episode`]).
-pub fn run_open_space(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetrics> {
-    run_episode(scenario, planner)
-}
-
 /// Runs a scenario with every robot using `planner` until all robots arrive or time runs
 /// out. Returns each robot's metrics.
 pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetrics> {
@@ -63,7 +58,7 @@ mod tests {
         let mut s = Scenario::builtin("open-space").expect("valid");
         s.open_space.as_mut().expect("layout").density = 0.1;
         for spec in PlannerSpec::STUDY {
-            let m = run_open_space(&s, spec)[0];
+            let m = run_episode(&s, spec)[0];
             assert!(m.success, "{spec}: {m:?}");
             assert!(
                 m.path_length_m >= 9.0 && m.time_to_goal_s >= 9.0,
@@ -88,7 +83,7 @@ mod tests {
     fn runs_are_deterministic() {
         let s = Scenario::builtin("open-space").expect("valid");
         let spec: PlannerSpec = "pgp+orca".parse().expect("known");
-        let (a, b) = (run_open_space(&s, spec), run_open_space(&s, spec));
+        let (a, b) = (run_episode(&s, spec), run_episode(&s, spec));
         assert_eq!(format!("{a:?}"), format!("{b:?}"));
     }
 }
