@@ -18,4 +18,6 @@ pub mod pgp;
 pub mod planner;
 pub mod prediction;
 pub mod risk;
+#[cfg(feature = "runtime")]
+pub mod runtime;
 pub mod social_force;

@@ -1,6 +1,8 @@
-//! gapfleet's command line and the work behind it: batch experiments now; the fleet
-//! coordinator and the demo follow.
+//! gapfleet's command line and the work behind it: batch experiments, the fleet coordinator
+//! (a warehouse world served over Zenoh) and the in-process demo.
 
+pub mod demo;
 pub mod experiment;
 pub mod plots;
 pub mod stats;
+pub mod server;

@@ -27,6 +27,76 @@ enum Command {
     /// Measure how fast things run on this machine, to size a deployment.
     #[command(subcommand)]
     Bench(Bench),
+    /// The whole fleet in one process: a coordinator and one agent per robot, each with its
+    /// own Zenoh session on loopback, in a warehouse with people.
+    Demo(DemoArgs),
+    /// Run the warehouse world and serve agents over Zenoh (`gapfleet-agent` processes).
+    Coordinator(CoordinatorArgs),
+}
+
+#[derive(clap::Args)]
+struct DemoArgs {
+    /// Robots (one agent each).
+    #[arg(long, default_value_t = 8)]
+    robots: usize,
+    /// People.
+    #[arg(long, default_value_t = 40)]
+    humans: usize,
+    /// Simulated seconds.
+    #[arg(long, default_value_t = 60.0)]
+    seconds: f64,
+    /// Seed of the world.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Planner stack of every agent.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: agent::planner::PlannerSpec,
+    /// Simulated seconds per wall second.
+    #[arg(long, default_value_t = 1.0)]
+    speed: f64,
+    /// Built-in warehouse scenario or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    scenario: String,
+    /// Where the coordinator listens (default: a free port on 127.0.0.1), e.g. to attach a
+    /// Python client: tcp/127.0.0.1:7447.
+    #[arg(long)]
+    listen: Option<String>,
+    /// Site name.
+    #[arg(long, default_value = "demo")]
+    site: String,
+    /// Do not put other robots' intents into observations.
+    #[arg(long)]
+    no_intent_sharing: bool,
+}
+
+#[derive(clap::Args)]
+struct CoordinatorArgs {
+    /// Built-in warehouse scenario or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    scenario: String,
+    /// Override the scenario's robot count.
+    #[arg(long)]
+    robots: Option<usize>,
+    /// Override the scenario's people count.
+    #[arg(long)]
+    humans: Option<usize>,
+    /// Override the scenario's seed.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Simulated seconds per wall second.
+    #[arg(long, default_value_t = 1.0)]
+    speed: f64,
+    /// Stop after this many simulated seconds (default: run until SIGINT/SIGTERM).
+    #[arg(long)]
+    seconds: Option<f64>,
+    /// Site name.
+    #[arg(long, default_value = "demo")]
+    site: String,
+    /// Do not put other robots' intents into observations.
+    #[arg(long)]
+    no_intent_sharing: bool,
+    #[command(flatten)]
+    net: agent::runtime::net::NetArgs,
 }
 
 #[derive(Subcommand)]
@@ -90,8 +160,169 @@ enum Experiment {
     },
 }
 
+/// A built-in scenario by name, or a scenario file.
+fn load_scenario(name_or_path: &str) -> Result<Scenario> {
+    if let Ok(s) = Scenario::builtin(name_or_path) {
+        return Ok(s);
+    }
+    let path = std::path::Path::new(name_or_path);
+    if !path.exists() {
+        return Ok(Scenario::builtin(name_or_path)?);
+    }
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    Ok(Scenario::from_toml(&text, name_or_path)?)
+}
+
+/// A warehouse scenario with counts and seed overridden.
+fn warehouse(
+    name_or_path: &str,
+    robots: Option<usize>,
+    humans: Option<usize>,
+    seed: Option<u64>,
+) -> Result<Scenario> {
+    let mut s = load_scenario(name_or_path)?;
+    let Some(w) = s.warehouse.as_mut() else {
+        bail!("scenario {name_or_path:?} is not a warehouse (it needs a [warehouse] table)");
+    };
+    if let Some(r) = robots {
+        w.robots = r;
+    }
+    if let Some(h) = humans {
+        w.humans = h;
+    }
+    if let Some(seed) = seed {
+        s.seed = seed;
+    }
+    s.validate(name_or_path)?;
+    Ok(s)
+}
+
+fn init_logging(default: &str) {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| default.into()),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+}
+
+/// Completes on SIGINT or SIGTERM.
+async fn shutdown_signal() {
+    use tokio::signal::unix::{SignalKind, signal};
+    match signal(SignalKind::terminate()) {
+        Ok(mut term) => {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = term.recv() => {}
+            }
+        }
+        Err(_) => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}
+
+fn runtime() -> Result<tokio::runtime::Runtime> {
+    Ok(tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()?)
+}
+
+fn demo(args: DemoArgs) -> Result<()> {
+    use coordinator::demo::{DemoOptions, run_demo, status_line, summary};
+    use std::io::IsTerminal;
+    init_logging("warn");
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !positive(args.speed) || !positive(args.seconds) {
+        bail!("--speed and --seconds must be positive");
+    }
+    let scenario = warehouse(&args.scenario, Some(args.robots), Some(args.humans), Some(args.seed))?;
+    let options = DemoOptions {
+        scenario,
+        planner: args.planner,
+        seconds: args.seconds,
+        speed: args.speed,
+        site: args.site,
+        listen: args.listen,
+        share_intents: !args.no_intent_sharing,
+    };
+    eprintln!(
+        "gapfleet demo: {} robots ({}), {} people, {} s at {}x; Ctrl-C stops early",
+        args.robots, args.planner, args.humans, args.seconds, args.speed
+    );
+    let tty = std::io::stderr().is_terminal();
+    let mut printed = 0u64;
+    let report = runtime()?.block_on(run_demo(options, shutdown_signal(), |status| {
+        printed += 1;
+        if tty {
+            eprint!("\r{}", status_line(status));
+        } else if printed.is_multiple_of(5) {
+            eprintln!("{}", status_line(status));
+        }
+    }))?;
+    if tty {
+        eprintln!();
+    }
+    println!("{}", summary(&report, args.planner));
+    Ok(())
+}
+
+fn coordinator_main(args: CoordinatorArgs) -> Result<()> {
+    use agent::runtime::net::{Role, config};
+    use coordinator::demo::status_line;
+    use coordinator::server::{CoordinatorConfig, Event, run_coordinator};
+    init_logging("info,zenoh=warn");
+    if !(args.speed.is_finite() && args.speed > 0.0) {
+        bail!("--speed must be positive");
+    }
+    let scenario = warehouse(&args.scenario, args.robots, args.humans, args.seed)?;
+    let mut net = args.net.clone();
+    if net.listen.is_empty() && net.connect.is_empty() && net.zenoh_config.is_none() {
+        net.listen.push("tcp/127.0.0.1:7447".to_owned());
+    }
+    let mut fleet = world_sim::fleet::Fleet::new(&scenario)?;
+    fleet.share_intents = !args.no_intent_sharing;
+    let mut config_ = CoordinatorConfig::new(&args.site);
+    config_.speed = args.speed;
+    config_.seconds = args.seconds;
+    runtime()?.block_on(async {
+        let session = zenoh::open(config(&net, Role::Router)?)
+            .await
+            .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
+        eprintln!(
+            "gapfleet coordinator: site {:?}, {} robots, {} people, listening {:?} connecting {:?}",
+            args.site,
+            fleet.robots(),
+            fleet.world.humans.crowd.len(),
+            net.listen,
+            net.connect
+        );
+        let mut seen_events = 0;
+        let status = run_coordinator(&session, fleet, config_, shutdown_signal(), |status, _| {
+            for event in &status.events[seen_events..] {
+                if !matches!(event, Event::TaskDone { .. }) {
+                    eprintln!("event: {event:?}");
+                }
+            }
+            seen_events = status.events.len();
+            eprintln!("{}", status_line(status));
+        })
+        .await?;
+        eprintln!("stopped after {:.1} simulated seconds, {} tasks done", status.sim_time, status.tasks_done);
+        session
+            .close()
+            .await
+            .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
+        Ok(())
+    })
+}
+
 fn main() -> Result<()> {
     match Cli::parse().command {
+        Command::Demo(args) => demo(args),
+        Command::Coordinator(args) => coordinator_main(args),
         Command::Bench(Bench::World {
             scenario,
             humans,

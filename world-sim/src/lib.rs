@@ -7,7 +7,9 @@
 //! is no clock and no transport here.
 
 pub mod episode;
+pub mod fleet;
 pub mod metrics;
 pub mod robot;
 pub mod scenario;
+pub mod warehouse;
 pub mod world;

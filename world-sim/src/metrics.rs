@@ -84,6 +84,8 @@ pub struct MetricsRecorder {
     path_length: Real,
     last_position: Vec2,
     arrived_at: Option<Real>,
+    /// Episodes stop recording at the goal; fleets (whose goals move) never do.
+    stop_at_goal: bool,
     dt: Real,
 }
 
@@ -106,7 +108,16 @@ impl MetricsRecorder {
             path_length: 0.0,
             last_position: world.robots[index].state.position,
             arrived_at: None,
+            stop_at_goal: true,
             dt: world.dt,
+        }
+    }
+
+    /// Records robot `index` for as long as it runs, whatever its goals (fleets with tasks).
+    pub fn continuous(world: &World, index: usize) -> Self {
+        Self {
+            stop_at_goal: false,
+            ..Self::new(world, index)
         }
     }
 
@@ -182,7 +193,7 @@ impl MetricsRecorder {
         self.personal_steps += u64::from(personal);
         self.social_force_sum += (force * sf.factor).norm();
         self.force_on_people_sum += force_on_people;
-        if robot.arrived() {
+        if self.stop_at_goal && robot.arrived() {
             self.arrived_at = Some(world.time);
         }
     }

@@ -13,6 +13,11 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "open-space-walled",
         include_str!("../scenarios/open-space-walled.toml"),
     ),
+    ("warehouse", include_str!("../scenarios/warehouse.toml")),
+    (
+        "warehouse-large",
+        include_str!("../scenarios/warehouse-large.toml"),
+    ),
 ];
 
 /// Why a scenario could not be used.
@@ -38,7 +43,7 @@ pub enum ScenarioError {
     },
     /// No built-in scenario of that name.
     #[error(
-        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, or give a path to a .toml file"
+        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, warehouse, warehouse-large, or give a path to a .toml file"
     )]
     Unknown(String),
 }
@@ -59,6 +64,8 @@ pub struct Scenario {
     pub open_space: Option<OpenSpace>,
     /// A straight corridor with two-way traffic.
     pub hallway: Option<Hallway>,
+    /// A procedural warehouse with pick/drop tasks.
+    pub warehouse: Option<Warehouse>,
     /// The people.
     pub humans: Humans,
     /// The robots' bodies and sensors.
@@ -94,6 +101,35 @@ pub struct Hallway {
     pub humans: usize,
     /// Groups have 1 to this many members.
     pub max_group_size: usize,
+}
+
+/// A procedural warehouse (see `world_sim::warehouse`): `rows` parallel shelf rows along x,
+/// each cut into `blocks` by cross-aisles, a perimeter wall, docks on the bottom corridor and
+/// pick stations at the shelf faces. People walk between stations in groups; robots do
+/// pick/drop tasks.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Warehouse {
+    /// Shelf rows (≥ 1).
+    pub rows: usize,
+    /// Shelf blocks per row (≥ 1); cross-aisles separate them and run along both ends.
+    pub blocks: usize,
+    /// Length of one shelf block (m).
+    pub shelf_length_m: Real,
+    /// Depth of a shelf row (m).
+    pub shelf_depth_m: Real,
+    /// Width of the aisles between rows (m).
+    pub aisle_width_m: Real,
+    /// Width of the cross-aisles and of the bottom and top corridors (m).
+    pub cross_aisle_width_m: Real,
+    /// Drop stations (docks) on the bottom corridor (≥ 1).
+    pub docks: usize,
+    /// Number of people.
+    pub humans: usize,
+    /// Groups have 1 to this many members.
+    pub max_group_size: usize,
+    /// Number of robots (≥ 1); they start along the bottom corridor.
+    pub robots: usize,
 }
 
 /// The simulated people.
@@ -139,6 +175,25 @@ pub struct RobotSpec {
     pub occlusion: bool,
 }
 
+impl Warehouse {
+    /// The first out-of-range field and why.
+    fn validate(&self) -> Option<(&'static str, &'static str)> {
+        let metres = |v: Real, lo: Real, hi: Real| v.is_finite() && v >= lo && v <= hi;
+        let checks = [
+            ("warehouse.rows", (1..=200).contains(&self.rows), "must be in [1, 200]"),
+            ("warehouse.blocks", (1..=50).contains(&self.blocks), "must be in [1, 50]"),
+            ("warehouse.shelf_length_m", metres(self.shelf_length_m, 1.0, 500.0), "must be in [1, 500] m"),
+            ("warehouse.shelf_depth_m", metres(self.shelf_depth_m, 0.2, 10.0), "must be in [0.2, 10] m"),
+            ("warehouse.aisle_width_m", metres(self.aisle_width_m, 1.0, 20.0), "must be in [1, 20] m"),
+            ("warehouse.cross_aisle_width_m", metres(self.cross_aisle_width_m, 1.0, 20.0), "must be in [1, 20] m"),
+            ("warehouse.docks", (1..=1000).contains(&self.docks), "must be in [1, 1000]"),
+            ("warehouse.max_group_size", self.max_group_size >= 1, "must be at least 1"),
+            ("warehouse.robots", (1..=10_000).contains(&self.robots), "must be in [1, 10000]"),
+        ];
+        checks.into_iter().find(|c| !c.1).map(|c| (c.0, c.2))
+    }
+}
+
 fn yes() -> bool {
     true
 }
@@ -180,19 +235,29 @@ impl Scenario {
         if !positive(self.max_time_s) {
             return bad("max_time_s", "must be positive");
         }
+        let layouts = [
+            ("open_space", self.open_space.is_some()),
+            ("hallway", self.hallway.is_some()),
+            ("warehouse", self.warehouse.is_some()),
+        ];
+        let given: Vec<&str> = layouts.iter().filter(|l| l.1).map(|l| l.0).collect();
+        if given.is_empty() {
+            return bad(
+                "open_space",
+                "is missing: a scenario needs one layout table ([open_space], [hallway] or [warehouse])",
+            );
+        }
+        if given.len() > 1 {
+            return bad(
+                given[1],
+                &format!("conflicts with [{}]: give one layout table", given[0]),
+            );
+        }
+        if let Some(w) = &self.warehouse {
+            w.validate().map_or(Ok(()), |(field, reason)| bad(field, reason))?;
+        }
         match (&self.open_space, &self.hallway) {
-            (None, None) => {
-                return bad(
-                    "open_space",
-                    "is missing: a scenario needs one layout table ([open_space] or [hallway])",
-                );
-            }
-            (Some(_), Some(_)) => {
-                return bad(
-                    "hallway",
-                    "conflicts with [open_space]: give one layout table",
-                );
-            }
+            (None, None) | (Some(_), Some(_)) => {}
             (Some(open), None) => {
                 if !positive(open.size_m) || open.size_m > 1000.0 {
                     return bad("open_space.size_m", "must be in (0, 1000] m");

@@ -3,12 +3,14 @@
 
 use crate::robot::RobotBody;
 use crate::scenario::Scenario;
+use crate::warehouse::Site;
 use agent::map::{Obstacle, StaticMap};
 use agent::math::{Real, Vec2, unit, vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::social_force::{Crowd, ObstaclePoints, SfParams};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::collections::VecDeque;
 
 /// Random streams, one per purpose, so that adding a draw in one does not shift the others.
 const SPAWN_STREAM: u64 = 1;
@@ -19,6 +21,9 @@ const NOISE_STREAM: u64 = 3;
 const GROUP_SPREAD_M: Real = 0.6;
 /// People do not spawn closer than this to a robot's start (m).
 const ROBOT_CLEARANCE_M: Real = 1.5;
+/// A group on a multi-leg route moves to its next waypoint when a member is this close to its
+/// current one (m).
+const WAYPOINT_REACHED_M: Real = 1.0;
 
 /// The people of a world.
 #[derive(Debug, Clone)]
@@ -53,6 +58,10 @@ pub struct World {
     stage_min: Vec2,
     stage_max: Vec2,
     goal_rule: GoalRule,
+    /// The warehouse, when the scenario is one.
+    site: Option<Site>,
+    /// Per group: the waypoints after its current goal (warehouse routes).
+    routes: Vec<VecDeque<Vec2>>,
     goal_rng: ChaCha8Rng,
     noise_rng: ChaCha8Rng,
     scratch: Vec<Vec2>,
@@ -81,13 +90,40 @@ impl World {
                 spawn_min: vec2(END_MARGIN_M, margin),
                 spawn_max: vec2(length - END_MARGIN_M, width - margin),
                 map,
-                robot_start: vec2(END_MARGIN_M, width / 2.0),
-                robot_goal: vec2(length - END_MARGIN_M, width / 2.0),
+                robots: vec![(
+                    vec2(END_MARGIN_M, width / 2.0),
+                    vec2(length - END_MARGIN_M, width / 2.0),
+                )],
                 goals: GoalRule::OppositeEnd,
                 people: hall.humans,
                 max_group_size: hall.max_group_size,
+                avoid_obstacles: false,
             };
             return Self::build(scenario, layout);
+        }
+        if let Some(spec) = &scenario.warehouse {
+            let site = Site::generate(spec);
+            let margin = scenario.humans.radius_m + 0.05;
+            let dock_y = site.stations[0].position.y;
+            let robots = (0..spec.robots)
+                .map(|i| {
+                    let x = site.size.x * (i as Real + 0.5) / spec.robots as Real;
+                    let p = vec2(x, dock_y);
+                    (p, p)
+                })
+                .collect();
+            let layout = Layout {
+                spawn_min: vec2(margin, margin),
+                spawn_max: site.size - vec2(margin, margin),
+                map: site.map(),
+                robots,
+                // Unused: in a warehouse, groups walk between the site's stations.
+                goals: GoalRule::Anywhere,
+                people: spec.humans,
+                max_group_size: spec.max_group_size,
+                avoid_obstacles: true,
+            };
+            return Self::build_with_site(scenario, layout, Some(site));
         }
         Self::open_space(scenario)
     }
@@ -115,32 +151,55 @@ impl World {
             spawn_min: vec2(0.0, 0.0),
             spawn_max: vec2(size, size),
             map,
-            robot_start: vec2(0.0, size / 2.0),
-            robot_goal: vec2(size, size / 2.0),
+            robots: vec![(vec2(0.0, size / 2.0), vec2(size, size / 2.0))],
             goals: GoalRule::Anywhere,
             people: scenario.human_count(),
             max_group_size: open.max_group_size,
+            avoid_obstacles: false,
         };
         Self::build(scenario, layout)
     }
 
     fn build(scenario: &Scenario, layout: Layout) -> Self {
+        Self::build_with_site(scenario, layout, None)
+    }
+
+    fn build_with_site(scenario: &Scenario, layout: Layout, site: Option<Site>) -> Self {
         let (min, max) = (layout.spawn_min, layout.spawn_max);
-        let start = layout.robot_start;
-        let robot = RobotBody::new(start, layout.robot_goal, scenario.robot);
+        let robots: Vec<RobotBody> = layout
+            .robots
+            .iter()
+            .map(|&(start, goal)| RobotBody::new(start, goal, scenario.robot))
+            .collect();
+        let starts: Vec<Vec2> = layout.robots.iter().map(|r| r.0).collect();
         let mut spawn = stream(scenario.seed, SPAWN_STREAM);
         let mut goal_rng = stream(scenario.seed, GOAL_STREAM);
         let h = &scenario.humans;
         let n = layout.people;
 
-        let (mut positions, mut goals, mut offsets, mut groups) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut positions, mut goals, mut offsets, mut groups, mut routes) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let min_gap = 2.0 * h.radius_m + 0.05;
         while positions.len() < n {
             let size_left = n - positions.len();
             let members = spawn.random_range(1..=layout.max_group_size.min(size_left));
-            let centre = uniform(&mut spawn, min, max);
-            let group_goal = layout.goals.first(&mut goal_rng, min, max);
+            let mut centre = uniform(&mut spawn, min, max);
+            for _ in 0..100 {
+                if !layout.avoid_obstacles || layout.map.distance(&centre) >= h.radius_m + 0.05 && !layout.map.is_inside(&centre) {
+                    break;
+                }
+                centre = uniform(&mut spawn, min, max);
+            }
+            let (group_goal, route) = match &site {
+                Some(site) => {
+                    let station = goal_rng.random_range(0..site.stations.len());
+                    let mut route: VecDeque<Vec2> =
+                        site.route(centre, site.stations[station].position).into();
+                    let first = route.pop_front().unwrap_or(centre);
+                    (first, route)
+                }
+                None => (layout.goals.first(&mut goal_rng, min, max), VecDeque::new()),
+            };
             let mut group = Vec::new();
             for _ in 0..members {
                 // Rejection sampling near the group's centre, then anywhere.
@@ -153,7 +212,10 @@ impl World {
                     };
                     let inside = p.x >= min.x && p.y >= min.y && p.x <= max.x && p.y <= max.y;
                     let free = positions.iter().all(|q: &Vec2| (q - p).norm() >= min_gap)
-                        && (p - start).norm() >= ROBOT_CLEARANCE_M;
+                        && starts.iter().all(|s| (p - s).norm() >= ROBOT_CLEARANCE_M)
+                        && (!layout.avoid_obstacles
+                            || (!layout.map.is_inside(&p)
+                                && layout.map.distance(&p) >= h.radius_m + 0.05));
                     if inside && free {
                         placed = Some(p);
                         break;
@@ -170,6 +232,7 @@ impl World {
                 break; // The stage is full; fewer people than asked.
             }
             groups.push(group);
+            routes.push(route);
         }
         // PySocialForce derives each person's maximum speed from the initial speed.
         let velocities: Vec<Vec2> = positions
@@ -203,17 +266,24 @@ impl World {
                 radius: h.radius_m,
                 react_to_robots: h.react_to_robots,
             },
-            robots: vec![robot],
+            robots,
             sf,
             obstacle_points,
             stage_min: min,
             stage_max: max,
             goal_rule: layout.goals,
+            site,
+            routes,
             goal_rng,
             noise_rng: stream(scenario.seed, NOISE_STREAM),
             scratch: Vec::new(),
             externals: Vec::new(),
         }
+    }
+
+    /// The warehouse layout, when the scenario is a warehouse.
+    pub fn site(&self) -> Option<&Site> {
+        self.site.as_ref()
     }
 
     /// The Social Force parameters people walk with.
@@ -249,17 +319,39 @@ impl World {
 
     /// When any member of a group arrives, the whole group gets a new goal (PGP paper,
     /// Sec. IV-A), so that nobody stands still on the stage.
+    /// In a warehouse, groups walk station to station along corridor routes, moving to the
+    /// next waypoint as soon as a member is near the current one.
     fn regoal_arrived_groups(&mut self) {
         let crowd = &mut self.humans.crowd;
-        for group in &crowd.groups {
+        for (g, group) in crowd.groups.iter().enumerate() {
+            let on_route = !self.routes[g].is_empty();
+            let reach = if on_route {
+                WAYPOINT_REACHED_M.max(self.sf.arrival_distance)
+            } else {
+                self.sf.arrival_distance
+            };
             let arrived = group
                 .iter()
-                .any(|&i| (crowd.goals[i] - crowd.positions[i]).norm() < self.sf.arrival_distance);
+                .any(|&i| (crowd.goals[i] - crowd.positions[i]).norm() < reach);
             if arrived {
                 let here = crowd.positions[group[0]];
-                let goal =
-                    self.goal_rule
-                        .next(&mut self.goal_rng, here, self.stage_min, self.stage_max);
+                let goal = match (&self.site, self.routes[g].pop_front()) {
+                    (_, Some(waypoint)) => waypoint,
+                    (Some(site), None) => {
+                        let station = self.goal_rng.random_range(0..site.stations.len());
+                        let mut route: VecDeque<Vec2> =
+                            site.route(here, site.stations[station].position).into();
+                        let first = route.pop_front().unwrap_or(here);
+                        self.routes[g] = route;
+                        first
+                    }
+                    (None, None) => self.goal_rule.next(
+                        &mut self.goal_rng,
+                        here,
+                        self.stage_min,
+                        self.stage_max,
+                    ),
+                };
                 for &i in group {
                     crowd.goals[i] = clamp_box(
                         goal + self.humans.offsets[i],
@@ -327,11 +419,13 @@ struct Layout {
     spawn_min: Vec2,
     spawn_max: Vec2,
     map: StaticMap,
-    robot_start: Vec2,
-    robot_goal: Vec2,
+    /// Start and first goal of each robot.
+    robots: Vec<(Vec2, Vec2)>,
     goals: GoalRule,
     people: usize,
     max_group_size: usize,
+    /// Keep people from spawning inside or against obstacles (shelves).
+    avoid_obstacles: bool,
 }
 
 /// Where a group goes when one of its members arrives.

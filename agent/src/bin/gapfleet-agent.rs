@@ -1,0 +1,83 @@
+//! `gapfleet-agent`: one robot's planner stack as its own process on the fleet's Zenoh network.
+//!
+//! ```text
+//! gapfleet-agent --robot-id 3 --planner pgp+orca --connect tcp/127.0.0.1:7447
+//! ```
+//! Runs until SIGINT or SIGTERM, then safe-stops its robot and withdraws its liveliness token.
+
+use agent::planner::PlannerSpec;
+use agent::runtime::net::{NetArgs, Role, config};
+use agent::runtime::{AgentConfig, AgentCounters, run_agent};
+use clap::Parser;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// One robot's on-board planner stack.
+#[derive(Debug, Parser)]
+#[command(version, about)]
+struct Args {
+    /// The robot this agent drives.
+    #[arg(long)]
+    robot_id: u32,
+    /// Planner stack: dwa, orca, sf, pgp+dwa, pgp+orca or pgp+sf.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: PlannerSpec,
+    /// Site name (key prefix gapfleet/<site>).
+    #[arg(long, default_value = "demo")]
+    site: String,
+    /// Safe-stop after this many milliseconds without observations.
+    #[arg(long, default_value_t = 500)]
+    obs_timeout_ms: u64,
+    #[command(flatten)]
+    net: NetArgs,
+}
+
+#[tokio::main(flavor = "multi_thread", worker_threads = 2)]
+async fn main() -> anyhow::Result<()> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| "info,zenoh=warn".into()),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let args = Args::parse();
+    let mut net = args.net.clone();
+    if net.connect.is_empty() && net.zenoh_config.is_none() {
+        net.connect.push("tcp/127.0.0.1:7447".to_owned());
+    }
+    let session = zenoh::open(config(&net, Role::Agent)?)
+        .await
+        .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
+    let mut agent_config = AgentConfig::new(args.robot_id, &args.site, args.planner);
+    agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
+    let counters = Arc::new(AgentCounters::default());
+    run_agent(&session, agent_config, counters.clone(), shutdown_signal()).await?;
+    session
+        .close()
+        .await
+        .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
+    eprintln!(
+        "gapfleet-agent {}: {} plans, {} rejected messages",
+        args.robot_id,
+        counters.plans.load(std::sync::atomic::Ordering::Relaxed),
+        counters.rejected.load(std::sync::atomic::Ordering::Relaxed)
+    );
+    Ok(())
+}
+
+/// Completes on SIGINT or SIGTERM.
+async fn shutdown_signal() {
+    use tokio::signal::unix::{SignalKind, signal};
+    match signal(SignalKind::terminate()) {
+        Ok(mut term) => {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = term.recv() => {}
+            }
+        }
+        Err(_) => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}

@@ -1,0 +1,284 @@
+//! The agent runtime: one robot's planner stack on the fleet's Zenoh network (feature
+//! `runtime`; the planner core never depends on it).
+//!
+//! An agent declares a liveliness token `…/alive/<id>`, subscribes to its observations, plans on
+//! each one and publishes its command and intent. It fetches the static map from the
+//! coordinator's queryable whenever an observation names a map version it does not hold, and
+//! keeps the robot stopped until it has one. If observations stop for longer than
+//! [`AgentConfig::obs_timeout`] it publishes a safe-stop command; on shutdown it publishes one
+//! more and withdraws its token. Bad messages are counted and logged, never fatal.
+
+pub mod net;
+pub mod wire;
+
+use crate::map::StaticMap;
+use crate::model::Command;
+use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use schemas::{AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, decode, encode};
+use std::future::Future;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// Everything an agent needs besides its session.
+#[derive(Debug, Clone)]
+pub struct AgentConfig {
+    /// The robot it drives.
+    pub robot_id: u32,
+    /// Site name (the second chunk of every key).
+    pub site: String,
+    /// Planner stack.
+    pub planner: PlannerSpec,
+    /// Safe-stop when no observation arrived for this long.
+    pub obs_timeout: Duration,
+}
+
+impl AgentConfig {
+    /// Robot `robot_id` of `site` with `planner` and the 0.5 s observation timeout.
+    pub fn new(robot_id: u32, site: &str, planner: PlannerSpec) -> Self {
+        Self {
+            robot_id,
+            site: site.to_owned(),
+            planner,
+            obs_timeout: Duration::from_millis(500),
+        }
+    }
+}
+
+/// Counters an agent keeps; shared so that tests and the demo can read them while it runs.
+#[derive(Debug, Default)]
+pub struct AgentCounters {
+    /// Observations planned on.
+    pub plans: AtomicU64,
+    /// Messages the decoder rejected.
+    pub rejected: AtomicU64,
+    /// Observations dropped as older than one already planned on.
+    pub stale: AtomicU64,
+    /// Safe-stop commands sent (timeouts and shutdown).
+    pub safe_stops: AtomicU64,
+    /// Maps fetched.
+    pub maps: AtomicU64,
+}
+
+/// Runs one agent on `session` until `shutdown` completes.
+pub async fn run_agent(
+    session: &zenoh::Session,
+    config: AgentConfig,
+    counters: Arc<AgentCounters>,
+    shutdown: impl Future<Output = ()>,
+) -> Result<(), AgentError> {
+    let keys = Keys::new(&config.site).map_err(|e| AgentError(e.to_string()))?;
+    let id = config.robot_id;
+    let zerr = |what: &str| {
+        let what = what.to_owned();
+        move |e: zenoh::Error| AgentError(format!("{what}: {e}"))
+    };
+    let token = session
+        .liveliness()
+        .declare_token(keys.alive(id))
+        .await
+        .map_err(zerr("liveliness token"))?;
+    let cmd_pub = session
+        .declare_publisher(keys.robot(id, Channel::Cmd))
+        .await
+        .map_err(zerr("command publisher"))?;
+    let intent_pub = session
+        .declare_publisher(keys.robot(id, Channel::Intent))
+        .await
+        .map_err(zerr("intent publisher"))?;
+    let info_pub = session
+        .declare_publisher(keys.robot(id, Channel::Info))
+        .await
+        .map_err(zerr("info publisher"))?;
+    let obs_sub = session
+        .declare_subscriber(keys.robot(id, Channel::Obs))
+        .await
+        .map_err(zerr("observation subscriber"))?;
+
+    let planner_name = config.planner.to_string();
+    let mut stack = PlannerStack::new(config.planner);
+    let mut map: Option<(u32, StaticMap)> = None;
+    let mut last_map_attempt: Option<Instant> = None;
+    let mut last: Option<(u64, f64)> = None; // seq and stamp of the newest observation
+    let mut last_obs_at = Instant::now();
+    let mut stopped = true;
+    let mut plan_times_us: Vec<u32> = Vec::new();
+    let mut watchdog = tokio::time::interval(Duration::from_millis(50));
+    let mut heartbeat = tokio::time::interval(Duration::from_secs(1));
+    tokio::pin!(shutdown);
+    tracing::info!(robot = id, planner = %planner_name, "agent up");
+
+    loop {
+        tokio::select! {
+            () = &mut shutdown => break,
+            sample = obs_sub.recv_async() => {
+                let Ok(sample) = sample else { break };
+                let bytes = sample.payload().to_bytes();
+                let obs = match decode::<Observation>(&bytes) {
+                    Ok(obs) if obs.robot_id == id => obs,
+                    Ok(obs) => {
+                        reject(&counters, id, &format!("observation for robot {}", obs.robot_id));
+                        continue;
+                    }
+                    Err(e) => {
+                        reject(&counters, id, &e.to_string());
+                        continue;
+                    }
+                };
+                // Older than what was planned on: drop, unless the agent had lost contact (the
+                // coordinator restarted and counts from 0 again).
+                if let Some((seq, _)) = last
+                    && obs.seq <= seq
+                    && !stopped
+                {
+                    counters.stale.fetch_add(1, Ordering::Relaxed);
+                    continue;
+                }
+                last = Some((obs.seq, obs.sim_time));
+                last_obs_at = Instant::now();
+                stopped = false;
+
+                if map.as_ref().is_none_or(|(v, _)| *v != obs.map_version) {
+                    let due = last_map_attempt.is_none_or(|t| t.elapsed() > Duration::from_secs(1));
+                    if due {
+                        last_map_attempt = Some(Instant::now());
+                        match fetch_map(session, &keys).await {
+                            Ok((version, m)) => {
+                                counters.maps.fetch_add(1, Ordering::Relaxed);
+                                map = Some((version, m));
+                            }
+                            Err(e) => tracing::warn!(robot = id, "no map yet: {e}"),
+                        }
+                    }
+                }
+                let command = match (&map, obs.goal) {
+                    (Some((_, m)), Some(goal)) => {
+                        let ego = wire::ego(&obs);
+                        let neighbours = wire::neighbours(&obs);
+                        let started = Instant::now();
+                        let plan = stack.plan(&PlanningInput {
+                            ego: &ego,
+                            neighbours: &neighbours,
+                            map: m,
+                            goal: wire::vec(goal),
+                            dt: obs.dt,
+                        });
+                        plan_times_us.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
+                        counters.plans.fetch_add(1, Ordering::Relaxed);
+                        let (cmd, intent) = wire::answer(&obs, &planner_name, &plan);
+                        if let Err(e) = intent_pub.put(encode(&intent)).await {
+                            tracing::warn!(robot = id, "intent not sent: {e}");
+                        }
+                        cmd
+                    }
+                    // Idle, or no map yet: stand still.
+                    _ => CommandMsg {
+                        robot_id: id,
+                        obs_seq: obs.seq,
+                        stamp: obs.sim_time,
+                        motion: wire::motion(Command::STOP),
+                        safe_stop: false,
+                    },
+                };
+                if let Err(e) = cmd_pub.put(encode(&command)).await {
+                    tracing::warn!(robot = id, "command not sent: {e}");
+                }
+            }
+            _ = watchdog.tick() => {
+                if !stopped && last_obs_at.elapsed() > config.obs_timeout {
+                    tracing::warn!(robot = id, "observations stopped: safe stop");
+                    safe_stop(&cmd_pub, id, last, &counters).await;
+                    stopped = true;
+                }
+            }
+            _ = heartbeat.tick() => {
+                let info = AgentInfo {
+                    robot_id: id,
+                    planner: planner_name.clone(),
+                    version: env!("CARGO_PKG_VERSION").to_owned(),
+                    plans: counters.plans.load(Ordering::Relaxed),
+                    rejected: counters.rejected.load(Ordering::Relaxed),
+                    plan_p99_us: p99(&mut plan_times_us),
+                };
+                plan_times_us.clear();
+                if let Err(e) = info_pub.put(encode(&info)).await {
+                    tracing::debug!(robot = id, "info not sent: {e}");
+                }
+            }
+        }
+    }
+    safe_stop(&cmd_pub, id, last, &counters).await;
+    drop(token);
+    tracing::info!(robot = id, "agent down");
+    Ok(())
+}
+
+/// The runtime failed to set itself up (the session refused a declaration).
+#[derive(Debug, thiserror::Error)]
+#[error("agent: {0}")]
+pub struct AgentError(pub String);
+
+fn reject(counters: &AgentCounters, id: u32, why: &str) {
+    let n = counters.rejected.fetch_add(1, Ordering::Relaxed) + 1;
+    // The first ten, then every hundredth: a flood of garbage must not flood the log.
+    if n <= 10 || n.is_multiple_of(100) {
+        tracing::warn!(robot = id, rejected = n, "bad observation: {why}");
+    }
+}
+
+async fn safe_stop(
+    publisher: &zenoh::pubsub::Publisher<'_>,
+    id: u32,
+    last: Option<(u64, f64)>,
+    counters: &AgentCounters,
+) {
+    let (obs_seq, stamp) = last.unwrap_or((0, 0.0));
+    let stop = CommandMsg {
+        robot_id: id,
+        obs_seq,
+        stamp,
+        motion: wire::motion(Command::STOP),
+        safe_stop: true,
+    };
+    counters.safe_stops.fetch_add(1, Ordering::Relaxed);
+    if let Err(e) = publisher.put(encode(&stop)).await {
+        tracing::warn!(robot = id, "safe stop not sent: {e}");
+    }
+}
+
+async fn fetch_map(session: &zenoh::Session, keys: &Keys) -> Result<(u32, StaticMap), String> {
+    let replies = session
+        .get(keys.map())
+        .timeout(Duration::from_millis(500))
+        .await
+        .map_err(|e| e.to_string())?;
+    let mut last_error = "no reply".to_owned();
+    while let Ok(reply) = replies.recv_async().await {
+        match reply.result() {
+            Ok(sample) => match decode::<MapMsg>(&sample.payload().to_bytes()) {
+                Ok(msg) => {
+                    let map = wire::map_from_wire(&msg).map_err(|e| e.to_string())?;
+                    return Ok((msg.map_version, map));
+                }
+                Err(e) => last_error = e.to_string(),
+            },
+            Err(e) => last_error = format!("{e:?}"),
+        }
+    }
+    Err(last_error)
+}
+
+/// 99th percentile (nearest rank) of `values`, 0 when empty.
+pub fn p99(values: &mut [u32]) -> f64 {
+    percentile(values, 0.99)
+}
+
+/// Nearest-rank percentile `q` ∈ (0, 1] of `values` (sorted in place), 0 when empty.
+pub fn percentile(values: &mut [u32], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_unstable();
+    let rank = ((q * values.len() as f64).ceil() as usize).clamp(1, values.len());
+    f64::from(values[rank - 1])
+}

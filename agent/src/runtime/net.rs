@@ -1,0 +1,115 @@
+//! Zenoh session settings shared by every gapfleet process: a config file, or endpoints on the
+//! command line, with multicast scouting off unless a config file turns it on.
+
+use std::path::PathBuf;
+
+/// How a process joins the Zenoh network.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct NetArgs {
+    /// Zenoh config file (JSON5); `--connect`/`--listen` are added to it.
+    #[arg(long, value_name = "FILE")]
+    pub zenoh_config: Option<PathBuf>,
+    /// Endpoint to connect to, e.g. tcp/127.0.0.1:7447 (repeatable).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub connect: Vec<String>,
+    /// Endpoint to listen on, e.g. tcp/0.0.0.0:7447 (repeatable).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub listen: Vec<String>,
+    /// Zenoh mode: client, peer or router (default: the config file's, else the process's).
+    #[arg(long, value_name = "MODE")]
+    pub mode: Option<String>,
+}
+
+/// The role a session plays when nothing else says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// An agent: a peer that listens nowhere and connects to the coordinator or a router,
+    /// retrying in the background until it is there (start order does not matter).
+    Agent,
+    /// A coordinator: routes for small fleets.
+    Router,
+    /// A peer (benchmarks, tests).
+    Peer,
+}
+
+impl Role {
+    fn as_str(self) -> &'static str {
+        match self {
+            Role::Agent => "peer",
+            Role::Router => "router",
+            Role::Peer => "peer",
+        }
+    }
+}
+
+/// A Zenoh config error with the offending setting.
+#[derive(Debug, thiserror::Error)]
+#[error("zenoh config: {setting}: {message}")]
+pub struct ConfigError {
+    /// Which setting.
+    pub setting: String,
+    /// Zenoh's message.
+    pub message: String,
+}
+
+fn set(config: &mut zenoh::Config, key: &str, value: &str) -> Result<(), ConfigError> {
+    config
+        .insert_json5(key, value)
+        .map_err(|e| ConfigError {
+            setting: format!("{key} = {value}"),
+            message: e.to_string(),
+        })
+}
+
+fn json_list(items: &[String]) -> String {
+    let quoted: Vec<String> = items.iter().map(|s| format!("{s:?}")).collect();
+    format!("[{}]", quoted.join(","))
+}
+
+/// Builds the session config: the file (if any), then mode and endpoints from the arguments.
+/// Without a file, multicast scouting is off (loopback fleets and CI must not find strangers).
+pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, ConfigError> {
+    let mut config = match &args.zenoh_config {
+        Some(path) => zenoh::Config::from_file(path).map_err(|e| ConfigError {
+            setting: path.display().to_string(),
+            message: e.to_string(),
+        })?,
+        None => {
+            let mut c = zenoh::Config::default();
+            set(&mut c, "scouting/multicast/enabled", "false")?;
+            set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
+            if default_role == Role::Agent {
+                set(&mut c, "listen/endpoints", "[]")?;
+                set(&mut c, "scouting/gossip/enabled", "false")?;
+            }
+            c
+        }
+    };
+    if let Some(mode) = &args.mode {
+        set(&mut config, "mode", &format!("{mode:?}"))?;
+    }
+    if !args.connect.is_empty() {
+        set(&mut config, "connect/endpoints", &json_list(&args.connect))?;
+    }
+    if !args.listen.is_empty() {
+        set(&mut config, "listen/endpoints", &json_list(&args.listen))?;
+    }
+    Ok(config)
+}
+
+/// A loopback-only config: `role`, multicast scouting off, listening and connecting exactly
+/// where told. Used by the demo and the tests.
+pub fn loopback(role: Role, listen: &[String], connect: &[String]) -> Result<zenoh::Config, ConfigError> {
+    let mut c = zenoh::Config::default();
+    set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
+    set(&mut c, "scouting/multicast/enabled", "false")?;
+    set(&mut c, "scouting/gossip/enabled", "false")?;
+    set(&mut c, "listen/endpoints", &json_list(listen))?;
+    set(&mut c, "connect/endpoints", &json_list(connect))?;
+    Ok(c)
+}
+
+/// A free TCP port on 127.0.0.1 (bound and released; good enough for tests and the demo).
+pub fn free_loopback_port() -> std::io::Result<u16> {
+    Ok(std::net::TcpListener::bind("127.0.0.1:0")?.local_addr()?.port())
+}

@@ -1,0 +1,180 @@
+//! `gapfleet demo`: a whole fleet in one process. The coordinator's Zenoh session is a router
+//! on a loopback port; every agent has its own session (a peer connected to it, multicast
+//! scouting off), its own planner stack and its own tokio task, exactly as a separate
+//! `gapfleet-agent` process would.
+
+use crate::server::{CoordinatorConfig, Status, run_coordinator};
+use agent::planner::PlannerSpec;
+use agent::runtime::net::{Role, free_loopback_port, loopback};
+use agent::runtime::{AgentConfig, AgentCounters, run_agent};
+use anyhow::{Context, Result};
+use std::future::Future;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use world_sim::fleet::Fleet;
+use world_sim::scenario::Scenario;
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct DemoOptions {
+    /// The warehouse scenario (robots and people counts already applied).
+    pub scenario: Scenario,
+    /// Planner stack of every agent.
+    pub planner: PlannerSpec,
+    /// Simulated seconds.
+    pub seconds: f64,
+    /// Simulated seconds per wall second.
+    pub speed: f64,
+    /// Site name.
+    pub site: String,
+    /// Where the coordinator listens (default: a free loopback port).
+    pub listen: Option<String>,
+    /// Whether observations carry other robots' intents.
+    pub share_intents: bool,
+}
+
+/// What a demo run produced.
+#[derive(Debug)]
+pub struct DemoReport {
+    /// The coordinator's final status.
+    pub status: Status,
+    /// Each agent's counters.
+    pub agents: Vec<Arc<AgentCounters>>,
+    /// The fleet at the end (metrics per robot).
+    pub fleet_metrics: Vec<world_sim::metrics::RobotMetrics>,
+    /// Tasks per robot.
+    pub tasks_done: Vec<u64>,
+}
+
+/// Runs the demo; `on_status` sees the coordinator's status about once per wall second.
+pub async fn run_demo(
+    options: DemoOptions,
+    shutdown: impl Future<Output = ()>,
+    mut on_status: impl FnMut(&Status),
+) -> Result<DemoReport> {
+    let mut fleet = Fleet::new(&options.scenario)?;
+    fleet.share_intents = options.share_intents;
+    let endpoint = match &options.listen {
+        Some(e) => e.clone(),
+        None => format!("tcp/127.0.0.1:{}", free_loopback_port()?),
+    };
+    let router = zenoh::open(loopback(Role::Router, std::slice::from_ref(&endpoint), &[])?)
+        .await
+        .map_err(|e| anyhow::anyhow!("coordinator session on {endpoint}: {e}"))?;
+    tracing::info!("coordinator listening on {endpoint}");
+
+    let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
+    let mut agents = Vec::new();
+    let mut counters = Vec::new();
+    for id in 0..fleet.robots() as u32 {
+        let config = loopback(Role::Agent, &[], std::slice::from_ref(&endpoint))?;
+        let session = zenoh::open(config)
+            .await
+            .map_err(|e| anyhow::anyhow!("agent {id} session: {e}"))?;
+        let c = Arc::new(AgentCounters::default());
+        counters.push(c.clone());
+        let agent_config = AgentConfig::new(id, &options.site, options.planner);
+        let mut stop = stop_rx.clone();
+        agents.push(tokio::spawn(async move {
+            let shutdown = async move {
+                let _ = stop.wait_for(|s| *s).await;
+            };
+            let result = run_agent(&session, agent_config, c, shutdown).await;
+            let _ = session.close().await;
+            result
+        }));
+    }
+
+    let mut config = CoordinatorConfig::new(&options.site);
+    config.seconds = Some(options.seconds);
+    config.speed = options.speed;
+    let mut final_fleet = None;
+    let status = run_coordinator(&router, fleet, config, shutdown, |status, fleet| {
+        on_status(status);
+        final_fleet = Some((
+            (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
+            (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),
+        ));
+    })
+    .await?;
+    let _ = stop_tx.send(true);
+    for agent in agents {
+        agent.await.context("agent task")??;
+    }
+    router
+        .close()
+        .await
+        .map_err(|e| anyhow::anyhow!("closing the coordinator session: {e}"))?;
+    let (fleet_metrics, tasks_done) = final_fleet.unwrap_or_default();
+    Ok(DemoReport {
+        status,
+        agents: counters,
+        fleet_metrics,
+        tasks_done,
+    })
+}
+
+/// One line of live status.
+pub fn status_line(s: &Status) -> String {
+    let m = s.metrics.as_ref();
+    format!(
+        "t {:6.1} s | agents {}/{} | tasks {:3} | SVR {:.3} | collisions {:.2}% | rtt p50 {:.2} ms p99 {:.2} ms | stale {}",
+        s.sim_time,
+        s.alive,
+        s.robots,
+        s.tasks_done,
+        m.map_or(0.0, |m| m.svr),
+        m.map_or(0.0, |m| m.collision_rate * 100.0),
+        s.round_trip_ms.0,
+        s.round_trip_ms.1,
+        s.stale_commands,
+    )
+}
+
+/// The final summary, as printed by `gapfleet demo`.
+pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
+    let s = &report.status;
+    let plans: u64 = report
+        .agents
+        .iter()
+        .map(|c| c.plans.load(Ordering::Relaxed))
+        .sum();
+    let rejected: u64 = report
+        .agents
+        .iter()
+        .map(|c| c.rejected.load(Ordering::Relaxed))
+        .sum();
+    let mut out = String::new();
+    out.push_str(&format!(
+        "\n{} robots ({planner}), {} people, {:.0} simulated seconds\n",
+        s.robots,
+        s.metrics.as_ref().map_or(0, |m| m.humans),
+        s.sim_time
+    ));
+    out.push_str(&format!(
+        "tasks done {} | plans {plans} | observation->command round trip p50 {:.2} ms, p99 {:.2} ms | stale-command ticks {} | rejected messages {} (coordinator) {rejected} (agents)\n",
+        s.tasks_done, s.round_trip_ms.0, s.round_trip_ms.1, s.stale_commands, s.rejected
+    ));
+    out.push_str("robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps\n");
+    for (i, m) in report.fleet_metrics.iter().enumerate() {
+        out.push_str(&format!(
+            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}\n",
+            report.tasks_done.get(i).copied().unwrap_or(0),
+            m.path_length_m,
+            m.collision_rate * 100.0,
+            m.svr,
+            m.min_human_distance_m,
+            m.social_force,
+            m.robot_near_misses
+        ));
+    }
+    if let Some(m) = &s.metrics {
+        out.push_str(&format!(
+            "fleet: collision rate {:.2}%  SVR {:.3}  robot near-miss steps {}\n",
+            m.collision_rate * 100.0,
+            m.svr,
+            m.near_misses
+        ));
+    }
+    out
+}

@@ -1,0 +1,461 @@
+//! The coordinator: runs a warehouse [`Fleet`] in (scaled) real time and connects it to the
+//! agents over Zenoh.
+//!
+//! Every tick it: takes in liveliness changes (an agent joined, left or crashed: its robot is
+//! held and stops), the newest command per robot, and intents; applies each robot's newest
+//! command unless it is stale (answers an observation more than `stale_ticks` old: the robot
+//! stops); steps the world; dispatches tasks to idle robots; publishes each live robot's
+//! observation (with the intents of the robots it sees); and once per simulated second a
+//! fleet metrics frame. A queryable serves the static map.
+
+use agent::map::StaticMap;
+use agent::math::{Real, vec2};
+use agent::model::Command;
+use agent::runtime::{percentile, wire};
+use schemas::{
+    Channel, CommandMsg, FleetMetrics, IntentMsg, Keys, Observation, RobotRow, StationMsg,
+    TaskAssignment, TaskRef, TaskStage, decode, encode,
+};
+use std::collections::VecDeque;
+use std::future::Future;
+use std::time::{Duration, Instant};
+use world_sim::fleet::{Fleet, FleetEvent, Stage};
+use zenoh::sample::SampleKind;
+
+/// Version of the map the coordinator serves (the generated map never changes during a run).
+pub const MAP_VERSION: u32 = 1;
+
+/// How a coordinator runs.
+#[derive(Debug, Clone)]
+pub struct CoordinatorConfig {
+    /// Site name.
+    pub site: String,
+    /// Simulated seconds per wall second (1 = real time).
+    pub speed: f64,
+    /// Stop after this many simulated seconds (None: until shutdown).
+    pub seconds: Option<f64>,
+    /// A command answering an observation older than this many ticks is stale.
+    pub stale_ticks: u64,
+}
+
+impl CoordinatorConfig {
+    /// Real time on `site`, until shutdown, 3-tick staleness (0.3 s at 10 Hz).
+    pub fn new(site: &str) -> Self {
+        Self {
+            site: site.to_owned(),
+            speed: 1.0,
+            seconds: None,
+            stale_ticks: 3,
+        }
+    }
+}
+
+/// Something that happened, for logs and dashboards.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// An agent declared its liveliness token.
+    Joined(u32),
+    /// An agent withdrew its token after a safe stop.
+    Left(u32),
+    /// An agent's token vanished without a safe stop.
+    Crashed(u32),
+    /// A robot finished a task.
+    TaskDone {
+        /// Robot.
+        robot: u32,
+        /// Task.
+        task: u64,
+    },
+}
+
+/// What the coordinator reports while it runs (once per wall second) and at the end.
+#[derive(Debug, Clone, Default)]
+pub struct Status {
+    /// Simulated seconds.
+    pub sim_time: f64,
+    /// Ticks run.
+    pub tick: u64,
+    /// Robots.
+    pub robots: usize,
+    /// Agents alive.
+    pub alive: usize,
+    /// Tasks completed.
+    pub tasks_done: u64,
+    /// The newest metrics frame.
+    pub metrics: Option<FleetMetrics>,
+    /// Observation published → its command received, milliseconds: p50 and p99 since start.
+    pub round_trip_ms: (f64, f64),
+    /// Commands received.
+    pub commands: u64,
+    /// Ticks in which a robot with a task had no fresh command (it stopped).
+    pub stale_commands: u64,
+    /// Messages rejected by the decoder or for naming the wrong robot.
+    pub rejected: u64,
+    /// Events so far.
+    pub events: Vec<Event>,
+    /// Robots flagged (agent crashed or left), by id.
+    pub flagged: Vec<u32>,
+}
+
+/// Why the coordinator could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum CoordinatorError {
+    /// The session refused a declaration.
+    #[error("zenoh: {0}")]
+    Zenoh(String),
+    /// Bad site name.
+    #[error(transparent)]
+    Key(#[from] schemas::KeyError),
+}
+
+fn zerr(what: &'static str) -> impl Fn(zenoh::Error) -> CoordinatorError {
+    move |e| CoordinatorError::Zenoh(format!("{what}: {e}"))
+}
+
+/// Per-robot bookkeeping.
+#[derive(Debug, Clone, Default)]
+struct Link {
+    alive: bool,
+    flagged: bool,
+    /// Newest command: the observation it answers, the command, whether it was a safe stop.
+    command: Option<(u64, Command, bool)>,
+    /// Next observation sequence number.
+    next_seq: u64,
+    /// Wall time each recent observation was published, for round trips.
+    sent: VecDeque<(u64, Instant)>,
+}
+
+/// Runs the coordinator on `session` until `seconds` have been simulated or `shutdown`
+/// completes. `on_status` is called about once per wall second and once at the end.
+pub async fn run_coordinator(
+    session: &zenoh::Session,
+    mut fleet: Fleet,
+    config: CoordinatorConfig,
+    shutdown: impl Future<Output = ()>,
+    mut on_status: impl FnMut(&Status, &Fleet),
+) -> Result<Status, CoordinatorError> {
+    let keys = Keys::new(&config.site)?;
+    let n = fleet.robots();
+    let dt = fleet.world.dt;
+
+    let map_bytes = encode(&map_message(&fleet));
+    let map_key = keys.map();
+    let queryable = session
+        .declare_queryable(&map_key)
+        .callback(move |query| {
+            let reply = query.reply(query.key_expr().clone(), map_bytes.clone());
+            // Replying from a callback must not block the session: `wait` only queues it.
+            if let Err(e) = zenoh::Wait::wait(reply) {
+                tracing::warn!("map reply failed: {e}");
+            }
+        })
+        .await
+        .map_err(zerr("map queryable"))?;
+    let alive_sub = session
+        .liveliness()
+        .declare_subscriber(keys.every_alive())
+        .history(true)
+        .with(zenoh::handlers::FifoChannel::new(16 * 1024))
+        .await
+        .map_err(zerr("liveliness subscriber"))?;
+    let cmd_sub = session
+        .declare_subscriber(keys.every_robot(Channel::Cmd))
+        .with(zenoh::handlers::FifoChannel::new(64 * 1024))
+        .await
+        .map_err(zerr("command subscriber"))?;
+    let intent_sub = session
+        .declare_subscriber(keys.every_robot(Channel::Intent))
+        .with(zenoh::handlers::FifoChannel::new(64 * 1024))
+        .await
+        .map_err(zerr("intent subscriber"))?;
+    let mut obs_pubs = Vec::with_capacity(n);
+    let mut task_pubs = Vec::with_capacity(n);
+    for i in 0..n as u32 {
+        obs_pubs.push(
+            session
+                .declare_publisher(keys.robot(i, Channel::Obs))
+                .await
+                .map_err(zerr("observation publisher"))?,
+        );
+        task_pubs.push(
+            session
+                .declare_publisher(keys.robot(i, Channel::Task))
+                .await
+                .map_err(zerr("task publisher"))?,
+        );
+    }
+    let metrics_pub = session
+        .declare_publisher(keys.metrics())
+        .await
+        .map_err(zerr("metrics publisher"))?;
+
+    let mut links = vec![Link::default(); n];
+    // Robots without a live agent are held until one joins.
+    for i in 0..n {
+        fleet.set_held(i, true);
+    }
+    let mut status = Status {
+        robots: n,
+        ..Status::default()
+    };
+    let mut round_trips_us: Vec<u32> = Vec::new();
+    let tick_wall = Duration::from_secs_f64(dt / config.speed);
+    let mut ticker = tokio::time::interval(tick_wall);
+    ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut last_status = Instant::now();
+    let ticks_per_metrics = (1.0 / dt).round().max(1.0) as u64;
+    let end_tick = config.seconds.map(|s| (s / dt).round() as u64);
+    tokio::pin!(shutdown);
+
+    loop {
+        tokio::select! {
+            () = &mut shutdown => break,
+            _ = ticker.tick() => {}
+        }
+        if end_tick.is_some_and(|end| status.tick >= end) {
+            break;
+        }
+        // Liveliness.
+        while let Ok(Some(sample)) = alive_sub.try_recv() {
+            let Some(id) = keys.parse_alive(sample.key_expr().as_str()) else {
+                continue;
+            };
+            let Some(link) = links.get_mut(id as usize) else {
+                tracing::warn!("agent {id} has no robot here ({n} robots)");
+                continue;
+            };
+            match sample.kind() {
+                SampleKind::Put => {
+                    link.alive = true;
+                    link.flagged = false;
+                    link.command = None;
+                    fleet.set_held(id as usize, false);
+                    tracing::info!(robot = id, "agent joined");
+                    status.events.push(Event::Joined(id));
+                }
+                SampleKind::Delete => {
+                    link.alive = false;
+                    link.flagged = true;
+                    fleet.set_held(id as usize, true);
+                    let clean = link.command.is_some_and(|c| c.2);
+                    let event = if clean {
+                        Event::Left(id)
+                    } else {
+                        Event::Crashed(id)
+                    };
+                    tracing::warn!(robot = id, "agent gone: {event:?}; robot stopped and flagged");
+                    status.events.push(event);
+                }
+            }
+        }
+        // Commands: keep the newest per robot.
+        while let Ok(Some(sample)) = cmd_sub.try_recv() {
+            let key_id = keys.parse_robot(sample.key_expr().as_str()).map(|k| k.0);
+            match decode::<CommandMsg>(&sample.payload().to_bytes()) {
+                Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
+                    let link = &mut links[cmd.robot_id as usize];
+                    status.commands += 1;
+                    if let Some(&(_, at)) = link.sent.iter().find(|(s, _)| *s == cmd.obs_seq)
+                        && !cmd.safe_stop
+                    {
+                        round_trips_us.push(at.elapsed().as_micros().min(u32::MAX as u128) as u32);
+                    }
+                    if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
+                        link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
+                    }
+                }
+                Ok(_) => status.rejected += 1,
+                Err(e) => {
+                    status.rejected += 1;
+                    tracing::debug!("bad command: {e}");
+                }
+            }
+        }
+        // Intents.
+        while let Ok(Some(sample)) = intent_sub.try_recv() {
+            match decode::<IntentMsg>(&sample.payload().to_bytes()) {
+                Ok(intent) if (intent.robot_id as usize) < n => {
+                    let samples = wire::samples_from_wire(&intent.trajectory);
+                    fleet.set_intent(intent.robot_id as usize, intent.stamp, samples);
+                }
+                _ => status.rejected += 1,
+            }
+        }
+        // Apply the newest fresh command per robot.
+        let mut commands = vec![Command::STOP; n];
+        for (i, link) in links.iter().enumerate() {
+            let fresh = link.command.filter(|c| {
+                !c.2 && link.next_seq.saturating_sub(c.0 + 1) <= config.stale_ticks
+            });
+            match fresh {
+                Some((_, command, _)) => commands[i] = command,
+                None if link.alive && fleet.job(i).is_some() && link.next_seq > 0 => {
+                    status.stale_commands += 1;
+                }
+                None => {}
+            }
+        }
+        let mut events = fleet.step(&commands);
+        events.extend(fleet.dispatch());
+        status.tick += 1;
+        status.sim_time = fleet.world.time;
+        for event in &events {
+            match *event {
+                FleetEvent::Assigned { robot, task } => {
+                    let site = fleet.site();
+                    let assignment = TaskAssignment {
+                        robot_id: robot as u32,
+                        task_id: task.id,
+                        pick_station: task.pick as u32,
+                        pick: wire::p2(site.stations[task.pick].position),
+                        drop_station: task.drop as u32,
+                        drop: wire::p2(site.stations[task.drop].position),
+                        assigned_at: fleet.world.time,
+                    };
+                    if let Err(e) = task_pubs[robot].put(encode(&assignment)).await {
+                        tracing::warn!(robot, "task not sent: {e}");
+                    }
+                }
+                FleetEvent::Done { robot, task } => {
+                    status.tasks_done += 1;
+                    status.events.push(Event::TaskDone {
+                        robot: robot as u32,
+                        task,
+                    });
+                }
+                FleetEvent::Picked { .. } => {}
+            }
+        }
+        // Observations for robots with a live agent.
+        for i in 0..n {
+            if !links[i].alive {
+                continue;
+            }
+            let obs = observation(&mut fleet, i, links[i].next_seq);
+            let link = &mut links[i];
+            link.sent.push_back((obs.seq, Instant::now()));
+            if link.sent.len() > 16 {
+                link.sent.pop_front();
+            }
+            link.next_seq += 1;
+            if let Err(e) = obs_pubs[i].put(encode(&obs)).await {
+                tracing::warn!(robot = i, "observation not sent: {e}");
+            }
+        }
+        if status.tick.is_multiple_of(ticks_per_metrics) {
+            let frame = metrics_frame(&fleet, &links, &status);
+            if let Err(e) = metrics_pub.put(encode(&frame)).await {
+                tracing::warn!("metrics not sent: {e}");
+            }
+            status.metrics = Some(frame);
+        }
+        if last_status.elapsed() >= Duration::from_secs(1) {
+            last_status = Instant::now();
+            refresh(&mut status, &links, &mut round_trips_us);
+            on_status(&status, &fleet);
+        }
+    }
+    // Final frame and status.
+    let frame = metrics_frame(&fleet, &links, &status);
+    let _ = metrics_pub.put(encode(&frame)).await;
+    status.metrics = Some(frame);
+    refresh(&mut status, &links, &mut round_trips_us);
+    on_status(&status, &fleet);
+    drop(queryable);
+    Ok(status)
+}
+
+fn refresh(status: &mut Status, links: &[Link], round_trips_us: &mut [u32]) {
+    status.alive = links.iter().filter(|l| l.alive).count();
+    status.flagged = (0..links.len() as u32)
+        .filter(|&i| links[i as usize].flagged)
+        .collect();
+    status.round_trip_ms = (
+        percentile(round_trips_us, 0.5) / 1000.0,
+        percentile(round_trips_us, 0.99) / 1000.0,
+    );
+}
+
+/// Robot `i`'s observation with sequence number `seq`.
+pub fn observation(fleet: &mut Fleet, i: usize, seq: u64) -> Observation {
+    let (ego, seen) = fleet.observe(i);
+    let task = fleet.job(i).map(|job| TaskRef {
+        task_id: job.task.id,
+        stage: match job.stage {
+            Stage::ToPick => TaskStage::Pick,
+            Stage::ToDrop => TaskStage::Drop,
+        },
+    });
+    Observation {
+        robot_id: i as u32,
+        seq,
+        sim_time: fleet.world.time,
+        dt: fleet.world.dt,
+        map_version: MAP_VERSION,
+        p: wire::p2(ego.position),
+        heading: ego.heading,
+        vel: wire::p2(ego.velocity),
+        yaw_rate: ego.yaw_rate,
+        radius: ego.radius,
+        goal: fleet.goal(i).map(wire::p2),
+        task,
+        neighbours: seen.iter().map(wire::perceived).collect(),
+    }
+}
+
+/// The site's static map and stations as served by the `…/map` queryable.
+pub fn map_message(fleet: &Fleet) -> schemas::MapMsg {
+    let site = fleet.site();
+    let stations = site
+        .stations
+        .iter()
+        .map(|s| StationMsg {
+            id: s.id as u32,
+            p: wire::p2(s.position),
+        })
+        .collect();
+    let map: &StaticMap = &fleet.world.map;
+    wire::map_to_wire(map, MAP_VERSION, stations, [vec2(0.0, 0.0), site.size])
+}
+
+fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> FleetMetrics {
+    let per_robot: Vec<RobotRow> = (0..fleet.robots())
+        .map(|i| {
+            let m = fleet.metrics(i);
+            RobotRow {
+                robot_id: i as u32,
+                alive: links[i].alive,
+                tasks_done: fleet.tasks_done(i),
+                collision_rate: m.collision_rate,
+                svr: m.svr,
+                min_human_distance: m
+                    .min_human_distance_m
+                    .is_finite()
+                    .then_some(m.min_human_distance_m),
+                social_force: m.social_force,
+            }
+        })
+        .collect();
+    let mean = |f: &dyn Fn(&RobotRow) -> Real| {
+        if per_robot.is_empty() {
+            0.0
+        } else {
+            per_robot.iter().map(f).sum::<Real>() / per_robot.len() as Real
+        }
+    };
+    FleetMetrics {
+        tick: status.tick,
+        sim_time: fleet.world.time,
+        robots: fleet.robots() as u32,
+        alive: links.iter().filter(|l| l.alive).count() as u32,
+        humans: fleet.world.humans.crowd.len() as u32,
+        tasks_done: status.tasks_done,
+        collision_rate: mean(&|r| r.collision_rate),
+        svr: mean(&|r| r.svr),
+        near_misses: (0..fleet.robots())
+            .map(|i| fleet.metrics(i).robot_near_misses)
+            .sum(),
+        dropped_commands: status.stale_commands,
+        per_robot,
+    }
+}

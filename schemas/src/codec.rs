@@ -1,0 +1,306 @@
+//! Encoding and strict decoding.
+//!
+//! On the wire every message is a MessagePack map: `{"v": SCHEMA_VERSION, <fields>...}`.
+//! [`decode`] checks, in order: the byte length against the type's limit, that the bytes are a
+//! map carrying `"v"` equal to [`SCHEMA_VERSION`], that the fields decode, then the type's
+//! [`Message::validate`] rules (finite numbers, bounded list lengths, positive radii). Any
+//! failure is a [`DecodeError`]; nothing panics on untrusted input.
+
+use crate::SCHEMA_VERSION;
+use crate::messages::*;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+/// Most perceived bodies one observation may carry.
+pub const MAX_NEIGHBOURS: usize = 512;
+/// Most samples in one trajectory.
+pub const MAX_SAMPLES: usize = 128;
+/// Longest planner name.
+pub const MAX_NAME: usize = 64;
+/// Most robots in one metrics frame.
+pub const MAX_ROBOTS: usize = 4096;
+/// Most obstacles (and most vertices of one polygon) in a map.
+pub const MAX_OBSTACLES: usize = 100_000;
+
+/// Why bytes were rejected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DecodeError {
+    /// Longer than the message type allows.
+    #[error("message of {len} bytes exceeds the limit of {max}")]
+    TooLarge {
+        /// Bytes received.
+        len: usize,
+        /// The type's limit.
+        max: usize,
+    },
+    /// Not MessagePack of the expected shape.
+    #[error("malformed message: {0}")]
+    Malformed(String),
+    /// Another schema version.
+    #[error("schema version {got} is not the supported version {expected}")]
+    Version {
+        /// Version in the message.
+        got: u16,
+        /// [`SCHEMA_VERSION`].
+        expected: u16,
+    },
+    /// A number that must be finite is NaN or infinite.
+    #[error("field {0} is not finite")]
+    NonFinite(&'static str),
+    /// A list longer than its bound.
+    #[error("field {field} has {len} entries, more than {max}")]
+    TooMany {
+        /// The list.
+        field: &'static str,
+        /// Its length.
+        len: usize,
+        /// The bound.
+        max: usize,
+    },
+    /// A value outside its domain (negative radius, unsorted samples, …).
+    #[error("field {field}: {reason}")]
+    Invalid {
+        /// The field.
+        field: &'static str,
+        /// What is wrong.
+        reason: &'static str,
+    },
+}
+
+/// A wire message: its size limit and its validity rules.
+pub trait Message: Serialize + DeserializeOwned {
+    /// Largest encoded size accepted.
+    const MAX_BYTES: usize;
+    /// Structural checks after decoding.
+    fn validate(&self) -> Result<(), DecodeError>;
+}
+
+#[derive(Serialize)]
+struct Wire<'a, M> {
+    v: u16,
+    #[serde(flatten)]
+    body: &'a M,
+}
+
+#[derive(Deserialize)]
+struct VersionProbe {
+    v: u16,
+}
+
+/// Encodes `message` as a MessagePack map with the schema version.
+pub fn encode<M: Message>(message: &M) -> Vec<u8> {
+    let wire = Wire {
+        v: SCHEMA_VERSION,
+        body: message,
+    };
+    // Encoding plain data into a Vec cannot fail: every type here has string keys and no
+    // custom serializer.
+    rmp_serde::to_vec_named(&wire).unwrap_or_default()
+}
+
+/// Decodes and validates one message.
+pub fn decode<M: Message>(bytes: &[u8]) -> Result<M, DecodeError> {
+    if bytes.len() > M::MAX_BYTES {
+        return Err(DecodeError::TooLarge {
+            len: bytes.len(),
+            max: M::MAX_BYTES,
+        });
+    }
+    let probe: VersionProbe =
+        rmp_serde::from_slice(bytes).map_err(|e| DecodeError::Malformed(e.to_string()))?;
+    if probe.v != SCHEMA_VERSION {
+        return Err(DecodeError::Version {
+            got: probe.v,
+            expected: SCHEMA_VERSION,
+        });
+    }
+    let message: M =
+        rmp_serde::from_slice(bytes).map_err(|e| DecodeError::Malformed(e.to_string()))?;
+    message.validate()?;
+    Ok(message)
+}
+
+fn finite(field: &'static str, x: f64) -> Result<(), DecodeError> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(DecodeError::NonFinite(field))
+    }
+}
+
+fn finite_p(field: &'static str, p: &P2) -> Result<(), DecodeError> {
+    finite(field, p.0)?;
+    finite(field, p.1)
+}
+
+fn bounded(field: &'static str, len: usize, max: usize) -> Result<(), DecodeError> {
+    if len > max {
+        Err(DecodeError::TooMany { field, len, max })
+    } else {
+        Ok(())
+    }
+}
+
+fn non_negative(field: &'static str, x: f64) -> Result<(), DecodeError> {
+    finite(field, x)?;
+    if x < 0.0 {
+        return Err(DecodeError::Invalid {
+            field,
+            reason: "must not be negative",
+        });
+    }
+    Ok(())
+}
+
+fn positive(field: &'static str, x: f64) -> Result<(), DecodeError> {
+    finite(field, x)?;
+    if x <= 0.0 {
+        return Err(DecodeError::Invalid {
+            field,
+            reason: "must be positive",
+        });
+    }
+    Ok(())
+}
+
+fn trajectory(field: &'static str, samples: &[Sample]) -> Result<(), DecodeError> {
+    bounded(field, samples.len(), MAX_SAMPLES)?;
+    let mut last = f64::NEG_INFINITY;
+    for s in samples {
+        finite(field, s.t)?;
+        finite_p(field, &s.p)?;
+        non_negative(field, s.sigma)?;
+        if s.t < last {
+            return Err(DecodeError::Invalid {
+                field,
+                reason: "sample times must be sorted",
+            });
+        }
+        last = s.t;
+    }
+    Ok(())
+}
+
+fn name(field: &'static str, s: &str) -> Result<(), DecodeError> {
+    bounded(field, s.len(), MAX_NAME)
+}
+
+impl Message for Observation {
+    const MAX_BYTES: usize = 1 << 20;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite("sim_time", self.sim_time)?;
+        positive("dt", self.dt)?;
+        finite_p("p", &self.p)?;
+        finite("heading", self.heading)?;
+        finite_p("vel", &self.vel)?;
+        finite("yaw_rate", self.yaw_rate)?;
+        positive("radius", self.radius)?;
+        if let Some(goal) = &self.goal {
+            finite_p("goal", goal)?;
+        }
+        bounded("neighbours", self.neighbours.len(), MAX_NEIGHBOURS)?;
+        for n in &self.neighbours {
+            finite_p("neighbours.p", &n.p)?;
+            finite_p("neighbours.vel", &n.vel)?;
+            positive("neighbours.radius", n.radius)?;
+            if let Some(intent) = &n.intent {
+                trajectory("neighbours.intent", intent)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Message for IntentMsg {
+    const MAX_BYTES: usize = 16 << 10;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite("stamp", self.stamp)?;
+        name("planner", &self.planner)?;
+        finite_p("subgoal", &self.subgoal)?;
+        trajectory("trajectory", &self.trajectory)
+    }
+}
+
+impl Message for CommandMsg {
+    const MAX_BYTES: usize = 512;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite("stamp", self.stamp)?;
+        match self.motion {
+            Motion::Velocity(v) => finite_p("motion", &v),
+            Motion::Unicycle(speed, yaw_rate) => {
+                finite("motion", speed)?;
+                finite("motion", yaw_rate)
+            }
+        }
+    }
+}
+
+impl Message for AgentInfo {
+    const MAX_BYTES: usize = 1024;
+    fn validate(&self) -> Result<(), DecodeError> {
+        name("planner", &self.planner)?;
+        name("version", &self.version)?;
+        non_negative("plan_p99_us", self.plan_p99_us)
+    }
+}
+
+impl Message for TaskAssignment {
+    const MAX_BYTES: usize = 512;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite_p("pick", &self.pick)?;
+        finite_p("drop", &self.drop)?;
+        finite("assigned_at", self.assigned_at)
+    }
+}
+
+impl Message for FleetMetrics {
+    const MAX_BYTES: usize = 4 << 20;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite("sim_time", self.sim_time)?;
+        non_negative("collision_rate", self.collision_rate)?;
+        non_negative("svr", self.svr)?;
+        bounded("per_robot", self.per_robot.len(), MAX_ROBOTS)?;
+        for r in &self.per_robot {
+            non_negative("per_robot.collision_rate", r.collision_rate)?;
+            non_negative("per_robot.svr", r.svr)?;
+            non_negative("per_robot.social_force", r.social_force)?;
+            if let Some(d) = r.min_human_distance {
+                finite("per_robot.min_human_distance", d)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Message for MapMsg {
+    const MAX_BYTES: usize = 64 << 20;
+    fn validate(&self) -> Result<(), DecodeError> {
+        bounded("obstacles", self.obstacles.len(), MAX_OBSTACLES)?;
+        for o in &self.obstacles {
+            match o {
+                ObstacleMsg::Polygon(points) => {
+                    bounded("obstacles.polygon", points.len(), MAX_OBSTACLES)?;
+                    if points.len() < 3 {
+                        return Err(DecodeError::Invalid {
+                            field: "obstacles.polygon",
+                            reason: "a polygon needs at least 3 vertices",
+                        });
+                    }
+                    for p in points {
+                        finite_p("obstacles.polygon", p)?;
+                    }
+                }
+                ObstacleMsg::Wall(a, b) => {
+                    finite_p("obstacles.wall", a)?;
+                    finite_p("obstacles.wall", b)?;
+                }
+            }
+        }
+        bounded("stations", self.stations.len(), MAX_OBSTACLES)?;
+        for s in &self.stations {
+            finite_p("stations.p", &s.p)?;
+        }
+        finite_p("bounds", &self.bounds[0])?;
+        finite_p("bounds", &self.bounds[1])
+    }
+}

@@ -1,0 +1,256 @@
+//! The messages. Units are SI (metres, seconds, radians, m/s); positions are in the site's world
+//! frame; times are simulation (or site) seconds. Field names here are the names on the wire.
+
+use serde::{Deserialize, Serialize};
+
+/// A point or vector in the world frame, on the wire as the array `[x, y]`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct P2(pub f64, pub f64);
+
+/// What kind of body a perceived agent is. On the wire: the string `"human"` or `"robot"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// A person.
+    Human,
+    /// A robot (of this fleet or not).
+    Robot,
+}
+
+/// One sample of a planned trajectory.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    /// Seconds after the enclosing message's time reference (see each message).
+    pub t: f64,
+    /// Mean position.
+    pub p: P2,
+    /// Standard deviation of the position (metres, isotropic).
+    pub sigma: f64,
+}
+
+/// A body the robot perceives.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Perceived {
+    /// Stable id while perceived. Robots carry their robot id; people an id ≥ 2^32.
+    pub id: u64,
+    /// Person or robot.
+    pub kind: Kind,
+    /// Position.
+    pub p: P2,
+    /// Velocity.
+    pub vel: P2,
+    /// Body radius (metres, > 0).
+    pub radius: f64,
+    /// The trajectory this robot announced, re-stamped so `t` counts from the observation's
+    /// `sim_time`; absent for people and for robots without a fresh intent.
+    pub intent: Option<Vec<Sample>>,
+}
+
+/// What the robot is currently doing, when the coordinator gave it a task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskRef {
+    /// The task's id (see [`TaskAssignment`]).
+    pub task_id: u64,
+    /// `"pick"` while driving to the pick station, `"drop"` while driving to the drop station.
+    pub stage: TaskStage,
+}
+
+/// Stage of a pick/drop task. On the wire: `"pick"` or `"drop"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TaskStage {
+    /// Driving to the pick station.
+    Pick,
+    /// Driving to the drop station.
+    Drop,
+}
+
+/// Coordinator → agent, key `…/robot/<id>/obs`: what one robot perceives, at one tick.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Observation {
+    /// The robot this observation is for.
+    pub robot_id: u32,
+    /// Increases by one per observation of this robot; commands echo it.
+    pub seq: u64,
+    /// Simulation time of the observation (s). Time reference of every intent inside.
+    pub sim_time: f64,
+    /// Control period: seconds until the next observation.
+    pub dt: f64,
+    /// Version of the static map (query `…/map` when it changes).
+    pub map_version: u32,
+    /// Own position.
+    pub p: P2,
+    /// Own heading (rad).
+    pub heading: f64,
+    /// Own velocity.
+    pub vel: P2,
+    /// Own turn rate (rad/s).
+    pub yaw_rate: f64,
+    /// Own body radius (m).
+    pub radius: f64,
+    /// Where to drive; absent when idle (the agent then stops).
+    pub goal: Option<P2>,
+    /// The task the goal belongs to, if any.
+    pub task: Option<TaskRef>,
+    /// Bodies within sensor range and line of sight.
+    pub neighbours: Vec<Perceived>,
+}
+
+/// Agent → fleet, key `…/robot/<id>/intent`: where the robot is heading and how it expects to
+/// drive there.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IntentMsg {
+    /// The announcing robot.
+    pub robot_id: u32,
+    /// The observation sequence number this plan answers.
+    pub obs_seq: u64,
+    /// Time reference of `trajectory`: the `sim_time` of that observation.
+    pub stamp: f64,
+    /// Planner stack name, e.g. `"pgp+orca"`.
+    pub planner: String,
+    /// The goal handed to the short-term planner (PGP's subgoal, or the goal itself).
+    pub subgoal: P2,
+    /// Planned trajectory; `t` is seconds after `stamp`, sorted ascending.
+    pub trajectory: Vec<Sample>,
+}
+
+/// A motion command. On the wire an externally tagged map: `{"velocity": [vx, vy]}` or
+/// `{"unicycle": [speed, yaw_rate]}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Motion {
+    /// Holonomic: world-frame velocity (m/s).
+    Velocity(P2),
+    /// Unicycle: forward speed (m/s) and turn rate (rad/s, counter-clockwise positive).
+    Unicycle(f64, f64),
+}
+
+/// Agent → coordinator, key `…/robot/<id>/cmd`: what the robot's base should do now.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CommandMsg {
+    /// The commanded robot.
+    pub robot_id: u32,
+    /// The observation sequence number this command answers; a safe-stop sent because
+    /// observations stopped repeats the last one answered.
+    pub obs_seq: u64,
+    /// `sim_time` of that observation.
+    pub stamp: f64,
+    /// The motion.
+    pub motion: Motion,
+    /// True when the agent stopped the robot on its own (observations timed out or shutdown).
+    pub safe_stop: bool,
+}
+
+/// Agent → fleet, key `…/robot/<id>/info`, once a second: who the agent is and how it fares.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AgentInfo {
+    /// The robot it drives.
+    pub robot_id: u32,
+    /// Planner stack name.
+    pub planner: String,
+    /// gapfleet version of the agent.
+    pub version: String,
+    /// Observations planned on since start.
+    pub plans: u64,
+    /// Messages rejected by the decoder since start.
+    pub rejected: u64,
+    /// 99th percentile of planning time over the last second (µs).
+    pub plan_p99_us: f64,
+}
+
+/// Coordinator → agent, key `…/robot/<id>/task`: a pick/drop job.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskAssignment {
+    /// The robot that gets the task.
+    pub robot_id: u32,
+    /// Unique per site.
+    pub task_id: u64,
+    /// Pick station index and position.
+    pub pick_station: u32,
+    /// Where to pick.
+    pub pick: P2,
+    /// Drop station index.
+    pub drop_station: u32,
+    /// Where to drop.
+    pub drop: P2,
+    /// Simulation time of the assignment (s).
+    pub assigned_at: f64,
+}
+
+/// One robot's row in a [`FleetMetrics`] frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RobotRow {
+    /// Robot id.
+    pub robot_id: u32,
+    /// Whether its agent is alive (liveliness token present and commands fresh).
+    pub alive: bool,
+    /// Tasks completed.
+    pub tasks_done: u64,
+    /// Share of moving steps with a body overlap.
+    pub collision_rate: f64,
+    /// Share of moving steps with any agent closer than 1 m (centre to centre).
+    pub svr: f64,
+    /// Smallest surface gap to a person so far (m); absent before any person was seen.
+    pub min_human_distance: Option<f64>,
+    /// Mean total social force on the robot (N per kg).
+    pub social_force: f64,
+}
+
+/// Coordinator → fleet, key `…/metrics`, once per simulated second: the fleet's social metrics.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FleetMetrics {
+    /// Simulation tick.
+    pub tick: u64,
+    /// Simulation time (s).
+    pub sim_time: f64,
+    /// Robots in the world.
+    pub robots: u32,
+    /// Robots whose agents are alive.
+    pub alive: u32,
+    /// People in the world.
+    pub humans: u32,
+    /// Tasks completed by the whole fleet.
+    pub tasks_done: u64,
+    /// Fleet-wide collision rate while moving.
+    pub collision_rate: f64,
+    /// Fleet-wide space-violation rate while moving.
+    pub svr: f64,
+    /// Robot–robot near misses (pairs closer than 0.3 m surface gap, counted at onset).
+    pub near_misses: u64,
+    /// Commands that arrived too late or out of order and were dropped.
+    pub dropped_commands: u64,
+    /// Per-robot rows.
+    pub per_robot: Vec<RobotRow>,
+}
+
+/// A static obstacle of the map. `{"polygon": [[x,y],...]}` or `{"wall": [[x,y],[x,y]]}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ObstacleMsg {
+    /// Closed simple polygon (shelf, pillar).
+    Polygon(Vec<P2>),
+    /// Zero-thickness wall segment.
+    Wall(P2, P2),
+}
+
+/// A pick/drop station.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StationMsg {
+    /// Station index.
+    pub id: u32,
+    /// Where robots and people go.
+    pub p: P2,
+}
+
+/// Coordinator queryable `…/map`: the static map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapMsg {
+    /// Version, as in observations.
+    pub map_version: u32,
+    /// Walls and shelves.
+    pub obstacles: Vec<ObstacleMsg>,
+    /// Pick/drop stations.
+    pub stations: Vec<StationMsg>,
+    /// Axis-aligned bounds `[min, max]` of the site.
+    pub bounds: [P2; 2],
+}

@@ -1,0 +1,329 @@
+//! Round trip and malformed input for every message.
+
+use schemas::codec::{MAX_NEIGHBOURS, MAX_SAMPLES};
+use schemas::*;
+use serde::Serialize;
+
+fn sample(t: f64) -> Sample {
+    Sample {
+        t,
+        p: P2(t, -t),
+        sigma: 0.1 + t,
+    }
+}
+
+fn observation() -> Observation {
+    Observation {
+        robot_id: 3,
+        seq: 17,
+        sim_time: 12.5,
+        dt: 0.1,
+        map_version: 1,
+        p: P2(1.0, 2.0),
+        heading: 0.5,
+        vel: P2(0.3, 0.0),
+        yaw_rate: 0.0,
+        radius: 0.3,
+        goal: Some(P2(10.0, 2.0)),
+        task: Some(TaskRef {
+            task_id: 9,
+            stage: TaskStage::Drop,
+        }),
+        neighbours: vec![
+            Perceived {
+                id: 1 << 33,
+                kind: Kind::Human,
+                p: P2(2.0, 2.0),
+                vel: P2(-1.0, 0.0),
+                radius: 0.35,
+                intent: None,
+            },
+            Perceived {
+                id: 4,
+                kind: Kind::Robot,
+                p: P2(4.0, 2.0),
+                vel: P2(0.0, 1.0),
+                radius: 0.3,
+                intent: Some(vec![sample(0.25), sample(0.5)]),
+            },
+        ],
+    }
+}
+
+fn intent() -> IntentMsg {
+    IntentMsg {
+        robot_id: 3,
+        obs_seq: 17,
+        stamp: 12.5,
+        planner: "pgp+orca".into(),
+        subgoal: P2(1.4, 2.0),
+        trajectory: (1..=32).map(|i| sample(0.25 * i as f64)).collect(),
+    }
+}
+
+fn command() -> CommandMsg {
+    CommandMsg {
+        robot_id: 3,
+        obs_seq: 17,
+        stamp: 12.5,
+        motion: Motion::Velocity(P2(0.5, -0.1)),
+        safe_stop: false,
+    }
+}
+
+fn info() -> AgentInfo {
+    AgentInfo {
+        robot_id: 3,
+        planner: "pgp+dwa".into(),
+        version: "0.1.0".into(),
+        plans: 100,
+        rejected: 2,
+        plan_p99_us: 154.0,
+    }
+}
+
+fn task() -> TaskAssignment {
+    TaskAssignment {
+        robot_id: 3,
+        task_id: 9,
+        pick_station: 0,
+        pick: P2(0.0, 1.0),
+        drop_station: 5,
+        drop: P2(30.0, 1.0),
+        assigned_at: 3.0,
+    }
+}
+
+fn metrics() -> FleetMetrics {
+    FleetMetrics {
+        tick: 100,
+        sim_time: 10.0,
+        robots: 2,
+        alive: 1,
+        humans: 50,
+        tasks_done: 3,
+        collision_rate: 0.01,
+        svr: 0.2,
+        near_misses: 1,
+        dropped_commands: 0,
+        per_robot: vec![RobotRow {
+            robot_id: 0,
+            alive: true,
+            tasks_done: 3,
+            collision_rate: 0.0,
+            svr: 0.1,
+            min_human_distance: Some(0.4),
+            social_force: 0.7,
+        }],
+    }
+}
+
+fn map() -> MapMsg {
+    MapMsg {
+        map_version: 1,
+        obstacles: vec![
+            ObstacleMsg::Polygon(vec![P2(0.0, 0.0), P2(1.0, 0.0), P2(1.0, 1.0)]),
+            ObstacleMsg::Wall(P2(0.0, 0.0), P2(0.0, 5.0)),
+        ],
+        stations: vec![StationMsg { id: 0, p: P2(2.0, 2.0) }],
+        bounds: [P2(0.0, 0.0), P2(10.0, 10.0)],
+    }
+}
+
+fn round_trip<M: Message + PartialEq + std::fmt::Debug>(m: M) {
+    let bytes = encode(&m);
+    assert_eq!(decode::<M>(&bytes), Ok(m));
+    // Every prefix of a valid message is rejected, never a panic.
+    for cut in 0..bytes.len() {
+        assert!(decode::<M>(&bytes[..cut]).is_err(), "prefix {cut} decoded");
+    }
+}
+
+#[test]
+fn every_message_round_trips() {
+    round_trip(observation());
+    round_trip(intent());
+    round_trip(command());
+    round_trip(CommandMsg {
+        motion: Motion::Unicycle(0.5, -0.2),
+        safe_stop: true,
+        ..command()
+    });
+    round_trip(info());
+    round_trip(task());
+    round_trip(metrics());
+    round_trip(map());
+}
+
+/// What a client in another language sees: a map with `v` first and the documented names.
+#[test]
+fn wire_shape_is_the_documented_one() {
+    #[derive(serde::Deserialize, Debug)]
+    struct Loose {
+        v: u16,
+        robot_id: u32,
+        motion: std::collections::BTreeMap<String, (f64, f64)>,
+    }
+    let bytes = encode(&command());
+    assert_eq!(bytes[0] & 0xf0, 0x80, "a fixmap");
+    assert_eq!(&bytes[1..3], &[0xa1, b'v'], "first key is \"v\"");
+    let loose: Loose = rmp_serde::from_slice(&bytes).unwrap();
+    assert_eq!(loose.v, SCHEMA_VERSION);
+    assert_eq!(loose.robot_id, 3);
+    assert_eq!(loose.motion["velocity"], (0.5, -0.1));
+    let obs = encode(&observation());
+    let text = String::from_utf8_lossy(&obs);
+    for name in ["human", "robot", "drop", "neighbours", "intent", "sigma"] {
+        assert!(text.contains(name), "{name} missing on the wire");
+    }
+}
+
+#[derive(Serialize)]
+struct Versioned<'a, M> {
+    v: u16,
+    #[serde(flatten)]
+    body: &'a M,
+}
+
+fn with_version<M: Serialize>(v: u16, m: &M) -> Vec<u8> {
+    rmp_serde::to_vec_named(&Versioned { v, body: m }).expect("plain data encodes")
+}
+
+#[test]
+fn other_versions_are_rejected() {
+    let bytes = with_version(SCHEMA_VERSION + 1, &command());
+    assert_eq!(
+        decode::<CommandMsg>(&bytes),
+        Err(DecodeError::Version {
+            got: SCHEMA_VERSION + 1,
+            expected: SCHEMA_VERSION
+        })
+    );
+    // Without a version at all.
+    let bare = rmp_serde::to_vec_named(&command()).unwrap();
+    assert!(matches!(decode::<CommandMsg>(&bare), Err(DecodeError::Malformed(_))));
+}
+
+#[test]
+fn garbage_and_oversized_input_is_rejected() {
+    for bytes in [
+        &b""[..],
+        b"\xc1",
+        b"hello world",
+        b"\xdf\xff\xff\xff\xff",
+        b"\xdd\xff\xff\xff\xff",
+        b"\x81\xa1v\xcd\x00\x01",
+    ] {
+        assert!(decode::<Observation>(bytes).is_err());
+        assert!(decode::<CommandMsg>(bytes).is_err());
+    }
+    let huge = vec![0x90; CommandMsg::MAX_BYTES + 1];
+    assert!(matches!(
+        decode::<CommandMsg>(&huge),
+        Err(DecodeError::TooLarge { .. })
+    ));
+    // A message of the wrong type.
+    assert!(decode::<CommandMsg>(&encode(&info())).is_err());
+}
+
+#[test]
+fn non_finite_numbers_are_rejected_everywhere() {
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let mut o = observation();
+        o.neighbours[1].intent.as_mut().unwrap()[1].p.0 = bad;
+        assert_eq!(
+            decode::<Observation>(&encode(&o)),
+            Err(DecodeError::NonFinite("neighbours.intent"))
+        );
+        let mut o = observation();
+        o.p.1 = bad;
+        assert_eq!(decode::<Observation>(&encode(&o)), Err(DecodeError::NonFinite("p")));
+        let mut c = command();
+        c.motion = Motion::Unicycle(bad, 0.0);
+        assert_eq!(decode::<CommandMsg>(&encode(&c)), Err(DecodeError::NonFinite("motion")));
+        let mut i = intent();
+        i.subgoal.0 = bad;
+        assert_eq!(decode::<IntentMsg>(&encode(&i)), Err(DecodeError::NonFinite("subgoal")));
+        let mut t = task();
+        t.drop.1 = bad;
+        assert_eq!(decode::<TaskAssignment>(&encode(&t)), Err(DecodeError::NonFinite("drop")));
+        let mut m = metrics();
+        m.per_robot[0].min_human_distance = Some(bad);
+        assert!(decode::<FleetMetrics>(&encode(&m)).is_err());
+        let mut a = info();
+        a.plan_p99_us = bad;
+        assert!(decode::<AgentInfo>(&encode(&a)).is_err());
+        let mut mp = map();
+        mp.obstacles[1] = ObstacleMsg::Wall(P2(bad, 0.0), P2(0.0, 1.0));
+        assert_eq!(
+            decode::<MapMsg>(&encode(&mp)),
+            Err(DecodeError::NonFinite("obstacles.wall"))
+        );
+    }
+}
+
+#[test]
+fn domain_rules_are_enforced() {
+    let mut o = observation();
+    o.radius = 0.0;
+    assert!(matches!(
+        decode::<Observation>(&encode(&o)),
+        Err(DecodeError::Invalid { field: "radius", .. })
+    ));
+    let mut o = observation();
+    o.neighbours = vec![o.neighbours[0].clone(); MAX_NEIGHBOURS + 1];
+    assert!(matches!(
+        decode::<Observation>(&encode(&o)),
+        Err(DecodeError::TooMany { field: "neighbours", .. })
+    ));
+    let mut i = intent();
+    i.trajectory = (0..=MAX_SAMPLES).map(|k| sample(k as f64)).collect();
+    assert!(matches!(
+        decode::<IntentMsg>(&encode(&i)),
+        Err(DecodeError::TooMany { .. }) | Err(DecodeError::TooLarge { .. })
+    ));
+    let mut i = intent();
+    i.trajectory.swap(0, 1);
+    assert!(matches!(
+        decode::<IntentMsg>(&encode(&i)),
+        Err(DecodeError::Invalid { field: "trajectory", .. })
+    ));
+    let mut i = intent();
+    i.planner = "x".repeat(65);
+    assert!(matches!(
+        decode::<IntentMsg>(&encode(&i)),
+        Err(DecodeError::TooMany { field: "planner", .. })
+    ));
+    let mut mp = map();
+    mp.obstacles[0] = ObstacleMsg::Polygon(vec![P2(0.0, 0.0), P2(1.0, 0.0)]);
+    assert!(matches!(
+        decode::<MapMsg>(&encode(&mp)),
+        Err(DecodeError::Invalid { .. })
+    ));
+}
+
+mod fuzz {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..512)) {
+            let _ = decode::<Observation>(&bytes);
+            let _ = decode::<IntentMsg>(&bytes);
+            let _ = decode::<CommandMsg>(&bytes);
+            let _ = decode::<MapMsg>(&bytes);
+        }
+
+        #[test]
+        fn flipped_bytes_never_panic(pos in 0usize..400, byte in any::<u8>()) {
+            let mut bytes = encode(&observation());
+            let at = pos % bytes.len();
+            bytes[at] = byte;
+            if let Ok(o) = decode::<Observation>(&bytes) {
+                // Whatever decodes satisfies the rules.
+                prop_assert!(o.p.0.is_finite() && o.radius > 0.0);
+            }
+        }
+    }
+}

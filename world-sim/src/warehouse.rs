@@ -1,0 +1,293 @@
+//! Procedural warehouses: parallel shelf rows cut into blocks by cross-aisles, a perimeter
+//! wall, pick/drop stations, and routes through the aisle grid.
+//!
+//! ```text
+//!  y ^  ┌──────────────────────────────────────────┐  top corridor (cross_aisle_width_m)
+//!    |  │   ██████████    ██████████    ██████████ │  shelf row (rows-1)
+//!    |  │ ·     ·     ·     ·     ·     ·          │  aisle (aisle_width_m), pick stations ·
+//!    |  │   ██████████    ██████████    ██████████ │  shelf row 0
+//!    |  │ ◦           ◦            ◦               │  bottom corridor: docks ◦ (drop stations)
+//!    0  └──────────────────────────────────────────┘
+//!        ^ cross-aisles (cross_aisle_width_m) before, between and after the blocks
+//! ```
+//!
+//! The free space is a grid of corridors: horizontal ones (bottom corridor, aisles between
+//! rows, top corridor) run the full width, cross-aisles run the full height, so every route
+//! is at most: along a corridor to a cross-aisle, along it to the target corridor, along that.
+//! Shelf ends at every crossing are blind corners: shelves block line of sight.
+
+use crate::scenario::Warehouse as Spec;
+use agent::map::{Obstacle, StaticMap};
+use agent::math::{Real, Vec2, vec2};
+
+/// What a station is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StationKind {
+    /// A shelf face in an aisle or the top corridor, where goods are picked.
+    Pick,
+    /// A dock on the bottom corridor, where goods are dropped.
+    Dock,
+}
+
+/// A pick or drop location.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Station {
+    /// Index in [`Site::stations`].
+    pub id: usize,
+    /// Where robots and people stop.
+    pub position: Vec2,
+    /// Pick or dock.
+    pub kind: StationKind,
+}
+
+/// A generated warehouse: geometry, stations and the corridor grid used for routing.
+#[derive(Debug, Clone)]
+pub struct Site {
+    /// Outer size (width along x, height along y), metres.
+    pub size: Vec2,
+    /// Shelves (as polygons) and the perimeter walls.
+    pub obstacles: Vec<Obstacle>,
+    /// Stations; docks first.
+    pub stations: Vec<Station>,
+    /// y of each horizontal corridor's centre line, bottom to top, with its half width.
+    corridors: Vec<(Real, Real)>,
+    /// x of each cross-aisle's centre line, left to right, with its half width.
+    cross_aisles: Vec<(Real, Real)>,
+}
+
+impl Site {
+    /// Lays out the warehouse `spec` describes.
+    pub fn generate(spec: &Spec) -> Self {
+        let c = spec.cross_aisle_width_m;
+        let (len, depth, aisle) = (spec.shelf_length_m, spec.shelf_depth_m, spec.aisle_width_m);
+        let width = (spec.blocks + 1) as Real * c + spec.blocks as Real * len;
+        let height = 2.0 * c + spec.rows as Real * depth + (spec.rows - 1) as Real * aisle;
+
+        let corners = [
+            vec2(0.0, 0.0),
+            vec2(width, 0.0),
+            vec2(width, height),
+            vec2(0.0, height),
+        ];
+        let mut obstacles: Vec<Obstacle> = (0..4)
+            .map(|i| Obstacle::Wall(corners[i], corners[(i + 1) % 4]))
+            .collect();
+        let block_x = |b: usize| c + b as Real * (c + len);
+        let row_y = |r: usize| c + r as Real * (depth + aisle);
+        for r in 0..spec.rows {
+            for b in 0..spec.blocks {
+                let (x0, y0) = (block_x(b), row_y(r));
+                obstacles.push(Obstacle::Polygon(vec![
+                    vec2(x0, y0),
+                    vec2(x0 + len, y0),
+                    vec2(x0 + len, y0 + depth),
+                    vec2(x0, y0 + depth),
+                ]));
+            }
+        }
+
+        let mut corridors = vec![(c / 2.0, c / 2.0)];
+        corridors.extend((1..spec.rows).map(|k| (row_y(k) - aisle / 2.0, aisle / 2.0)));
+        corridors.push((height - c / 2.0, c / 2.0));
+        let cross_aisles = (0..=spec.blocks)
+            .map(|j| (j as Real * (c + len) + c / 2.0, c / 2.0))
+            .collect();
+
+        // Docks spread along the bottom corridor; pick stations at the middle of every block's
+        // shelf faces in the aisles and the top corridor.
+        let mut stations = Vec::new();
+        for d in 0..spec.docks {
+            let x = width * (d as Real + 0.5) / spec.docks as Real;
+            stations.push((vec2(x, corridors[0].0), StationKind::Dock));
+        }
+        for &(y, _) in &corridors[1..] {
+            for b in 0..spec.blocks {
+                stations.push((vec2(block_x(b) + len / 2.0, y), StationKind::Pick));
+            }
+        }
+        let stations = stations
+            .into_iter()
+            .enumerate()
+            .map(|(id, (position, kind))| Station { id, position, kind })
+            .collect();
+        Self {
+            size: vec2(width, height),
+            obstacles,
+            stations,
+            corridors,
+            cross_aisles,
+        }
+    }
+
+    /// The static map of the site.
+    pub fn map(&self) -> StaticMap {
+        StaticMap::new(self.obstacles.clone())
+            .expect("generated rectangles and perimeter walls are valid obstacles")
+    }
+
+    /// Stations of one kind.
+    pub fn stations_of(&self, kind: StationKind) -> impl Iterator<Item = &Station> + '_ {
+        self.stations.iter().filter(move |s| s.kind == kind)
+    }
+
+    /// Index of the horizontal corridor containing `p`, if any.
+    fn corridor_of(&self, p: Vec2) -> Option<usize> {
+        self.corridors
+            .iter()
+            .position(|&(y, half)| (p.y - y).abs() <= half)
+    }
+
+    /// Index of the cross-aisle containing `p`, if any.
+    fn cross_aisle_of(&self, p: Vec2) -> Option<usize> {
+        self.cross_aisles
+            .iter()
+            .position(|&(x, half)| (p.x - x).abs() <= half)
+    }
+
+    /// The horizontal corridor nearest to `p` (for points pushed off the grid, e.g. into a
+    /// shelf's edge).
+    fn nearest_corridor(&self, p: Vec2) -> usize {
+        nearest(self.corridors.iter().map(|&(y, _)| (p.y - y).abs()))
+    }
+
+    /// Waypoints from `from` to `to` through the corridor grid, ending with `to`. Each leg is a
+    /// straight line inside one corridor or cross-aisle.
+    pub fn route(&self, from: Vec2, to: Vec2) -> Vec<Vec2> {
+        let (fc, tc) = (self.corridor_of(from), self.corridor_of(to));
+        let (fa, ta) = (self.cross_aisle_of(from), self.cross_aisle_of(to));
+        let shared_corridor = matches!((fc, tc), (Some(a), Some(b)) if a == b);
+        let shared_aisle = matches!((fa, ta), (Some(a), Some(b)) if a == b);
+        if shared_corridor || shared_aisle {
+            return vec![to];
+        }
+        let y = |k: usize| self.corridors[k].0;
+        let x = |j: usize| self.cross_aisles[j].0;
+        match (fc, tc, fa, ta) {
+            // Cross-aisle to corridor: down the aisle, then along the corridor.
+            (None, Some(k), Some(j), _) => vec![vec2(x(j), y(k)), to],
+            // Corridor to cross-aisle.
+            (Some(k), None, _, Some(j)) => vec![vec2(x(j), y(k)), to],
+            // Cross-aisle to another cross-aisle: through the corridor with the least detour.
+            (None, None, Some(a), Some(b)) => {
+                let k = nearest(
+                    self.corridors
+                        .iter()
+                        .map(|&(cy, _)| (from.y - cy).abs() + (to.y - cy).abs()),
+                );
+                vec![vec2(x(a), y(k)), vec2(x(b), y(k)), to]
+            }
+            // Corridor to corridor (the common case), or off-grid points snapped to one.
+            _ => {
+                let k_from = fc.unwrap_or_else(|| self.nearest_corridor(from));
+                let k_to = tc.unwrap_or_else(|| self.nearest_corridor(to));
+                if k_from == k_to {
+                    return vec![to];
+                }
+                let j = nearest(
+                    self.cross_aisles
+                        .iter()
+                        .map(|&(cx, _)| (from.x - cx).abs() + (to.x - cx).abs()),
+                );
+                vec![vec2(x(j), y(k_from)), vec2(x(j), y(k_to)), to]
+            }
+        }
+    }
+
+    /// Free floor area (m²): the site minus its shelves.
+    pub fn free_area(&self) -> Real {
+        let shelves: Real = self
+            .obstacles
+            .iter()
+            .map(|o| match o {
+                Obstacle::Polygon(p) => polygon_area(p),
+                Obstacle::Wall(..) => 0.0,
+            })
+            .sum();
+        self.size.x * self.size.y - shelves
+    }
+}
+
+fn nearest(costs: impl Iterator<Item = Real>) -> usize {
+    costs
+        .enumerate()
+        .fold((0, Real::INFINITY), |best, (i, c)| {
+            if c < best.1 { (i, c) } else { best }
+        })
+        .0
+}
+
+fn polygon_area(p: &[Vec2]) -> Real {
+    let n = p.len();
+    (0..n)
+        .map(|i| p[i].x * p[(i + 1) % n].y - p[(i + 1) % n].x * p[i].y)
+        .sum::<Real>()
+        .abs()
+        / 2.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    fn site() -> Site {
+        let s = Scenario::builtin("warehouse").expect("valid");
+        Site::generate(&s.warehouse.expect("layout"))
+    }
+
+    /// Every leg of every route between any two stations stays in free space with a person's
+    /// clearance (checked at 5 cm steps).
+    #[test]
+    fn routes_between_all_stations_stay_in_corridors() {
+        let site = site();
+        let map = site.map();
+        for a in &site.stations {
+            for b in &site.stations {
+                let mut at = a.position;
+                for w in site.route(a.position, b.position) {
+                    let steps = ((w - at).norm() / 0.05).ceil().max(1.0) as usize;
+                    for s in 0..=steps {
+                        let p = at + (w - at) * (s as Real / steps as Real);
+                        assert!(
+                            !map.is_inside(&p) && map.distance(&p) > 0.4,
+                            "route {} -> {} passes {p:?}",
+                            a.id,
+                            b.id
+                        );
+                    }
+                    at = w;
+                }
+                assert_eq!(at, b.position);
+            }
+        }
+    }
+
+    #[test]
+    fn layout_has_rows_blocks_docks_and_blind_corners() {
+        let s = Scenario::builtin("warehouse").expect("valid");
+        let spec = s.warehouse.expect("layout");
+        let site = site();
+        let shelves = site
+            .obstacles
+            .iter()
+            .filter(|o| matches!(o, Obstacle::Polygon(_)))
+            .count();
+        assert_eq!(shelves, spec.rows * spec.blocks);
+        assert_eq!(site.stations_of(StationKind::Dock).count(), spec.docks);
+        assert_eq!(
+            site.stations_of(StationKind::Pick).count(),
+            spec.rows * spec.blocks
+        );
+        // A blind corner: from inside an aisle near a cross-aisle, a point around the shelf's
+        // end in the next aisle is hidden.
+        let map = site.map();
+        let c = spec.cross_aisle_width_m;
+        let aisle_y = site.corridors[1].0;
+        let next_y = site.corridors[2].0;
+        let here = vec2(c + 2.0, aisle_y);
+        let around = vec2(c - 0.3, next_y);
+        assert!(!map.line_of_sight(here, vec2(c + 2.0, next_y)), "shelf between aisles");
+        assert!(!map.line_of_sight(here, around), "blind corner");
+        assert!(map.line_of_sight(here, vec2(c / 2.0, aisle_y)), "down the aisle");
+    }
+}
