@@ -58,16 +58,20 @@ pub async fn run_demo(
         Some(e) => e.clone(),
         None => format!("tcp/127.0.0.1:{}", free_loopback_port()?),
     };
-    let router = zenoh::open(loopback(Role::Router, std::slice::from_ref(&endpoint), &[])?)
-        .await
-        .map_err(|e| anyhow::anyhow!("coordinator session on {endpoint}: {e}"))?;
+    let router = zenoh::open(loopback(
+        Role::Router,
+        std::slice::from_ref(&endpoint),
+        &[],
+    )?)
+    .await
+    .map_err(|e| anyhow::anyhow!("coordinator session on {endpoint}: {e}"))?;
     tracing::info!("coordinator listening on {endpoint}");
 
     let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
     let mut agents = Vec::new();
     let mut counters = Vec::new();
     for id in 0..fleet.robots() as u32 {
-        let config = loopback(Role::Agent, &[], std::slice::from_ref(&endpoint))?;
+        let config = loopback(Role::Client, &[], std::slice::from_ref(&endpoint))?;
         let session = zenoh::open(config)
             .await
             .map_err(|e| anyhow::anyhow!("agent {id} session: {e}"))?;
@@ -155,7 +159,9 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         "tasks done {} | plans {plans} | observation->command round trip p50 {:.2} ms, p99 {:.2} ms | stale-command ticks {} | rejected messages {} (coordinator) {rejected} (agents)\n",
         s.tasks_done, s.round_trip_ms.0, s.round_trip_ms.1, s.stale_commands, s.rejected
     ));
-    out.push_str("robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps\n");
+    out.push_str(
+        "robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps\n",
+    );
     for (i, m) in report.fleet_metrics.iter().enumerate() {
         out.push_str(&format!(
             "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}\n",

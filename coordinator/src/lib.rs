@@ -4,5 +4,5 @@
 pub mod demo;
 pub mod experiment;
 pub mod plots;
-pub mod stats;
 pub mod server;
+pub mod stats;

@@ -238,7 +238,12 @@ fn demo(args: DemoArgs) -> Result<()> {
     if !positive(args.speed) || !positive(args.seconds) {
         bail!("--speed and --seconds must be positive");
     }
-    let scenario = warehouse(&args.scenario, Some(args.robots), Some(args.humans), Some(args.seed))?;
+    let scenario = warehouse(
+        &args.scenario,
+        Some(args.robots),
+        Some(args.humans),
+        Some(args.seed),
+    )?;
     let options = DemoOptions {
         scenario,
         planner: args.planner,
@@ -310,7 +315,10 @@ fn coordinator_main(args: CoordinatorArgs) -> Result<()> {
             eprintln!("{}", status_line(status));
         })
         .await?;
-        eprintln!("stopped after {:.1} simulated seconds, {} tasks done", status.sim_time, status.tasks_done);
+        eprintln!(
+            "stopped after {:.1} simulated seconds, {} tasks done",
+            status.sim_time, status.tasks_done
+        );
         session
             .close()
             .await

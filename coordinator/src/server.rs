@@ -36,6 +36,8 @@ pub struct CoordinatorConfig {
     pub seconds: Option<f64>,
     /// A command answering an observation older than this many ticks is stale.
     pub stale_ticks: u64,
+    /// Receives every event the moment it happens (tests, dashboards).
+    pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
 }
 
 impl CoordinatorConfig {
@@ -46,6 +48,7 @@ impl CoordinatorConfig {
             speed: 1.0,
             seconds: None,
             stale_ticks: 3,
+            events: None,
         }
     }
 }
@@ -142,15 +145,19 @@ pub async fn run_coordinator(
     let map_key = keys.map();
     let queryable = session
         .declare_queryable(&map_key)
-        .callback(move |query| {
-            let reply = query.reply(query.key_expr().clone(), map_bytes.clone());
-            // Replying from a callback must not block the session: `wait` only queues it.
-            if let Err(e) = zenoh::Wait::wait(reply) {
-                tracing::warn!("map reply failed: {e}");
-            }
-        })
         .await
         .map_err(zerr("map queryable"))?;
+    // Map queries are answered by a task of their own, whatever the tick loop is doing.
+    let map_server = tokio::spawn(async move {
+        while let Ok(query) = queryable.recv_async().await {
+            if let Err(e) = query
+                .reply(query.key_expr().clone(), map_bytes.clone())
+                .await
+            {
+                tracing::warn!("map reply failed: {e}");
+            }
+        }
+    });
     let alive_sub = session
         .liveliness()
         .declare_subscriber(keys.every_alive())
@@ -158,14 +165,26 @@ pub async fn run_coordinator(
         .with(zenoh::handlers::FifoChannel::new(16 * 1024))
         .await
         .map_err(zerr("liveliness subscriber"))?;
+    // Commands are stamped on arrival (round trips are measured to there, not to the tick that
+    // applies them); a full queue drops and counts rather than blocking the session.
+    let (cmd_tx, cmd_rx) =
+        std::sync::mpsc::sync_channel::<(Instant, zenoh::sample::Sample)>(64 * 1024);
+    let overflow = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let overflow_in = overflow.clone();
     let cmd_sub = session
         .declare_subscriber(keys.every_robot(Channel::Cmd))
-        .with(zenoh::handlers::FifoChannel::new(64 * 1024))
+        .callback(move |sample| {
+            if cmd_tx.try_send((Instant::now(), sample)).is_err() {
+                overflow_in.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
+        })
         .await
         .map_err(zerr("command subscriber"))?;
     let intent_sub = session
         .declare_subscriber(keys.every_robot(Channel::Intent))
-        .with(zenoh::handlers::FifoChannel::new(64 * 1024))
+        // A ring drops the oldest intents if the loop falls behind; a full FIFO would block
+        // the session for everyone.
+        .with(zenoh::handlers::RingChannel::new(64 * 1024))
         .await
         .map_err(zerr("intent subscriber"))?;
     let mut obs_pubs = Vec::with_capacity(n);
@@ -231,7 +250,7 @@ pub async fn run_coordinator(
                     link.command = None;
                     fleet.set_held(id as usize, false);
                     tracing::info!(robot = id, "agent joined");
-                    status.events.push(Event::Joined(id));
+                    emit(&mut status, &config, Event::Joined(id));
                 }
                 SampleKind::Delete => {
                     link.alive = false;
@@ -243,13 +262,16 @@ pub async fn run_coordinator(
                     } else {
                         Event::Crashed(id)
                     };
-                    tracing::warn!(robot = id, "agent gone: {event:?}; robot stopped and flagged");
-                    status.events.push(event);
+                    tracing::warn!(
+                        robot = id,
+                        "agent gone: {event:?}; robot stopped and flagged"
+                    );
+                    emit(&mut status, &config, event);
                 }
             }
         }
         // Commands: keep the newest per robot.
-        while let Ok(Some(sample)) = cmd_sub.try_recv() {
+        while let Ok((arrived, sample)) = cmd_rx.try_recv() {
             let key_id = keys.parse_robot(sample.key_expr().as_str()).map(|k| k.0);
             match decode::<CommandMsg>(&sample.payload().to_bytes()) {
                 Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
@@ -258,10 +280,12 @@ pub async fn run_coordinator(
                     if let Some(&(_, at)) = link.sent.iter().find(|(s, _)| *s == cmd.obs_seq)
                         && !cmd.safe_stop
                     {
-                        round_trips_us.push(at.elapsed().as_micros().min(u32::MAX as u128) as u32);
+                        let rtt = arrived.saturating_duration_since(at).as_micros();
+                        round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
                     }
                     if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
-                        link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
+                        link.command =
+                            Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
                     }
                 }
                 Ok(_) => status.rejected += 1,
@@ -271,6 +295,7 @@ pub async fn run_coordinator(
                 }
             }
         }
+        status.rejected += overflow.swap(0, std::sync::atomic::Ordering::Relaxed);
         // Intents.
         while let Ok(Some(sample)) = intent_sub.try_recv() {
             match decode::<IntentMsg>(&sample.payload().to_bytes()) {
@@ -284,9 +309,9 @@ pub async fn run_coordinator(
         // Apply the newest fresh command per robot.
         let mut commands = vec![Command::STOP; n];
         for (i, link) in links.iter().enumerate() {
-            let fresh = link.command.filter(|c| {
-                !c.2 && link.next_seq.saturating_sub(c.0 + 1) <= config.stale_ticks
-            });
+            let fresh = link
+                .command
+                .filter(|c| !c.2 && link.next_seq.saturating_sub(c.0 + 1) <= config.stale_ticks);
             match fresh {
                 Some((_, command, _)) => commands[i] = command,
                 None if link.alive && fleet.job(i).is_some() && link.next_seq > 0 => {
@@ -318,10 +343,11 @@ pub async fn run_coordinator(
                 }
                 FleetEvent::Done { robot, task } => {
                     status.tasks_done += 1;
-                    status.events.push(Event::TaskDone {
+                    let done = Event::TaskDone {
                         robot: robot as u32,
                         task,
-                    });
+                    };
+                    emit(&mut status, &config, done);
                 }
                 FleetEvent::Picked { .. } => {}
             }
@@ -361,8 +387,16 @@ pub async fn run_coordinator(
     status.metrics = Some(frame);
     refresh(&mut status, &links, &mut round_trips_us);
     on_status(&status, &fleet);
-    drop(queryable);
+    map_server.abort();
+    drop(cmd_sub);
     Ok(status)
+}
+
+fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
+    if let Some(tx) = &config.events {
+        let _ = tx.send((Instant::now(), event.clone()));
+    }
+    status.events.push(event);
 }
 
 fn refresh(status: &mut Status, links: &[Link], round_trips_us: &mut [u32]) {

@@ -139,7 +139,8 @@ impl Keys {
 
 /// Decimal robot ids without sign, leading zeros or other decoration.
 fn parse_id(s: &str) -> Option<u32> {
-    let canonical = !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) && (s == "0" || !s.starts_with('0'));
+    let canonical =
+        !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) && (s == "0" || !s.starts_with('0'));
     canonical.then(|| s.parse().ok()).flatten()
 }
 
@@ -152,11 +153,17 @@ mod tests {
         let keys = Keys::new("site-1").unwrap();
         for channel in Channel::ALL {
             let key = keys.robot(42, channel);
-            assert_eq!(key, format!("gapfleet/site-1/robot/42/{}", channel.as_str()));
+            assert_eq!(
+                key,
+                format!("gapfleet/site-1/robot/42/{}", channel.as_str())
+            );
             assert_eq!(keys.parse_robot(&key), Some((42, channel)));
         }
         assert_eq!(keys.parse_alive(&keys.alive(7)), Some(7));
-        assert_eq!(keys.every_robot(Channel::Intent), "gapfleet/site-1/robot/*/intent");
+        assert_eq!(
+            keys.every_robot(Channel::Intent),
+            "gapfleet/site-1/robot/*/intent"
+        );
     }
 
     #[test]

@@ -31,7 +31,7 @@ pub struct Sample {
 /// A body the robot perceives.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Perceived {
-    /// Stable id while perceived. Robots carry their robot id; people an id ≥ 2^32.
+    /// Stable id while perceived: people < 2^32, robots 2^32 + their robot id.
     pub id: u64,
     /// Person or robot.
     pub kind: Kind,
@@ -190,7 +190,7 @@ pub struct RobotRow {
     pub collision_rate: f64,
     /// Share of moving steps with any agent closer than 1 m (centre to centre).
     pub svr: f64,
-    /// Smallest surface gap to a person so far (m); absent before any person was seen.
+    /// Smallest centre distance to a person so far (m); absent while there are no people.
     pub min_human_distance: Option<f64>,
     /// Mean total social force on the robot (N per kg).
     pub social_force: f64,
@@ -211,11 +211,11 @@ pub struct FleetMetrics {
     pub humans: u32,
     /// Tasks completed by the whole fleet.
     pub tasks_done: u64,
-    /// Fleet-wide collision rate while moving.
+    /// Collision rate while moving, mean over robots.
     pub collision_rate: f64,
-    /// Fleet-wide space-violation rate while moving.
+    /// Space-violation rate while moving, mean over robots.
     pub svr: f64,
-    /// Robot–robot near misses (pairs closer than 0.3 m surface gap, counted at onset).
+    /// Robot–robot near misses: robot-steps with another robot within 0.3 m surface gap.
     pub near_misses: u64,
     /// Commands that arrived too late or out of order and were dropped.
     pub dropped_commands: u64,

@@ -125,7 +125,10 @@ fn map() -> MapMsg {
             ObstacleMsg::Polygon(vec![P2(0.0, 0.0), P2(1.0, 0.0), P2(1.0, 1.0)]),
             ObstacleMsg::Wall(P2(0.0, 0.0), P2(0.0, 5.0)),
         ],
-        stations: vec![StationMsg { id: 0, p: P2(2.0, 2.0) }],
+        stations: vec![StationMsg {
+            id: 0,
+            p: P2(2.0, 2.0),
+        }],
         bounds: [P2(0.0, 0.0), P2(10.0, 10.0)],
     }
 }
@@ -201,7 +204,10 @@ fn other_versions_are_rejected() {
     );
     // Without a version at all.
     let bare = rmp_serde::to_vec_named(&command()).unwrap();
-    assert!(matches!(decode::<CommandMsg>(&bare), Err(DecodeError::Malformed(_))));
+    assert!(matches!(
+        decode::<CommandMsg>(&bare),
+        Err(DecodeError::Malformed(_))
+    ));
 }
 
 #[test]
@@ -237,16 +243,28 @@ fn non_finite_numbers_are_rejected_everywhere() {
         );
         let mut o = observation();
         o.p.1 = bad;
-        assert_eq!(decode::<Observation>(&encode(&o)), Err(DecodeError::NonFinite("p")));
+        assert_eq!(
+            decode::<Observation>(&encode(&o)),
+            Err(DecodeError::NonFinite("p"))
+        );
         let mut c = command();
         c.motion = Motion::Unicycle(bad, 0.0);
-        assert_eq!(decode::<CommandMsg>(&encode(&c)), Err(DecodeError::NonFinite("motion")));
+        assert_eq!(
+            decode::<CommandMsg>(&encode(&c)),
+            Err(DecodeError::NonFinite("motion"))
+        );
         let mut i = intent();
         i.subgoal.0 = bad;
-        assert_eq!(decode::<IntentMsg>(&encode(&i)), Err(DecodeError::NonFinite("subgoal")));
+        assert_eq!(
+            decode::<IntentMsg>(&encode(&i)),
+            Err(DecodeError::NonFinite("subgoal"))
+        );
         let mut t = task();
         t.drop.1 = bad;
-        assert_eq!(decode::<TaskAssignment>(&encode(&t)), Err(DecodeError::NonFinite("drop")));
+        assert_eq!(
+            decode::<TaskAssignment>(&encode(&t)),
+            Err(DecodeError::NonFinite("drop"))
+        );
         let mut m = metrics();
         m.per_robot[0].min_human_distance = Some(bad);
         assert!(decode::<FleetMetrics>(&encode(&m)).is_err());
@@ -268,13 +286,19 @@ fn domain_rules_are_enforced() {
     o.radius = 0.0;
     assert!(matches!(
         decode::<Observation>(&encode(&o)),
-        Err(DecodeError::Invalid { field: "radius", .. })
+        Err(DecodeError::Invalid {
+            field: "radius",
+            ..
+        })
     ));
     let mut o = observation();
     o.neighbours = vec![o.neighbours[0].clone(); MAX_NEIGHBOURS + 1];
     assert!(matches!(
         decode::<Observation>(&encode(&o)),
-        Err(DecodeError::TooMany { field: "neighbours", .. })
+        Err(DecodeError::TooMany {
+            field: "neighbours",
+            ..
+        })
     ));
     let mut i = intent();
     i.trajectory = (0..=MAX_SAMPLES).map(|k| sample(k as f64)).collect();
@@ -286,13 +310,19 @@ fn domain_rules_are_enforced() {
     i.trajectory.swap(0, 1);
     assert!(matches!(
         decode::<IntentMsg>(&encode(&i)),
-        Err(DecodeError::Invalid { field: "trajectory", .. })
+        Err(DecodeError::Invalid {
+            field: "trajectory",
+            ..
+        })
     ));
     let mut i = intent();
     i.planner = "x".repeat(65);
     assert!(matches!(
         decode::<IntentMsg>(&encode(&i)),
-        Err(DecodeError::TooMany { field: "planner", .. })
+        Err(DecodeError::TooMany {
+            field: "planner",
+            ..
+        })
     ));
     let mut mp = map();
     mp.obstacles[0] = ObstacleMsg::Polygon(vec![P2(0.0, 0.0), P2(1.0, 0.0)]);

@@ -175,8 +175,16 @@ impl Fleet {
     /// Gives every idle, unheld robot a new task: pick at a random shelf face, drop at a
     /// random dock.
     pub fn dispatch(&mut self) -> Vec<FleetEvent> {
-        let picks: Vec<usize> = self.site.stations_of(StationKind::Pick).map(|s| s.id).collect();
-        let docks: Vec<usize> = self.site.stations_of(StationKind::Dock).map(|s| s.id).collect();
+        let picks: Vec<usize> = self
+            .site
+            .stations_of(StationKind::Pick)
+            .map(|s| s.id)
+            .collect();
+        let docks: Vec<usize> = self
+            .site
+            .stations_of(StationKind::Dock)
+            .map(|s| s.id)
+            .collect();
         let mut events = Vec::new();
         for i in 0..self.robots() {
             if self.jobs[i].is_some() || self.held[i] {
@@ -236,10 +244,7 @@ impl Fleet {
                 let samples = trajectory
                     .iter()
                     .filter(|s| s.t >= age)
-                    .map(|s| TrajectorySample {
-                        t: s.t - age,
-                        ..*s
-                    })
+                    .map(|s| TrajectorySample { t: s.t - age, ..*s })
                     .collect();
                 n.intent = Some(SharedIntent { samples });
             }

@@ -180,15 +180,51 @@ impl Warehouse {
     fn validate(&self) -> Option<(&'static str, &'static str)> {
         let metres = |v: Real, lo: Real, hi: Real| v.is_finite() && v >= lo && v <= hi;
         let checks = [
-            ("warehouse.rows", (1..=200).contains(&self.rows), "must be in [1, 200]"),
-            ("warehouse.blocks", (1..=50).contains(&self.blocks), "must be in [1, 50]"),
-            ("warehouse.shelf_length_m", metres(self.shelf_length_m, 1.0, 500.0), "must be in [1, 500] m"),
-            ("warehouse.shelf_depth_m", metres(self.shelf_depth_m, 0.2, 10.0), "must be in [0.2, 10] m"),
-            ("warehouse.aisle_width_m", metres(self.aisle_width_m, 1.0, 20.0), "must be in [1, 20] m"),
-            ("warehouse.cross_aisle_width_m", metres(self.cross_aisle_width_m, 1.0, 20.0), "must be in [1, 20] m"),
-            ("warehouse.docks", (1..=1000).contains(&self.docks), "must be in [1, 1000]"),
-            ("warehouse.max_group_size", self.max_group_size >= 1, "must be at least 1"),
-            ("warehouse.robots", (1..=10_000).contains(&self.robots), "must be in [1, 10000]"),
+            (
+                "warehouse.rows",
+                (1..=200).contains(&self.rows),
+                "must be in [1, 200]",
+            ),
+            (
+                "warehouse.blocks",
+                (1..=50).contains(&self.blocks),
+                "must be in [1, 50]",
+            ),
+            (
+                "warehouse.shelf_length_m",
+                metres(self.shelf_length_m, 1.0, 500.0),
+                "must be in [1, 500] m",
+            ),
+            (
+                "warehouse.shelf_depth_m",
+                metres(self.shelf_depth_m, 0.2, 10.0),
+                "must be in [0.2, 10] m",
+            ),
+            (
+                "warehouse.aisle_width_m",
+                metres(self.aisle_width_m, 1.0, 20.0),
+                "must be in [1, 20] m",
+            ),
+            (
+                "warehouse.cross_aisle_width_m",
+                metres(self.cross_aisle_width_m, 1.0, 20.0),
+                "must be in [1, 20] m",
+            ),
+            (
+                "warehouse.docks",
+                (1..=1000).contains(&self.docks),
+                "must be in [1, 1000]",
+            ),
+            (
+                "warehouse.max_group_size",
+                self.max_group_size >= 1,
+                "must be at least 1",
+            ),
+            (
+                "warehouse.robots",
+                (1..=10_000).contains(&self.robots),
+                "must be in [1, 10000]",
+            ),
         ];
         checks.into_iter().find(|c| !c.1).map(|c| (c.0, c.2))
     }
@@ -254,7 +290,8 @@ impl Scenario {
             );
         }
         if let Some(w) = &self.warehouse {
-            w.validate().map_or(Ok(()), |(field, reason)| bad(field, reason))?;
+            w.validate()
+                .map_or(Ok(()), |(field, reason)| bad(field, reason))?;
         }
         match (&self.open_space, &self.hallway) {
             (None, None) | (Some(_), Some(_)) => {}

@@ -210,9 +210,12 @@ impl Site {
 fn nearest(costs: impl Iterator<Item = Real>) -> usize {
     costs
         .enumerate()
-        .fold((0, Real::INFINITY), |best, (i, c)| {
-            if c < best.1 { (i, c) } else { best }
-        })
+        .fold(
+            (0, Real::INFINITY),
+            |best, (i, c)| {
+                if c < best.1 { (i, c) } else { best }
+            },
+        )
         .0
 }
 
@@ -286,8 +289,14 @@ mod tests {
         let next_y = site.corridors[2].0;
         let here = vec2(c + 2.0, aisle_y);
         let around = vec2(c - 0.3, next_y);
-        assert!(!map.line_of_sight(here, vec2(c + 2.0, next_y)), "shelf between aisles");
+        assert!(
+            !map.line_of_sight(here, vec2(c + 2.0, next_y)),
+            "shelf between aisles"
+        );
         assert!(!map.line_of_sight(here, around), "blind corner");
-        assert!(map.line_of_sight(here, vec2(c / 2.0, aisle_y)), "down the aisle");
+        assert!(
+            map.line_of_sight(here, vec2(c / 2.0, aisle_y)),
+            "down the aisle"
+        );
     }
 }

@@ -185,7 +185,10 @@ impl World {
             let members = spawn.random_range(1..=layout.max_group_size.min(size_left));
             let mut centre = uniform(&mut spawn, min, max);
             for _ in 0..100 {
-                if !layout.avoid_obstacles || layout.map.distance(&centre) >= h.radius_m + 0.05 && !layout.map.is_inside(&centre) {
+                if !layout.avoid_obstacles
+                    || layout.map.distance(&centre) >= h.radius_m + 0.05
+                        && !layout.map.is_inside(&centre)
+                {
                     break;
                 }
                 centre = uniform(&mut spawn, min, max);

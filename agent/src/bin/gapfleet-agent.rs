@@ -26,7 +26,7 @@ struct Args {
     #[arg(long, default_value = "demo")]
     site: String,
     /// Safe-stop after this many milliseconds without observations.
-    #[arg(long, default_value_t = 500)]
+    #[arg(long, default_value_t = agent::runtime::DEFAULT_OBS_TIMEOUT.as_millis() as u64)]
     obs_timeout_ms: u64,
     #[command(flatten)]
     net: NetArgs,
@@ -46,7 +46,7 @@ async fn main() -> anyhow::Result<()> {
     if net.connect.is_empty() && net.zenoh_config.is_none() {
         net.connect.push("tcp/127.0.0.1:7447".to_owned());
     }
-    let session = zenoh::open(config(&net, Role::Agent)?)
+    let session = zenoh::open(config(&net, Role::Client)?)
         .await
         .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
     let mut agent_config = AgentConfig::new(args.robot_id, &args.site, args.planner);

@@ -20,6 +20,13 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+/// Observations may pause this long before the agent stops its robot: 0.45 s, so that the stop
+/// command is out within 0.5 s of the last observation, delivery included.
+pub const DEFAULT_OBS_TIMEOUT: Duration = Duration::from_millis(450);
+
+/// How long an agent waits for the coordinator's map before trying again (1 s later).
+const MAP_QUERY_TIMEOUT: Duration = Duration::from_millis(500);
+
 /// Everything an agent needs besides its session.
 #[derive(Debug, Clone)]
 pub struct AgentConfig {
@@ -34,13 +41,13 @@ pub struct AgentConfig {
 }
 
 impl AgentConfig {
-    /// Robot `robot_id` of `site` with `planner` and the 0.5 s observation timeout.
+    /// Robot `robot_id` of `site` with `planner` and the default observation timeout.
     pub fn new(robot_id: u32, site: &str, planner: PlannerSpec) -> Self {
         Self {
             robot_id,
             site: site.to_owned(),
             planner,
-            obs_timeout: Duration::from_millis(500),
+            obs_timeout: DEFAULT_OBS_TIMEOUT,
         }
     }
 }
@@ -100,10 +107,9 @@ pub async fn run_agent(
     let mut map: Option<(u32, StaticMap)> = None;
     let mut last_map_attempt: Option<Instant> = None;
     let mut last: Option<(u64, f64)> = None; // seq and stamp of the newest observation
-    let mut last_obs_at = Instant::now();
+    let mut deadline = tokio::time::Instant::now() + config.obs_timeout;
     let mut stopped = true;
     let mut plan_times_us: Vec<u32> = Vec::new();
-    let mut watchdog = tokio::time::interval(Duration::from_millis(50));
     let mut heartbeat = tokio::time::interval(Duration::from_secs(1));
     tokio::pin!(shutdown);
     tracing::info!(robot = id, planner = %planner_name, "agent up");
@@ -135,19 +141,21 @@ pub async fn run_agent(
                     continue;
                 }
                 last = Some((obs.seq, obs.sim_time));
-                last_obs_at = Instant::now();
+                deadline = tokio::time::Instant::now() + config.obs_timeout;
                 stopped = false;
 
                 if map.as_ref().is_none_or(|(v, _)| *v != obs.map_version) {
                     let due = last_map_attempt.is_none_or(|t| t.elapsed() > Duration::from_secs(1));
                     if due {
                         last_map_attempt = Some(Instant::now());
-                        match fetch_map(session, &keys).await {
-                            Ok((version, m)) => {
+                        let fetched = tokio::time::timeout(MAP_QUERY_TIMEOUT, fetch_map(session, &keys)).await;
+                        match fetched {
+                            Ok(Ok((version, m))) => {
                                 counters.maps.fetch_add(1, Ordering::Relaxed);
                                 map = Some((version, m));
                             }
-                            Err(e) => tracing::warn!(robot = id, "no map yet: {e}"),
+                            Ok(Err(e)) => tracing::warn!(robot = id, "no map yet: {e}"),
+                            Err(_) => tracing::warn!(robot = id, "no map yet: the query timed out"),
                         }
                     }
                 }
@@ -184,12 +192,10 @@ pub async fn run_agent(
                     tracing::warn!(robot = id, "command not sent: {e}");
                 }
             }
-            _ = watchdog.tick() => {
-                if !stopped && last_obs_at.elapsed() > config.obs_timeout {
-                    tracing::warn!(robot = id, "observations stopped: safe stop");
-                    safe_stop(&cmd_pub, id, last, &counters).await;
-                    stopped = true;
-                }
+            () = tokio::time::sleep_until(deadline), if !stopped => {
+                tracing::warn!(robot = id, "observations stopped: safe stop");
+                safe_stop(&cmd_pub, id, last, &counters).await;
+                stopped = true;
             }
             _ = heartbeat.tick() => {
                 let info = AgentInfo {
@@ -249,7 +255,7 @@ async fn safe_stop(
 async fn fetch_map(session: &zenoh::Session, keys: &Keys) -> Result<(u32, StaticMap), String> {
     let replies = session
         .get(keys.map())
-        .timeout(Duration::from_millis(500))
+        .timeout(MAP_QUERY_TIMEOUT)
         .await
         .map_err(|e| e.to_string())?;
     let mut last_error = "no reply".to_owned();

@@ -23,9 +23,11 @@ pub struct NetArgs {
 /// The role a session plays when nothing else says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
-    /// An agent: a peer that listens nowhere and connects to the coordinator or a router,
-    /// retrying in the background until it is there (start order does not matter).
-    Agent,
+    /// A client of a router (the coordinator's session, or `zenohd`): agents, and a
+    /// coordinator behind routers. Zenoh routers do not relay between peers of one subsystem
+    /// (peers are expected to mesh), so everything behind a router is a client. `open` waits
+    /// until the router is there, so start order does not matter.
+    Client,
     /// A coordinator: routes for small fleets.
     Router,
     /// A peer (benchmarks, tests).
@@ -35,7 +37,7 @@ pub enum Role {
 impl Role {
     fn as_str(self) -> &'static str {
         match self {
-            Role::Agent => "peer",
+            Role::Client => "client",
             Role::Router => "router",
             Role::Peer => "peer",
         }
@@ -53,12 +55,10 @@ pub struct ConfigError {
 }
 
 fn set(config: &mut zenoh::Config, key: &str, value: &str) -> Result<(), ConfigError> {
-    config
-        .insert_json5(key, value)
-        .map_err(|e| ConfigError {
-            setting: format!("{key} = {value}"),
-            message: e.to_string(),
-        })
+    config.insert_json5(key, value).map_err(|e| ConfigError {
+        setting: format!("{key} = {value}"),
+        message: e.to_string(),
+    })
 }
 
 fn json_list(items: &[String]) -> String {
@@ -78,9 +78,8 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
             let mut c = zenoh::Config::default();
             set(&mut c, "scouting/multicast/enabled", "false")?;
             set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
-            if default_role == Role::Agent {
-                set(&mut c, "listen/endpoints", "[]")?;
-                set(&mut c, "scouting/gossip/enabled", "false")?;
+            if default_role == Role::Client {
+                set(&mut c, "connect/timeout_ms", "-1")?;
             }
             c
         }
@@ -99,17 +98,25 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
 
 /// A loopback-only config: `role`, multicast scouting off, listening and connecting exactly
 /// where told. Used by the demo and the tests.
-pub fn loopback(role: Role, listen: &[String], connect: &[String]) -> Result<zenoh::Config, ConfigError> {
+pub fn loopback(
+    role: Role,
+    listen: &[String],
+    connect: &[String],
+) -> Result<zenoh::Config, ConfigError> {
     let mut c = zenoh::Config::default();
     set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
     set(&mut c, "scouting/multicast/enabled", "false")?;
-    set(&mut c, "scouting/gossip/enabled", "false")?;
     set(&mut c, "listen/endpoints", &json_list(listen))?;
+    if role == Role::Client {
+        set(&mut c, "connect/timeout_ms", "-1")?;
+    }
     set(&mut c, "connect/endpoints", &json_list(connect))?;
     Ok(c)
 }
 
 /// A free TCP port on 127.0.0.1 (bound and released; good enough for tests and the demo).
 pub fn free_loopback_port() -> std::io::Result<u16> {
-    Ok(std::net::TcpListener::bind("127.0.0.1:0")?.local_addr()?.port())
+    Ok(std::net::TcpListener::bind("127.0.0.1:0")?
+        .local_addr()?
+        .port())
 }

@@ -3,11 +3,9 @@
 
 use crate::map::{MapError, Obstacle, StaticMap};
 use crate::math::{Vec2, vec2};
-use crate::model::{
-    AgentKind, Command, EgoState, Neighbour, Plan, SharedIntent, TrajectorySample,
-};
+use crate::model::{AgentKind, Command, EgoState, Neighbour, Plan, SharedIntent, TrajectorySample};
 use schemas::{
-    CommandMsg, IntentMsg, Kind, MapMsg, Motion, ObstacleMsg, Observation, P2, Perceived, Sample,
+    CommandMsg, IntentMsg, Kind, MapMsg, Motion, Observation, ObstacleMsg, P2, Perceived, Sample,
 };
 
 /// A wire point as a vector.

@@ -1,0 +1,108 @@
+"""A gapfleet client written from schemas/README.md alone: subscribes to every robot's intent
+on a live fleet, decodes the MessagePack payloads, checks them against the documented shape,
+fetches the map from the coordinator's queryable, and prints a JSON summary on stdout.
+
+    python intent_client.py --connect tcp/127.0.0.1:7447 --site demo --count 40
+
+Needs eclipse-zenoh==1.10.2 and msgpack==1.2.4 (tests/run.sh installs them).
+"""
+
+import argparse
+import json
+import math
+import sys
+import time
+
+import msgpack
+import zenoh
+
+SCHEMA_VERSION = 1
+
+
+def check_intent(key, msg):
+    """Raises AssertionError unless msg is an Intent as schemas/README.md documents it."""
+    assert isinstance(msg, dict), "payload is a map"
+    assert next(iter(msg)) == "v" and msg["v"] == SCHEMA_VERSION, "v first, version 1"
+    for field in ("robot_id", "obs_seq", "stamp", "planner", "subgoal", "trajectory"):
+        assert field in msg, f"field {field}"
+    key_id = int(key.split("/")[3])
+    assert msg["robot_id"] == key_id, "robot_id matches the key"
+    assert isinstance(msg["planner"], str) and len(msg["planner"]) <= 64
+    x, y = msg["subgoal"]
+    assert math.isfinite(x) and math.isfinite(y)
+    last_t = -math.inf
+    for s in msg["trajectory"]:
+        assert set(s) == {"t", "p", "sigma"}, f"sample fields {set(s)}"
+        assert s["t"] >= last_t, "samples sorted by t"
+        last_t = s["t"]
+        assert len(s["p"]) == 2 and all(math.isfinite(c) for c in s["p"])
+        assert s["sigma"] >= 0.0
+    return msg
+
+
+def open_session(endpoint, timeout_s):
+    conf = zenoh.Config()
+    conf.insert_json5("mode", '"client"')
+    conf.insert_json5("connect/endpoints", json.dumps([endpoint]))
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    deadline = time.time() + timeout_s
+    while True:
+        try:
+            return zenoh.open(conf)
+        except Exception as exc:  # the fleet may still be starting
+            if time.time() > deadline:
+                raise SystemExit(f"cannot connect to {endpoint}: {exc}")
+            time.sleep(0.2)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--connect", required=True)
+    parser.add_argument("--site", default="demo")
+    parser.add_argument("--count", type=int, default=40)
+    parser.add_argument("--timeout", type=float, default=30.0)
+    args = parser.parse_args()
+
+    session = open_session(args.connect, args.timeout)
+    prefix = f"gapfleet/{args.site}"
+    sub = session.declare_subscriber(f"{prefix}/robot/*/intent")
+    received, robots, planners, samples = 0, set(), set(), 0
+    deadline = time.time() + args.timeout
+    while received < args.count and time.time() < deadline:
+        sample = sub.try_recv()
+        if sample is None:
+            time.sleep(0.01)
+            continue
+        msg = msgpack.unpackb(sample.payload.to_bytes(), raw=False)
+        check_intent(str(sample.key_expr), msg)
+        received += 1
+        robots.add(msg["robot_id"])
+        planners.add(msg["planner"])
+        samples = max(samples, len(msg["trajectory"]))
+
+    obstacles = stations = None
+    for reply in session.get(f"{prefix}/map", timeout=5.0):
+        if reply.ok is not None:
+            m = msgpack.unpackb(reply.ok.payload.to_bytes(), raw=False)
+            assert m["v"] == SCHEMA_VERSION
+            obstacles = len(m["obstacles"])
+            stations = len(m["stations"])
+            kinds = {next(iter(o)) for o in m["obstacles"]}
+            assert kinds <= {"polygon", "wall"}, kinds
+    session.close()
+    json.dump(
+        {
+            "received": received,
+            "robots": sorted(robots),
+            "planners": sorted(planners),
+            "max_samples": samples,
+            "map_obstacles": obstacles,
+            "map_stations": stations,
+        },
+        sys.stdout,
+    )
+    print()
+
+
+if __name__ == "__main__":
+    main()

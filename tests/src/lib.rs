@@ -1,0 +1,89 @@
+//! Helpers for the end-to-end tests: finding the built binaries, agent processes that are
+//! killed when dropped, and a router session the tests own.
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+
+/// A binary of the workspace, built by `cargo test --workspace` next to the test executables.
+pub fn binary(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("the test knows its own path");
+    // target/<profile>/deps/<test> → target/<profile>/<name>
+    let dir = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .expect("test executables live in target/<profile>/deps");
+    let path = dir.join(name);
+    assert!(
+        path.exists(),
+        "{} is missing: run `cargo test --workspace` (it builds every binary) or `cargo build -p agent -p coordinator`",
+        path.display()
+    );
+    path
+}
+
+/// A `gapfleet-agent` process; killed (SIGKILL) when dropped unless it already exited.
+#[derive(Debug)]
+pub struct AgentProcess {
+    /// The robot it drives.
+    pub robot_id: u32,
+    child: Child,
+}
+
+impl AgentProcess {
+    /// Starts an agent for `robot_id` connecting to `endpoint`.
+    pub fn spawn(robot_id: u32, endpoint: &str, site: &str, planner: &str) -> Self {
+        let child = Command::new(binary("gapfleet-agent"))
+            .args(["--robot-id", &robot_id.to_string()])
+            .args(["--planner", planner, "--site", site, "--connect", endpoint])
+            // GAPFLEET_TEST_AGENT_LOG=info shows the agents' logs when a test misbehaves.
+            .env(
+                "RUST_LOG",
+                std::env::var("GAPFLEET_TEST_AGENT_LOG").unwrap_or_else(|_| "off".to_owned()),
+            )
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("gapfleet-agent starts");
+        Self { robot_id, child }
+    }
+
+    /// Process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// Sends a signal (`KILL`, `TERM`, `INT`) with the system's `kill`.
+    pub fn signal(&self, name: &str) {
+        let ok = Command::new("kill")
+            .args([format!("-{name}"), self.pid().to_string()])
+            .status()
+            .is_ok_and(|s| s.success());
+        assert!(ok, "kill -{name} {}", self.pid());
+    }
+
+    /// Whether it is still running.
+    pub fn running(&mut self) -> bool {
+        matches!(self.child.try_wait(), Ok(None))
+    }
+
+    /// Waits for it to exit and returns whether it exited successfully.
+    pub fn wait_success(&mut self) -> bool {
+        self.child.wait().is_ok_and(|s| s.success())
+    }
+}
+
+impl Drop for AgentProcess {
+    fn drop(&mut self) {
+        if self.running() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+/// A free loopback TCP endpoint, `tcp/127.0.0.1:<port>`.
+pub fn free_endpoint() -> String {
+    let port = agent::runtime::net::free_loopback_port().expect("a free loopback port");
+    format!("tcp/127.0.0.1:{port}")
+}

@@ -1,0 +1,70 @@
+//! A Python client (eclipse-zenoh 1.10.2 + msgpack, installed by tests/run.sh) subscribes to a
+//! live fleet's intents and decodes them using nothing but schemas/README.md.
+
+use gapfleet_tests::{binary, free_endpoint};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The Python with the client's packages: $GAPFLEET_PYTHON (tests/run.sh sets it) or python3.
+fn python() -> String {
+    std::env::var("GAPFLEET_PYTHON").unwrap_or_else(|_| "python3".to_owned())
+}
+
+#[test]
+fn python_client_decodes_a_live_fleets_intents() {
+    let python = python();
+    let check = Command::new(&python)
+        .args(["-c", "import zenoh, msgpack"])
+        .status()
+        .expect("python runs");
+    assert!(
+        check.success(),
+        "{python} lacks eclipse-zenoh/msgpack: run `bash tests/run.sh` (it installs them) or set GAPFLEET_PYTHON"
+    );
+    let endpoint = free_endpoint();
+    let mut demo = Command::new(binary("gapfleet"))
+        .args(["demo", "--robots", "4", "--humans", "10", "--seconds", "60"])
+        .args(["--speed", "2", "--site", "pytest", "--listen", &endpoint])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("gapfleet demo starts");
+    // Wait until the coordinator's router accepts connections.
+    let addr = endpoint.trim_start_matches("tcp/");
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while std::net::TcpStream::connect(addr).is_err() {
+        assert!(
+            Instant::now() < deadline,
+            "the demo never listened on {addr}"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/python/intent_client.py");
+    let out = Command::new(&python)
+        .args([script, "--connect", &endpoint, "--site", "pytest"])
+        .args(["--count", "40", "--timeout", "30"])
+        .output()
+        .expect("the client runs");
+    let _ = demo.kill();
+    let _ = demo.wait();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "client failed: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("python client: {stdout}");
+    let summary: serde_json::Value = serde_json::from_str(stdout.trim()).expect("JSON summary");
+    assert_eq!(summary["received"], 40, "{summary}");
+    assert!(
+        summary["robots"].as_array().is_some_and(|r| r.len() >= 2),
+        "intents from several robots: {summary}"
+    );
+    assert_eq!(summary["planners"], serde_json::json!(["pgp+orca"]));
+    assert_eq!(
+        summary["max_samples"], 32,
+        "PGP's 8 s horizon at 4 Hz: {summary}"
+    );
+    assert!(summary["map_obstacles"].as_u64().is_some_and(|n| n > 4));
+}
