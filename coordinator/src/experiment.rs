@@ -175,6 +175,7 @@ pub fn parse_runs_csv(text: &str) -> Result<ParsedRuns, CsvError> {
             personal_time_s: num(11)?,
             still_time_s: num(12)?,
             robot_near_misses: 0,
+            robot_contacts: 0,
             force_on_people: num(13)?,
         };
         if !algorithms.contains(&algorithm) {

@@ -152,6 +152,31 @@ enum Experiment {
         #[arg(long)]
         scenario: Option<PathBuf>,
     },
+    /// The same warehouse seeds with robots sharing intents and without: robot–robot near
+    /// misses and collisions, in-process.
+    IntentSharing {
+        /// Seeds 1..=N.
+        #[arg(long, default_value_t = 10)]
+        seeds: u64,
+        /// Simulated seconds per run.
+        #[arg(long, default_value_t = 300.0)]
+        seconds: f64,
+        /// Robots.
+        #[arg(long, default_value_t = 12)]
+        robots: usize,
+        /// People.
+        #[arg(long, default_value_t = 40)]
+        humans: usize,
+        /// Planner stack of every robot.
+        #[arg(long, default_value = "pgp+orca")]
+        planner: agent::planner::PlannerSpec,
+        /// Built-in warehouse scenario or a scenario file.
+        #[arg(long, default_value = "warehouse")]
+        scenario: String,
+        /// Write the per-run table here as JSON.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
     Summarize {
         /// The study's output folder.
@@ -411,6 +436,15 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
+        Command::Experiment(Experiment::IntentSharing {
+            seeds,
+            seconds,
+            robots,
+            humans,
+            planner,
+            scenario,
+            out,
+        }) => intent_sharing(&scenario, seeds, seconds, robots, humans, planner, out),
         Command::Experiment(Experiment::Summarize { dir }) => {
             let path = dir.join("runs.csv");
             let text = std::fs::read_to_string(&path)
@@ -434,6 +468,85 @@ fn main() -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Runs every seed with intent sharing on and off and prints the paired comparison.
+fn intent_sharing(
+    scenario: &str,
+    seeds: u64,
+    seconds: f64,
+    robots: usize,
+    humans: usize,
+    planner: agent::planner::PlannerSpec,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    use rayon::prelude::*;
+    if seeds == 0 || !(seconds.is_finite() && seconds > 0.0) {
+        bail!("--seeds and --seconds must be positive");
+    }
+    let base = warehouse(scenario, Some(robots), Some(humans), None)?;
+    let runs: Vec<(u64, bool)> = (1..=seeds).flat_map(|s| [(s, true), (s, false)]).collect();
+    let bar = ProgressBar::new(runs.len() as u64);
+    let results: Vec<(u64, bool, world_sim::fleet::FleetReport)> = runs
+        .par_iter()
+        .map(|&(seed, share)| {
+            let mut s = base.clone();
+            s.seed = seed;
+            let report = world_sim::fleet::run_fleet(&s, planner, seconds, share)
+                .expect("validated warehouse");
+            bar.inc(1);
+            (seed, share, report)
+        })
+        .collect();
+    bar.finish();
+    let row = |r: &world_sim::fleet::FleetReport| {
+        let n = r.robots.len() as f64;
+        serde_json::json!({
+            "tasks": r.total_tasks(),
+            "robot_near_miss_steps": r.robots.iter().map(|m| m.robot_near_misses).sum::<u64>(),
+            "robot_contact_steps": r.robots.iter().map(|m| m.robot_contacts).sum::<u64>(),
+            "collision_rate": r.robots.iter().map(|m| m.collision_rate).sum::<f64>() / n,
+            "svr": r.robots.iter().map(|m| m.svr).sum::<f64>() / n,
+        })
+    };
+    let table: Vec<serde_json::Value> = results
+        .iter()
+        .map(|(seed, share, r)| {
+            let mut v = row(r);
+            v["seed"] = (*seed).into();
+            v["sharing"] = (*share).into();
+            v
+        })
+        .collect();
+    let mean = |share: bool, key: &str| {
+        let vals: Vec<f64> = table
+            .iter()
+            .filter(|v| v["sharing"] == share)
+            .filter_map(|v| v[key].as_f64())
+            .collect();
+        vals.iter().sum::<f64>() / vals.len().max(1) as f64
+    };
+    println!(
+        "{} seeds x {seconds} s, {robots} robots ({planner}), {humans} people; means per run:",
+        seeds
+    );
+    println!("sharing  tasks  robot_near_miss_steps  robot_contact_steps  collision%   SVR");
+    for share in [true, false] {
+        println!(
+            "{:7}  {:5.1}  {:21.1}  {:19.1}  {:10.3}  {:.3}",
+            if share { "on" } else { "off" },
+            mean(share, "tasks"),
+            mean(share, "robot_near_miss_steps"),
+            mean(share, "robot_contact_steps"),
+            mean(share, "collision_rate") * 100.0,
+            mean(share, "svr")
+        );
+    }
+    if let Some(path) = out {
+        std::fs::write(&path, serde_json::to_string_pretty(&table)?)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// Times `steps` world steps; reports the median and mean step time and steps per second.

@@ -62,6 +62,8 @@ pub struct RobotMetrics {
     pub still_time_s: Real,
     /// Steps with a robot–robot near miss.
     pub robot_near_misses: u64,
+    /// Steps with a body overlap with another robot.
+    pub robot_contacts: u64,
     /// Mean Social Force the robot exerts on people (summed over people).
     pub force_on_people: Real,
 }
@@ -81,6 +83,7 @@ pub struct MetricsRecorder {
     personal_steps: u64,
     still_steps: u64,
     near_miss_steps: u64,
+    robot_contact_steps: u64,
     path_length: Real,
     last_position: Vec2,
     arrived_at: Option<Real>,
@@ -105,6 +108,7 @@ impl MetricsRecorder {
             personal_steps: 0,
             still_steps: 0,
             near_miss_steps: 0,
+            robot_contact_steps: 0,
             path_length: 0.0,
             last_position: world.robots[index].state.position,
             arrived_at: None,
@@ -181,6 +185,9 @@ impl MetricsRecorder {
             if (0.0..NEAR_MISS_GAP).contains(&gap) {
                 self.near_miss_steps += 1;
             }
+            if gap < 0.0 {
+                self.robot_contact_steps += 1;
+            }
         }
         if moving {
             self.moving_steps += 1;
@@ -226,6 +233,7 @@ impl MetricsRecorder {
             personal_time_s: self.personal_steps as Real * self.dt,
             still_time_s: self.still_steps as Real * self.dt,
             robot_near_misses: self.near_miss_steps,
+            robot_contacts: self.robot_contact_steps,
             force_on_people: per_step(self.force_on_people_sum),
         }
     }
