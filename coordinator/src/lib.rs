@@ -1,6 +1,7 @@
 //! gapfleet's command line and the work behind it: batch experiments, the fleet coordinator
 //! (a warehouse world served over Zenoh) and the in-process demo.
 
+pub mod bench;
 pub mod demo;
 pub mod experiment;
 pub mod plots;

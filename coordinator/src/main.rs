@@ -101,6 +101,22 @@ struct CoordinatorArgs {
 
 #[derive(Subcommand)]
 enum Bench {
+    /// Observation → command round trip of a live fleet over Zenoh (loopback, one session per
+    /// agent), messages lost, and a raw Zenoh request/reply round trip for comparison.
+    Fleet {
+        /// Agents (robots).
+        #[arg(long, default_value_t = 100)]
+        agents: usize,
+        /// People (0 measures the fleet's transport and planning alone).
+        #[arg(long, default_value_t = 0)]
+        humans: usize,
+        /// Seconds to run (real time, 10 Hz).
+        #[arg(long, default_value_t = 30.0)]
+        seconds: f64,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// World steps per second: people walking (robots parked, planners not included).
     World {
         /// Only the open stage exists so far.
@@ -356,6 +372,41 @@ fn main() -> Result<()> {
     match Cli::parse().command {
         Command::Demo(args) => demo(args),
         Command::Coordinator(args) => coordinator_main(args),
+        Command::Bench(Bench::Fleet {
+            agents,
+            humans,
+            seconds,
+            json,
+        }) => {
+            init_logging("warn");
+            if agents == 0 || !(seconds.is_finite() && seconds > 0.0) {
+                bail!("--agents and --seconds must be positive");
+            }
+            let scenario = warehouse("warehouse-large", Some(agents), Some(humans), None)?;
+            let b = runtime()?.block_on(coordinator::bench::bench_fleet(
+                scenario, agents, humans, seconds,
+            ))?;
+            if json {
+                println!("{}", serde_json::to_string(&b)?);
+            } else {
+                println!(
+                    "{} agents, {} people, {} s at 10 Hz: {} observations, {} answered, {} lost; observation->command round trip p50 {:.2} ms, p99 {:.2} ms; raw Zenoh get/reply ({} B) p50 {:.3} ms, p99 {:.3} ms; p99 ratio {:.1}x",
+                    b.agents,
+                    b.humans,
+                    b.seconds,
+                    b.observations,
+                    b.answered,
+                    b.lost,
+                    b.round_trip_p50_ms,
+                    b.round_trip_p99_ms,
+                    b.raw_payload_bytes,
+                    b.raw_zenoh_p50_ms,
+                    b.raw_zenoh_p99_ms,
+                    b.round_trip_p99_ms / b.raw_zenoh_p99_ms
+                );
+            }
+            Ok(())
+        }
         Command::Bench(Bench::World {
             scenario,
             humans,

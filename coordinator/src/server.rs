@@ -22,6 +22,9 @@ use std::time::{Duration, Instant};
 use world_sim::fleet::{Fleet, FleetEvent, Stage};
 use zenoh::sample::SampleKind;
 
+/// Round-trip samples kept (the oldest half is dropped beyond this).
+const MAX_ROUND_TRIP_SAMPLES: usize = 400_000;
+
 /// Version of the map the coordinator serves (the generated map never changes during a run).
 pub const MAP_VERSION: u32 = 1;
 
@@ -90,6 +93,10 @@ pub struct Status {
     pub round_trip_ms: (f64, f64),
     /// Commands received.
     pub commands: u64,
+    /// Observations published.
+    pub observations: u64,
+    /// Observations answered by a command (each counted once).
+    pub answered: u64,
     /// Ticks in which a robot with a task had no fresh command (it stopped).
     pub stale_commands: u64,
     /// Messages rejected by the decoder or for naming the wrong robot.
@@ -124,8 +131,8 @@ struct Link {
     command: Option<(u64, Command, bool)>,
     /// Next observation sequence number.
     next_seq: u64,
-    /// Wall time each recent observation was published, for round trips.
-    sent: VecDeque<(u64, Instant)>,
+    /// Recent observations: sequence number, wall time published, whether answered.
+    sent: VecDeque<(u64, Instant, bool)>,
 }
 
 /// Runs the coordinator on `session` until `seconds` have been simulated or `shutdown`
@@ -231,9 +238,6 @@ pub async fn run_coordinator(
             () = &mut shutdown => break,
             _ = ticker.tick() => {}
         }
-        if end_tick.is_some_and(|end| status.tick >= end) {
-            break;
-        }
         // Liveliness.
         while let Ok(Some(sample)) = alive_sub.try_recv() {
             let Some(id) = keys.parse_alive(sample.key_expr().as_str()) else {
@@ -277,10 +281,16 @@ pub async fn run_coordinator(
                 Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
                     let link = &mut links[cmd.robot_id as usize];
                     status.commands += 1;
-                    if let Some(&(_, at)) = link.sent.iter().find(|(s, _)| *s == cmd.obs_seq)
+                    if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
+                        && !entry.2
                         && !cmd.safe_stop
                     {
-                        let rtt = arrived.saturating_duration_since(at).as_micros();
+                        entry.2 = true;
+                        status.answered += 1;
+                        let rtt = arrived.saturating_duration_since(entry.1).as_micros();
+                        if round_trips_us.len() >= MAX_ROUND_TRIP_SAMPLES {
+                            round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
+                        }
                         round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
                     }
                     if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
@@ -296,6 +306,10 @@ pub async fn run_coordinator(
             }
         }
         status.rejected += overflow.swap(0, std::sync::atomic::Ordering::Relaxed);
+        // The end comes after the last observations' answers were taken in.
+        if end_tick.is_some_and(|end| status.tick >= end) {
+            break;
+        }
         // Intents.
         while let Ok(Some(sample)) = intent_sub.try_recv() {
             match decode::<IntentMsg>(&sample.payload().to_bytes()) {
@@ -359,7 +373,8 @@ pub async fn run_coordinator(
             }
             let obs = observation(&mut fleet, i, links[i].next_seq);
             let link = &mut links[i];
-            link.sent.push_back((obs.seq, Instant::now()));
+            link.sent.push_back((obs.seq, Instant::now(), false));
+            status.observations += 1;
             if link.sent.len() > 16 {
                 link.sent.pop_front();
             }
@@ -377,7 +392,7 @@ pub async fn run_coordinator(
         }
         if last_status.elapsed() >= Duration::from_secs(1) {
             last_status = Instant::now();
-            refresh(&mut status, &links, &mut round_trips_us);
+            refresh(&mut status, &links, &round_trips_us);
             on_status(&status, &fleet);
         }
     }
@@ -385,7 +400,7 @@ pub async fn run_coordinator(
     let frame = metrics_frame(&fleet, &links, &status);
     let _ = metrics_pub.put(encode(&frame)).await;
     status.metrics = Some(frame);
-    refresh(&mut status, &links, &mut round_trips_us);
+    refresh(&mut status, &links, &round_trips_us);
     on_status(&status, &fleet);
     map_server.abort();
     drop(cmd_sub);
@@ -399,14 +414,16 @@ fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
     status.events.push(event);
 }
 
-fn refresh(status: &mut Status, links: &[Link], round_trips_us: &mut [u32]) {
+/// Updates the derived fields; round trips are kept in arrival order (percentiles sort a copy).
+fn refresh(status: &mut Status, links: &[Link], round_trips_us: &[u32]) {
     status.alive = links.iter().filter(|l| l.alive).count();
     status.flagged = (0..links.len() as u32)
         .filter(|&i| links[i as usize].flagged)
         .collect();
+    let mut sorted = round_trips_us.to_vec();
     status.round_trip_ms = (
-        percentile(round_trips_us, 0.5) / 1000.0,
-        percentile(round_trips_us, 0.99) / 1000.0,
+        percentile(&mut sorted, 0.5) / 1000.0,
+        percentile(&mut sorted, 0.99) / 1000.0,
     );
 }
 
