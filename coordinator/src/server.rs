@@ -41,6 +41,8 @@ pub struct CoordinatorConfig {
     pub stale_ticks: u64,
     /// Receives every event the moment it happens (tests, dashboards).
     pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
+    /// Observations go out in this many slices spread over the first half of each tick.
+    pub stagger: usize,
 }
 
 impl CoordinatorConfig {
@@ -52,6 +54,7 @@ impl CoordinatorConfig {
             seconds: None,
             stale_ticks: 3,
             events: None,
+            stagger: 100,
         }
     }
 }
@@ -275,39 +278,12 @@ pub async fn run_coordinator(
             }
         }
         // Commands: keep the newest per robot.
-        while let Ok((arrived, sample)) = cmd_rx.try_recv() {
-            let key_id = keys.parse_robot(sample.key_expr().as_str()).map(|k| k.0);
-            match decode::<CommandMsg>(&sample.payload().to_bytes()) {
-                Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
-                    let link = &mut links[cmd.robot_id as usize];
-                    status.commands += 1;
-                    if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
-                        && !entry.2
-                        && !cmd.safe_stop
-                    {
-                        entry.2 = true;
-                        status.answered += 1;
-                        let rtt = arrived.saturating_duration_since(entry.1).as_micros();
-                        if round_trips_us.len() >= MAX_ROUND_TRIP_SAMPLES {
-                            round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
-                        }
-                        round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
-                    }
-                    if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
-                        link.command =
-                            Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
-                    }
-                }
-                Ok(_) => status.rejected += 1,
-                Err(e) => {
-                    status.rejected += 1;
-                    tracing::debug!("bad command: {e}");
-                }
-            }
-        }
+        take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips_us);
         status.rejected += overflow.swap(0, std::sync::atomic::Ordering::Relaxed);
-        // The end comes after the last observations' answers were taken in.
+        // The end comes after the last observations had a tick to be answered.
         if end_tick.is_some_and(|end| status.tick >= end) {
+            tokio::time::sleep(tick_wall).await;
+            take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips_us);
             break;
         }
         // Intents.
@@ -366,21 +342,41 @@ pub async fn run_coordinator(
                 FleetEvent::Picked { .. } => {}
             }
         }
-        // Observations for robots with a live agent.
-        for i in 0..n {
-            if !links[i].alive {
-                continue;
+        // Observations for robots with a live agent, all of this tick's state, published in
+        // `stagger` slices spread over the first half of the tick so that agents sharing a
+        // machine do not all plan in the same instant (real robots' sensors are not in phase
+        // either). Every slice's commands still arrive before the next tick.
+        let live: Vec<usize> = (0..n).filter(|&i| links[i].alive).collect();
+        let outgoing: Vec<(usize, u64, Vec<u8>)> = live
+            .into_iter()
+            .map(|i| {
+                let obs = observation(&mut fleet, i, links[i].next_seq);
+                links[i].next_seq += 1;
+                (i, obs.seq, encode(&obs))
+            })
+            .collect();
+        // Gaps shorter than the timer's 1 ms resolution would stretch past half the tick.
+        let max_slices = (tick_wall.as_millis() / 2).max(1) as usize;
+        let slices = config
+            .stagger
+            .min(max_slices)
+            .clamp(1, outgoing.len().max(1));
+        let per_slice = outgoing.len().div_ceil(slices).max(1);
+        let gap = tick_wall / (2 * slices as u32);
+        for (k, slice) in outgoing.chunks(per_slice).enumerate() {
+            if k > 0 {
+                tokio::time::sleep(gap).await;
             }
-            let obs = observation(&mut fleet, i, links[i].next_seq);
-            let link = &mut links[i];
-            link.sent.push_back((obs.seq, Instant::now(), false));
-            status.observations += 1;
-            if link.sent.len() > 16 {
-                link.sent.pop_front();
-            }
-            link.next_seq += 1;
-            if let Err(e) = obs_pubs[i].put(encode(&obs)).await {
-                tracing::warn!(robot = i, "observation not sent: {e}");
+            for (i, seq, bytes) in slice {
+                let link = &mut links[*i];
+                link.sent.push_back((*seq, Instant::now(), false));
+                if link.sent.len() > 16 {
+                    link.sent.pop_front();
+                }
+                status.observations += 1;
+                if let Err(e) = obs_pubs[*i].put(bytes.clone()).await {
+                    tracing::warn!(robot = i, "observation not sent: {e}");
+                }
             }
         }
         if status.tick.is_multiple_of(ticks_per_metrics) {
@@ -412,6 +408,47 @@ fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
         let _ = tx.send((Instant::now(), event.clone()));
     }
     status.events.push(event);
+}
+
+/// Takes in every command that arrived: the newest per robot is kept; answers to recent
+/// observations are counted once and timed.
+fn take_commands(
+    cmd_rx: &std::sync::mpsc::Receiver<(Instant, zenoh::sample::Sample)>,
+    keys: &Keys,
+    links: &mut [Link],
+    status: &mut Status,
+    round_trips_us: &mut Vec<u32>,
+) {
+    let n = links.len();
+    while let Ok((arrived, sample)) = cmd_rx.try_recv() {
+        let key_id = keys.parse_robot(sample.key_expr().as_str()).map(|k| k.0);
+        match decode::<CommandMsg>(&sample.payload().to_bytes()) {
+            Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
+                let link = &mut links[cmd.robot_id as usize];
+                status.commands += 1;
+                if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
+                    && !entry.2
+                    && !cmd.safe_stop
+                {
+                    entry.2 = true;
+                    status.answered += 1;
+                    let rtt = arrived.saturating_duration_since(entry.1).as_micros();
+                    if round_trips_us.len() >= MAX_ROUND_TRIP_SAMPLES {
+                        round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
+                    }
+                    round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
+                }
+                if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
+                    link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
+                }
+            }
+            Ok(_) => status.rejected += 1,
+            Err(e) => {
+                status.rejected += 1;
+                tracing::debug!("bad command: {e}");
+            }
+        }
+    }
 }
 
 /// Updates the derived fields; round trips are kept in arrival order (percentiles sort a copy).

@@ -61,6 +61,10 @@ fn set(config: &mut zenoh::Config, key: &str, value: &str) -> Result<(), ConfigE
     })
 }
 
+/// Publications under `gapfleet/**` are express (never held back for batching): the fleet is a
+/// 10 Hz control loop whose messages are small, so latency matters more than throughput.
+const EXPRESS_QOS: &str = r#"[{ key_exprs: ["gapfleet/**"], config: { express: true } }]"#;
+
 fn json_list(items: &[String]) -> String {
     let quoted: Vec<String> = items.iter().map(|s| format!("{s:?}")).collect();
     format!("[{}]", quoted.join(","))
@@ -77,6 +81,7 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
         None => {
             let mut c = zenoh::Config::default();
             set(&mut c, "scouting/multicast/enabled", "false")?;
+            set(&mut c, "qos/publication", EXPRESS_QOS)?;
             set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
             if default_role == Role::Client {
                 set(&mut c, "connect/timeout_ms", "-1")?;
@@ -106,6 +111,7 @@ pub fn loopback(
     let mut c = zenoh::Config::default();
     set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
     set(&mut c, "scouting/multicast/enabled", "false")?;
+    set(&mut c, "qos/publication", EXPRESS_QOS)?;
     set(&mut c, "listen/endpoints", &json_list(listen))?;
     if role == Role::Client {
         set(&mut c, "connect/timeout_ms", "-1")?;
