@@ -5,14 +5,18 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}"
 
-# The Python client test's packages, pinned, in a venv of their own (outside the work tree).
+# The Python client test's packages and the rerun CLI, pinned, in a venv of their own (outside
+# the work tree).
 pyenv="${GAPFLEET_PYENV:-$HOME/.cache/gapfleet-pyenv}"
 if [ ! -x "$pyenv/bin/python" ]; then
     python3 -m venv "$pyenv"
 fi
 "$pyenv/bin/python" -m pip install --quiet --disable-pip-version-check \
-    eclipse-zenoh==1.10.2 msgpack==1.2.4
+    eclipse-zenoh==1.10.2 msgpack==1.2.4 rerun-sdk==0.36.3
 export GAPFLEET_PYTHON="$pyenv/bin/python"
+# The official rerun CLI (same version as the rerun crate) checks the dashboards' recordings.
+export GAPFLEET_RERUN="$pyenv/bin/rerun"
+export RERUN_ANALYTICS=0
 
 if cargo fmt --version >/dev/null 2>&1; then
     cargo fmt --all -- --check

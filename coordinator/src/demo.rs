@@ -3,6 +3,7 @@
 //! scouting off), its own planner stack and its own tokio task, exactly as a separate
 //! `gapfleet-agent` process would.
 
+use crate::dashboard::DashboardObserver;
 use crate::server::{CoordinatorConfig, Status, run_coordinator};
 use agent::planner::PlannerSpec;
 use agent::runtime::net::{Role, free_loopback_port, loopback};
@@ -31,6 +32,8 @@ pub struct DemoOptions {
     pub listen: Option<String>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
+    /// Rerun sinks (none: no dashboard).
+    pub sinks: dashboards::Sinks,
 }
 
 /// What a demo run produced.
@@ -44,16 +47,29 @@ pub struct DemoReport {
     pub fleet_metrics: Vec<world_sim::metrics::RobotMetrics>,
     /// Tasks per robot.
     pub tasks_done: Vec<u64>,
+    /// Dashboard frames logged and dropped, when a dashboard ran.
+    pub dashboard: Option<dashboards::DashboardStats>,
 }
 
-/// Runs the demo; `on_status` sees the coordinator's status about once per wall second.
+/// Runs the demo; `on_status` sees the coordinator's status about once per wall second;
+/// `on_web_url` gets the served web viewer's address (with `--web`) before the fleet starts.
 pub async fn run_demo(
     options: DemoOptions,
     shutdown: impl Future<Output = ()>,
     mut on_status: impl FnMut(&Status),
+    on_web_url: impl FnOnce(&str),
 ) -> Result<DemoReport> {
     let mut fleet = Fleet::new(&options.scenario)?;
     fleet.share_intents = options.share_intents;
+    let dashboard = if options.sinks.any() {
+        let d = DashboardObserver::start(&fleet, &options.sinks, &options.planner.to_string())?;
+        if let Some(url) = d.web_url() {
+            on_web_url(url);
+        }
+        Some(d)
+    } else {
+        None
+    };
     let endpoint = match &options.listen {
         Some(e) => e.clone(),
         None => format!("tcp/127.0.0.1:{}", free_loopback_port()?),
@@ -93,14 +109,16 @@ pub async fn run_demo(
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     let mut final_fleet = None;
-    let status = run_coordinator(&router, fleet, config, shutdown, |status, fleet| {
+    let status_line = |status: &Status, fleet: &Fleet| {
         on_status(status);
         final_fleet = Some((
             (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
             (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),
         ));
-    })
-    .await?;
+    };
+    let mut observers = (status_line, dashboard);
+    let status = run_coordinator(&router, fleet, config, shutdown, &mut observers).await?;
+    let dashboard = observers.1.map(DashboardObserver::finish);
     let _ = stop_tx.send(true);
     for agent in agents {
         agent.await.context("agent task")??;
@@ -115,6 +133,7 @@ pub async fn run_demo(
         agents: counters,
         fleet_metrics,
         tasks_done,
+        dashboard,
     })
 }
 
@@ -172,6 +191,12 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             m.min_human_distance_m,
             m.social_force,
             m.robot_near_misses
+        ));
+    }
+    if let Some(d) = &report.dashboard {
+        out.push_str(&format!(
+            "dashboard: {} frames logged, {} dropped\n",
+            d.logged, d.dropped
         ));
     }
     if let Some(m) = &s.metrics {

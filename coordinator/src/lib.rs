@@ -2,6 +2,7 @@
 //! (a warehouse world served over Zenoh) and the in-process demo.
 
 pub mod bench;
+pub mod dashboard;
 pub mod demo;
 pub mod experiment;
 pub mod plots;

@@ -67,6 +67,36 @@ struct DemoArgs {
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
+    #[command(flatten)]
+    rerun: RerunArgs,
+}
+
+/// Where the Rerun dashboard goes (any combination; none: no dashboard).
+#[derive(clap::Args, Clone, Default)]
+struct RerunArgs {
+    /// Save the dashboard recording to this .rrd file.
+    #[arg(long, value_name = "PATH")]
+    rrd: Option<PathBuf>,
+    /// Serve the Rerun web viewer from this process and print its URL.
+    #[arg(long)]
+    web: bool,
+    /// Stream to a running Rerun viewer, e.g. rerun+http://127.0.0.1:9876/proxy.
+    #[arg(long, value_name = "URL")]
+    rerun_connect: Option<String>,
+    /// Spawn a native Rerun viewer (`rerun` on PATH, e.g. `pip install rerun-sdk==0.36.3`).
+    #[arg(long)]
+    spawn: bool,
+}
+
+impl RerunArgs {
+    fn sinks(&self) -> dashboards::Sinks {
+        dashboards::Sinks {
+            rrd: self.rrd.clone(),
+            web: self.web,
+            connect: self.rerun_connect.clone(),
+            spawn: self.spawn,
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -97,10 +127,30 @@ struct CoordinatorArgs {
     no_intent_sharing: bool,
     #[command(flatten)]
     net: agent::runtime::net::NetArgs,
+    #[command(flatten)]
+    rerun: RerunArgs,
 }
 
 #[derive(Subcommand)]
 enum Bench {
+    /// A coordinator tick with and without the Rerun dashboard (recording to an .rrd file).
+    Dashboard {
+        /// Robots (parked).
+        #[arg(long, default_value_t = 100)]
+        robots: usize,
+        /// People.
+        #[arg(long, default_value_t = 1000)]
+        humans: usize,
+        /// Ticks timed per variant (after 20 warm-up ticks).
+        #[arg(long, default_value_t = 300)]
+        ticks: usize,
+        /// Where the recording goes.
+        #[arg(long, default_value = "target/bench-dashboard.rrd")]
+        rrd: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Observation → command round trip of a live fleet over Zenoh (loopback, one session per
     /// agent), messages lost, and a raw Zenoh request/reply round trip for comparison.
     Fleet {
@@ -293,6 +343,7 @@ fn demo(args: DemoArgs) -> Result<()> {
         site: args.site,
         listen: args.listen,
         share_intents: !args.no_intent_sharing,
+        sinks: args.rerun.sinks(),
     };
     eprintln!(
         "gapfleet demo: {} robots ({}), {} people, {} s at {}x; Ctrl-C stops early",
@@ -300,14 +351,19 @@ fn demo(args: DemoArgs) -> Result<()> {
     );
     let tty = std::io::stderr().is_terminal();
     let mut printed = 0u64;
-    let report = runtime()?.block_on(run_demo(options, shutdown_signal(), |status| {
-        printed += 1;
-        if tty {
-            eprint!("\r{}", status_line(status));
-        } else if printed.is_multiple_of(5) {
-            eprintln!("{}", status_line(status));
-        }
-    }))?;
+    let report = runtime()?.block_on(run_demo(
+        options,
+        shutdown_signal(),
+        |status| {
+            printed += 1;
+            if tty {
+                eprint!("\r{}", status_line(status));
+            } else if printed.is_multiple_of(5) {
+                eprintln!("{}", status_line(status));
+            }
+        },
+        |url| eprintln!("dashboard: open {url}"),
+    ))?;
     if tty {
         eprintln!();
     }
@@ -346,7 +402,7 @@ fn coordinator_main(args: CoordinatorArgs) -> Result<()> {
             net.connect
         );
         let mut seen_events = 0;
-        let status = run_coordinator(&session, fleet, config_, shutdown_signal(), |status, _| {
+        let log = |status: &coordinator::server::Status, _: &world_sim::fleet::Fleet| {
             for event in &status.events[seen_events..] {
                 if !matches!(event, Event::TaskDone { .. }) {
                     eprintln!("event: {event:?}");
@@ -354,8 +410,27 @@ fn coordinator_main(args: CoordinatorArgs) -> Result<()> {
             }
             seen_events = status.events.len();
             eprintln!("{}", status_line(status));
-        })
-        .await?;
+        };
+        let sinks = args.rerun.sinks();
+        let dashboard = if sinks.any() {
+            let d = coordinator::dashboard::DashboardObserver::start(&fleet, &sinks, "agent")?;
+            if let Some(url) = d.web_url() {
+                eprintln!("dashboard: open {url}");
+            }
+            Some(d)
+        } else {
+            None
+        };
+        let mut observers = (log, dashboard);
+        let status =
+            run_coordinator(&session, fleet, config_, shutdown_signal(), &mut observers).await?;
+        if let Some(d) = observers.1 {
+            let stats = d.finish();
+            eprintln!(
+                "dashboard: {} frames logged, {} dropped",
+                stats.logged, stats.dropped
+            );
+        }
         eprintln!(
             "stopped after {:.1} simulated seconds, {} tasks done",
             status.sim_time, status.tasks_done
@@ -372,6 +447,34 @@ fn main() -> Result<()> {
     match Cli::parse().command {
         Command::Demo(args) => demo(args),
         Command::Coordinator(args) => coordinator_main(args),
+        Command::Bench(Bench::Dashboard {
+            robots,
+            humans,
+            ticks,
+            rrd,
+            json,
+        }) => {
+            if robots == 0 || ticks == 0 {
+                bail!("--robots and --ticks must be positive");
+            }
+            let scenario = warehouse("warehouse-large", Some(robots), Some(humans), None)?;
+            let b = coordinator::bench::bench_dashboard(&scenario, ticks, &rrd)?;
+            if json {
+                println!("{}", serde_json::to_string(&b)?);
+            } else {
+                println!(
+                    "{} robots, {} people, {} ticks: median tick {:.0} µs without dashboard, {:.0} µs with (.rrd): overhead {:.1} %, {} frames dropped",
+                    b.robots,
+                    b.humans,
+                    b.ticks,
+                    b.without_us,
+                    b.with_us,
+                    b.overhead * 100.0,
+                    b.dropped
+                );
+            }
+            Ok(())
+        }
         Command::Bench(Bench::Fleet {
             agents,
             humans,

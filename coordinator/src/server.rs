@@ -106,6 +106,8 @@ pub struct Status {
     pub rejected: u64,
     /// Events so far.
     pub events: Vec<Event>,
+    /// Largest planning-time p99 reported by a live agent in its last heartbeat (µs).
+    pub planner_p99_us: f64,
     /// Robots flagged (agent crashed or left), by id.
     pub flagged: Vec<u32>,
 }
@@ -138,14 +140,53 @@ struct Link {
     sent: VecDeque<(u64, Instant, bool)>,
 }
 
+/// Watches a running coordinator (dashboards, tests, the demo's status line). A closure
+/// `FnMut(&Status, &Fleet)` is an observer of the status only.
+pub trait Observer {
+    /// After every tick, with that tick's fleet events.
+    fn tick(&mut self, _fleet: &Fleet, _status: &Status, _events: &[FleetEvent]) {}
+    /// About once per wall second, and once at the end.
+    fn status(&mut self, _fleet: &Fleet, _status: &Status) {}
+}
+
+impl<F: FnMut(&Status, &Fleet)> Observer for F {
+    fn status(&mut self, fleet: &Fleet, status: &Status) {
+        self(status, fleet);
+    }
+}
+
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn tick(&mut self, fleet: &Fleet, status: &Status, events: &[FleetEvent]) {
+        self.0.tick(fleet, status, events);
+        self.1.tick(fleet, status, events);
+    }
+    fn status(&mut self, fleet: &Fleet, status: &Status) {
+        self.0.status(fleet, status);
+        self.1.status(fleet, status);
+    }
+}
+
+impl<O: Observer> Observer for Option<O> {
+    fn tick(&mut self, fleet: &Fleet, status: &Status, events: &[FleetEvent]) {
+        if let Some(o) = self {
+            o.tick(fleet, status, events);
+        }
+    }
+    fn status(&mut self, fleet: &Fleet, status: &Status) {
+        if let Some(o) = self {
+            o.status(fleet, status);
+        }
+    }
+}
+
 /// Runs the coordinator on `session` until `seconds` have been simulated or `shutdown`
-/// completes. `on_status` is called about once per wall second and once at the end.
+/// completes, reporting to `observer`.
 pub async fn run_coordinator(
     session: &zenoh::Session,
     mut fleet: Fleet,
     config: CoordinatorConfig,
     shutdown: impl Future<Output = ()>,
-    mut on_status: impl FnMut(&Status, &Fleet),
+    observer: &mut impl Observer,
 ) -> Result<Status, CoordinatorError> {
     let keys = Keys::new(&config.site)?;
     let n = fleet.robots();
@@ -197,6 +238,12 @@ pub async fn run_coordinator(
         .with(zenoh::handlers::RingChannel::new(64 * 1024))
         .await
         .map_err(zerr("intent subscriber"))?;
+    let info_sub = session
+        .declare_subscriber(keys.every_robot(Channel::Info))
+        .with(zenoh::handlers::RingChannel::new(4 * 1024))
+        .await
+        .map_err(zerr("info subscriber"))?;
+    let mut planner_p99 = vec![0.0_f64; n];
     let mut obs_pubs = Vec::with_capacity(n);
     let mut task_pubs = Vec::with_capacity(n);
     for i in 0..n as u32 {
@@ -286,6 +333,19 @@ pub async fn run_coordinator(
             take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips_us);
             break;
         }
+        // Agents' heartbeats: their planning time.
+        while let Ok(Some(sample)) = info_sub.try_recv() {
+            match decode::<schemas::AgentInfo>(&sample.payload().to_bytes()) {
+                Ok(info) if (info.robot_id as usize) < n => {
+                    planner_p99[info.robot_id as usize] = info.plan_p99_us;
+                }
+                _ => status.rejected += 1,
+            }
+        }
+        status.planner_p99_us = (0..n)
+            .filter(|&i| links[i].alive)
+            .map(|i| planner_p99[i])
+            .fold(0.0, f64::max);
         // Intents.
         while let Ok(Some(sample)) = intent_sub.try_recv() {
             match decode::<IntentMsg>(&sample.payload().to_bytes()) {
@@ -379,6 +439,7 @@ pub async fn run_coordinator(
                 }
             }
         }
+        observer.tick(&fleet, &status, &events);
         if status.tick.is_multiple_of(ticks_per_metrics) {
             let frame = metrics_frame(&fleet, &links, &status);
             if let Err(e) = metrics_pub.put(encode(&frame)).await {
@@ -389,7 +450,7 @@ pub async fn run_coordinator(
         if last_status.elapsed() >= Duration::from_secs(1) {
             last_status = Instant::now();
             refresh(&mut status, &links, &round_trips_us);
-            on_status(&status, &fleet);
+            observer.status(&fleet, &status);
         }
     }
     // Final frame and status.
@@ -397,7 +458,7 @@ pub async fn run_coordinator(
     let _ = metrics_pub.put(encode(&frame)).await;
     status.metrics = Some(frame);
     refresh(&mut status, &links, &round_trips_us);
-    on_status(&status, &fleet);
+    observer.status(&fleet, &status);
     map_server.abort();
     drop(cmd_sub);
     Ok(status)

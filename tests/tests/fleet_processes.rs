@@ -99,7 +99,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
             async {
                 let _ = stop_rx.await;
             },
-            |status, fleet| {
+            &mut |status: &Status, fleet: &Fleet| {
                 let _ = snap_tx.send(Snapshot {
                     status: status.clone(),
                     speeds: fleet

@@ -226,6 +226,13 @@ impl Fleet {
         self.intents[i] = Some((stamp, trajectory));
     }
 
+    /// Robot `i`'s newest intent: its stamp and trajectory (`t` after the stamp).
+    pub fn intent(&self, i: usize) -> Option<(Real, &[TrajectorySample])> {
+        self.intents[i]
+            .as_ref()
+            .map(|(stamp, t)| (*stamp, t.as_slice()))
+    }
+
     /// What robot `i` perceives now, with the fresh intents of the robots it sees (when
     /// sharing is on), re-timed so that `t` counts from now.
     pub fn observe(&mut self, i: usize) -> (EgoState, Vec<Neighbour>) {

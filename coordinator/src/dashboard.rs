@@ -1,0 +1,234 @@
+//! Feeds a running coordinator's fleet to a Rerun [`Dashboard`]: one [`Frame`] per tick,
+//! events (agents joining, leaving, crashing, tasks done, collisions and near misses at their
+//! onset) and the social metrics, fleet-wide and per robot.
+
+use crate::server::{Event, Observer, Status};
+use dashboards::{Dashboard, EventView, Frame, IntentView, MapFrame, P, RobotView, Sinks};
+use std::collections::HashSet;
+use world_sim::fleet::{Fleet, FleetEvent};
+use world_sim::metrics::NEAR_MISS_GAP;
+
+fn p(v: agent::math::Vec2) -> P {
+    [v.x as f32, v.y as f32]
+}
+
+/// The static map of a fleet's site.
+pub fn map_frame(fleet: &Fleet) -> MapFrame {
+    use agent::map::Obstacle;
+    let mut map = MapFrame::default();
+    for o in fleet.world.map.obstacles() {
+        match o {
+            Obstacle::Polygon(points) => map.shelves.push(points.iter().map(|&v| p(v)).collect()),
+            Obstacle::Wall(a, b) => map.walls.push([p(*a), p(*b)]),
+        }
+    }
+    for s in &fleet.site().stations {
+        let kind = match s.kind {
+            world_sim::warehouse::StationKind::Dock => "dock",
+            world_sim::warehouse::StationKind::Pick => "pick",
+        };
+        map.stations
+            .push((p(s.position), format!("{kind} {}", s.id)));
+    }
+    map
+}
+
+/// Bodies in contact (or nearly) this tick, to report each contact once at its onset.
+#[derive(Debug, Default)]
+struct Contacts {
+    human: HashSet<(usize, usize)>,
+    robot_contact: HashSet<(usize, usize)>,
+    robot_near: HashSet<(usize, usize)>,
+}
+
+/// A coordinator observer that draws the fleet.
+#[derive(Debug)]
+pub struct DashboardObserver {
+    dashboard: Dashboard,
+    planner: String,
+    contacts: Contacts,
+    seen_events: usize,
+}
+
+impl DashboardObserver {
+    /// Starts a dashboard on `sinks` for `fleet`, labelling robots with `planner`.
+    pub fn start(
+        fleet: &Fleet,
+        sinks: &Sinks,
+        planner: &str,
+    ) -> Result<Self, dashboards::DashboardError> {
+        let dashboard = Dashboard::start("gapfleet", sinks, map_frame(fleet))?;
+        Ok(Self {
+            dashboard,
+            planner: planner.to_owned(),
+            contacts: Contacts::default(),
+            seen_events: 0,
+        })
+    }
+
+    /// The served web viewer's URL, if `--web`.
+    pub fn web_url(&self) -> Option<&str> {
+        self.dashboard.web_url()
+    }
+
+    /// Flushes and stops; returns (frames logged, frames dropped).
+    pub fn finish(self) -> dashboards::DashboardStats {
+        self.dashboard.finish()
+    }
+
+    fn contact_events(&mut self, fleet: &Fleet, out: &mut Vec<EventView>) {
+        let world = &fleet.world;
+        let crowd = &world.humans.crowd;
+        let mut now = Contacts::default();
+        for (i, r) in world.robots.iter().enumerate() {
+            let (rp, rr) = (r.state.position, r.state.radius);
+            for h in 0..crowd.len() {
+                if (crowd.positions[h] - rp).norm() < rr + world.humans.radius {
+                    now.human.insert((i, h));
+                }
+            }
+            for (j, o) in world.robots.iter().enumerate().skip(i + 1) {
+                let gap = (o.state.position - rp).norm() - rr - o.state.radius;
+                if gap < 0.0 {
+                    now.robot_contact.insert((i, j));
+                } else if gap < NEAR_MISS_GAP {
+                    now.robot_near.insert((i, j));
+                }
+            }
+        }
+        let at = |i: usize| p(world.robots[i].state.position);
+        for &(i, h) in now.human.difference(&self.contacts.human) {
+            out.push(EventView {
+                text: format!("collision: robot {i} touched person {h}"),
+                position: Some(at(i)),
+                warning: true,
+            });
+        }
+        for &(i, j) in now.robot_contact.difference(&self.contacts.robot_contact) {
+            out.push(EventView {
+                text: format!("collision: robots {i} and {j}"),
+                position: Some(at(i)),
+                warning: true,
+            });
+        }
+        for &(i, j) in now.robot_near.difference(&self.contacts.robot_near) {
+            out.push(EventView {
+                text: format!("near miss: robots {i} and {j}"),
+                position: Some(at(i)),
+                warning: true,
+            });
+        }
+        self.contacts = now;
+    }
+}
+
+impl Observer for DashboardObserver {
+    fn tick(&mut self, fleet: &Fleet, status: &Status, _events: &[FleetEvent]) {
+        let world = &fleet.world;
+        let crowd = &world.humans.crowd;
+        let mut groups = vec![0_u32; crowd.len()];
+        for (g, members) in crowd.groups.iter().enumerate() {
+            for &m in members {
+                groups[m] = g as u32;
+            }
+        }
+        let flagged: HashSet<u32> = status.flagged.iter().copied().collect();
+        let robots = world
+            .robots
+            .iter()
+            .enumerate()
+            .map(|(i, r)| RobotView {
+                id: i as u32,
+                position: p(r.state.position),
+                heading: r.state.heading as f32,
+                radius: r.state.radius as f32,
+                planner: self.planner.clone(),
+                alive: !fleet.is_held(i) && !flagged.contains(&(i as u32)),
+            })
+            .collect();
+        let intents = (0..fleet.robots())
+            .filter_map(|i| {
+                let (_, trajectory) = fleet.intent(i)?;
+                let goal = fleet.goal(i)?;
+                Some(IntentView {
+                    robot: i as u32,
+                    path: trajectory.iter().map(|s| p(s.position)).collect(),
+                    subgoal: p(goal),
+                })
+            })
+            .collect();
+        let mut events = Vec::new();
+        for e in &status.events[self.seen_events..] {
+            let (text, robot, warning) = match e {
+                Event::Joined(i) => (format!("agent {i} joined"), *i, false),
+                Event::Left(i) => (format!("agent {i} left"), *i, true),
+                Event::Crashed(i) => (format!("agent {i} crashed: robot stopped"), *i, true),
+                Event::TaskDone { robot, task } => {
+                    (format!("robot {robot} finished task {task}"), *robot, false)
+                }
+            };
+            let position = world
+                .robots
+                .get(robot as usize)
+                .map(|r| p(r.state.position));
+            events.push(EventView {
+                text,
+                position,
+                warning,
+            });
+        }
+        self.seen_events = status.events.len();
+        self.contact_events(fleet, &mut events);
+
+        let per_robot: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
+        let n = per_robot.len().max(1) as f64;
+        let mean = |f: &dyn Fn(&world_sim::metrics::RobotMetrics) -> f64| {
+            per_robot.iter().map(f).sum::<f64>() / n
+        };
+        let min_human = per_robot
+            .iter()
+            .map(|m| m.min_human_distance_m)
+            .fold(f64::INFINITY, f64::min);
+        let minutes = (status.sim_time / 60.0).max(1.0 / 60.0);
+        let mut fleet_metrics = vec![
+            ("svr", mean(&|m| m.svr)),
+            ("collision_rate", mean(&|m| m.collision_rate)),
+            ("social_force", mean(&|m| m.social_force)),
+            ("tasks_per_minute", status.tasks_done as f64 / minutes),
+            ("live_agents", status.alive as f64),
+            ("planner_p99_us", status.planner_p99_us),
+            ("stale_commands", status.stale_commands as f64),
+        ];
+        if min_human.is_finite() {
+            fleet_metrics.push(("min_human_distance", min_human));
+        }
+        let robot_metrics = per_robot
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let mut series = vec![
+                    ("svr", m.svr),
+                    ("collision_rate", m.collision_rate),
+                    ("social_force", m.social_force),
+                ];
+                if m.min_human_distance_m.is_finite() {
+                    series.push(("min_human_distance", m.min_human_distance_m));
+                }
+                (i as u32, series)
+            })
+            .collect();
+        self.dashboard.send(Frame {
+            tick: status.tick,
+            sim_time: status.sim_time,
+            humans: crowd.positions.iter().map(|&v| p(v)).collect(),
+            human_groups: groups,
+            human_radius: world.humans.radius as f32,
+            robots,
+            intents,
+            fans: Vec::new(),
+            events,
+            fleet_metrics,
+            robot_metrics,
+        });
+    }
+}

@@ -1,0 +1,519 @@
+//! gapfleet's Rerun dashboards: the warehouse, people, robots, their intents, events and the
+//! fleet's social metrics, to any mix of sinks (an .rrd file, the web viewer served from the
+//! binary, a running `rerun` viewer, a spawned one).
+//!
+//! Callers hand over plain-data [`Frame`]s; one logging thread, fed by a bounded channel, turns
+//! them into Rerun archetypes. When the sinks cannot keep up, frames are dropped and counted:
+//! the simulation never waits for drawing.
+//!
+//! Entities (timelines `tick` and `sim_time`):
+//! - `map/shelves`, `map/walls`, `map/stations` (static)
+//! - `world/humans` (points coloured by group), `world/robots` (points labelled "id planner"),
+//!   `world/robots/heading` (arrows), `world/intents` (planned paths), `world/subgoals`,
+//!   `world/fan/<robot>` (PGP candidates coloured by survival, when the planner shares them),
+//!   `world/events` (markers)
+//! - `events` (text log)
+//! - `metrics/fleet/<name>` and `metrics/robot/<id>/<name>` (scalars)
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, SyncSender, TrySendError, sync_channel};
+use std::thread::JoinHandle;
+
+/// A point in the world frame (metres).
+pub type P = [f32; 2];
+
+/// Where recordings go. Several at once are fine.
+#[derive(Debug, Clone, Default)]
+pub struct Sinks {
+    /// Save to this .rrd file.
+    pub rrd: Option<PathBuf>,
+    /// Serve the web viewer from this process (the URL is in [`Dashboard::web_url`]).
+    pub web: bool,
+    /// Stream to a running viewer, e.g. `rerun+http://127.0.0.1:9876/proxy`.
+    pub connect: Option<String>,
+    /// Spawn a native `rerun` viewer (needs `rerun` on PATH) and stream to it.
+    pub spawn: bool,
+}
+
+impl Sinks {
+    /// Whether any sink is asked for.
+    pub fn any(&self) -> bool {
+        self.rrd.is_some() || self.web || self.connect.is_some() || self.spawn
+    }
+}
+
+/// The static site.
+#[derive(Debug, Clone, Default)]
+pub struct MapFrame {
+    /// Closed polygons (shelves).
+    pub shelves: Vec<Vec<P>>,
+    /// Wall segments.
+    pub walls: Vec<[P; 2]>,
+    /// Stations with labels.
+    pub stations: Vec<(P, String)>,
+}
+
+/// One robot as drawn.
+#[derive(Debug, Clone)]
+pub struct RobotView {
+    /// Robot id.
+    pub id: u32,
+    /// Position.
+    pub position: P,
+    /// Heading (rad).
+    pub heading: f32,
+    /// Body radius (m).
+    pub radius: f32,
+    /// Label suffix, e.g. the planner name.
+    pub planner: String,
+    /// Agent alive.
+    pub alive: bool,
+}
+
+/// A robot's announced intent.
+#[derive(Debug, Clone)]
+pub struct IntentView {
+    /// Robot id.
+    pub robot: u32,
+    /// Planned path.
+    pub path: Vec<P>,
+    /// Subgoal.
+    pub subgoal: P,
+}
+
+/// A PGP candidate fan.
+#[derive(Debug, Clone)]
+pub struct FanView {
+    /// Robot id.
+    pub robot: u32,
+    /// Each candidate's path and final survival probability.
+    pub candidates: Vec<(Vec<P>, f32)>,
+}
+
+/// Something that happened.
+#[derive(Debug, Clone)]
+pub struct EventView {
+    /// Text for the log.
+    pub text: String,
+    /// Where to put a marker, if it happened somewhere.
+    pub position: Option<P>,
+    /// Whether it is bad news (collision, crash).
+    pub warning: bool,
+}
+
+/// One frame of the world.
+#[derive(Debug, Clone, Default)]
+pub struct Frame {
+    /// Simulation tick.
+    pub tick: u64,
+    /// Simulation time (s).
+    pub sim_time: f64,
+    /// People's positions.
+    pub humans: Vec<P>,
+    /// Each person's group.
+    pub human_groups: Vec<u32>,
+    /// People's body radius (m).
+    pub human_radius: f32,
+    /// Robots.
+    pub robots: Vec<RobotView>,
+    /// Intents.
+    pub intents: Vec<IntentView>,
+    /// Candidate fans (empty unless a planner shares them).
+    pub fans: Vec<FanView>,
+    /// Events since the last frame.
+    pub events: Vec<EventView>,
+    /// Fleet-wide series: name → value.
+    pub fleet_metrics: Vec<(&'static str, f64)>,
+    /// Per-robot series: robot → (name → value).
+    pub robot_metrics: Vec<(u32, Vec<(&'static str, f64)>)>,
+}
+
+/// Why the dashboard could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum DashboardError {
+    /// Rerun refused a sink or the recording.
+    #[error("rerun: {0}")]
+    Rerun(String),
+    /// The logging thread could not start.
+    #[error("dashboard thread: {0}")]
+    Thread(#[from] std::io::Error),
+}
+
+fn rerr(e: impl std::fmt::Display) -> DashboardError {
+    DashboardError::Rerun(e.to_string())
+}
+
+/// A running dashboard: send frames, then [`finish`](Dashboard::finish).
+#[derive(Debug)]
+pub struct Dashboard {
+    tx: Option<SyncSender<Frame>>,
+    dropped: Arc<AtomicU64>,
+    logged: Arc<AtomicU64>,
+    thread: Option<JoinHandle<()>>,
+    web_url: Option<String>,
+}
+
+/// Frames queued before new ones are dropped.
+pub const QUEUE_FRAMES: usize = 64;
+
+/// Counts after the dashboard finished.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DashboardStats {
+    /// Frames logged.
+    pub logged: u64,
+    /// Frames dropped because the logging thread was behind.
+    pub dropped: u64,
+}
+
+impl Dashboard {
+    /// Opens the sinks, logs the static map and the blueprint, and starts the logging thread.
+    pub fn start(app: &'static str, sinks: &Sinks, map: MapFrame) -> Result<Self, DashboardError> {
+        let mut sink_list: Vec<Box<dyn rerun::sink::LogSink>> = Vec::new();
+        let mut web_url = None;
+        let mut web_server = None;
+        if let Some(path) = &sinks.rrd {
+            sink_list.push(Box::new(rerun::sink::FileSink::new(path).map_err(rerr)?));
+        }
+        if let Some(url) = &sinks.connect {
+            let uri: rerun::external::re_uri::ProxyUri = url.parse().map_err(rerr)?;
+            sink_list.push(Box::new(rerun::sink::GrpcSink::new(uri)));
+        }
+        if sinks.spawn {
+            rerun::spawn(&rerun::SpawnOptions::default()).map_err(rerr)?;
+            let uri: rerun::external::re_uri::ProxyUri = format!(
+                "rerun+http://127.0.0.1:{}/proxy",
+                rerun::DEFAULT_SERVER_PORT
+            )
+            .parse()
+            .map_err(rerr)?;
+            sink_list.push(Box::new(rerun::sink::GrpcSink::new(uri)));
+        }
+        if sinks.web {
+            let grpc_port = free_port()?;
+            let server = rerun::grpc_server::GrpcServerSink::new(
+                "127.0.0.1",
+                grpc_port,
+                rerun::ServerOptions::default(),
+            )
+            .map_err(rerr)?;
+            let grpc_url = format!("rerun+http://127.0.0.1:{grpc_port}/proxy");
+            let web = rerun::web_viewer::WebViewerConfig {
+                bind_ip: "127.0.0.1".to_owned(),
+                connect_to: vec![grpc_url],
+                open_browser: false,
+                ..Default::default()
+            }
+            .host_web_viewer()
+            .map_err(rerr)?;
+            web_url = Some(format!(
+                "{}?url=rerun%2Bhttp%3A%2F%2F127.0.0.1%3A{grpc_port}%2Fproxy",
+                web.server_url()
+            ));
+            web_server = Some(web);
+            sink_list.push(Box::new(server));
+        }
+        let rec = rerun::RecordingStreamBuilder::new(app)
+            .set_sinks(sink_list)
+            .map_err(rerr)?;
+        blueprint()
+            .send(
+                &rec,
+                rerun::blueprint::BlueprintActivation {
+                    make_active: true,
+                    make_default: true,
+                },
+            )
+            .map_err(rerr)?;
+        log_map(&rec, &map).map_err(rerr)?;
+
+        let (tx, rx) = sync_channel::<Frame>(QUEUE_FRAMES);
+        let dropped = Arc::new(AtomicU64::new(0));
+        let logged = Arc::new(AtomicU64::new(0));
+        let (dropped_in, logged_in) = (dropped.clone(), logged.clone());
+        let thread = std::thread::Builder::new()
+            .name("dashboard".to_owned())
+            .spawn(move || {
+                let _web = web_server;
+                run(&rec, &rx, &dropped_in, &logged_in);
+                if let Err(e) = rec.flush_blocking() {
+                    tracing::warn!("dashboard flush: {e}");
+                }
+            })?;
+        Ok(Self {
+            tx: Some(tx),
+            dropped,
+            logged,
+            thread: Some(thread),
+            web_url,
+        })
+    }
+
+    /// Queues a frame, or drops and counts it if the logging thread is behind. Never blocks.
+    pub fn send(&self, frame: Frame) {
+        if let Some(tx) = &self.tx {
+            match tx.try_send(frame) {
+                Ok(()) => {}
+                Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
+                    self.dropped.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+        }
+    }
+
+    /// Frames dropped so far.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+
+    /// The served web viewer's URL, with `--web`.
+    pub fn web_url(&self) -> Option<&str> {
+        self.web_url.as_deref()
+    }
+
+    /// Logs what is queued, flushes every sink and stops the thread.
+    pub fn finish(mut self) -> DashboardStats {
+        self.stop()
+    }
+
+    fn stop(&mut self) -> DashboardStats {
+        self.tx = None;
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+        DashboardStats {
+            logged: self.logged.load(Ordering::Relaxed),
+            dropped: self.dropped.load(Ordering::Relaxed),
+        }
+    }
+}
+
+impl Drop for Dashboard {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+fn free_port() -> std::io::Result<u16> {
+    Ok(std::net::TcpListener::bind("127.0.0.1:0")?
+        .local_addr()?
+        .port())
+}
+
+/// The layout: the map on the left; metric plots and the event log on the right.
+fn blueprint() -> rerun::blueprint::Blueprint {
+    use rerun::blueprint::{
+        Blueprint, Horizontal, Spatial2DView, TextLogView, TimeSeriesView, Vertical,
+    };
+    let plot = |name: &str, metric: &str| {
+        TimeSeriesView::new(name).with_contents([
+            format!("/metrics/fleet/{metric}"),
+            format!("/metrics/robot/*/{metric}"),
+        ])
+    };
+    Blueprint::new(
+        Horizontal::new([
+            Spatial2DView::new("warehouse")
+                .with_contents(["/map/**", "/world/**"])
+                .into(),
+            Vertical::new([
+                Horizontal::new([
+                    plot("space violations (SVR)", "svr").into(),
+                    plot("collision rate", "collision_rate").into(),
+                ])
+                .into(),
+                Horizontal::new([
+                    plot("min human distance (m)", "min_human_distance").into(),
+                    plot("social force", "social_force").into(),
+                ])
+                .into(),
+                Horizontal::new([
+                    TimeSeriesView::new("tasks / min, live agents")
+                        .with_contents([
+                            "/metrics/fleet/tasks_per_minute",
+                            "/metrics/fleet/live_agents",
+                        ])
+                        .into(),
+                    TimeSeriesView::new("planner p99 (µs), dropped frames")
+                        .with_contents([
+                            "/metrics/fleet/planner_p99_us",
+                            "/metrics/fleet/dropped_frames",
+                            "/metrics/fleet/stale_commands",
+                        ])
+                        .into(),
+                ])
+                .into(),
+                TextLogView::new("events").with_contents(["/events"]).into(),
+            ])
+            .into(),
+        ])
+        .with_column_shares([0.55, 0.45]),
+    )
+}
+
+fn log_map(rec: &rerun::RecordingStream, map: &MapFrame) -> rerun::RecordingStreamResult<()> {
+    let shelves: Vec<Vec<P>> = map
+        .shelves
+        .iter()
+        .map(|poly| {
+            let mut closed = poly.clone();
+            if let Some(&first) = poly.first() {
+                closed.push(first);
+            }
+            closed
+        })
+        .collect();
+    rec.log_static(
+        "map/shelves",
+        &rerun::LineStrips2D::new(shelves).with_colors([rerun::Color::from_rgb(140, 110, 70)]),
+    )?;
+    rec.log_static(
+        "map/walls",
+        &rerun::LineStrips2D::new(map.walls.iter().map(|w| w.to_vec()))
+            .with_colors([rerun::Color::from_rgb(90, 90, 90)]),
+    )?;
+    rec.log_static(
+        "map/stations",
+        &rerun::Points2D::new(map.stations.iter().map(|s| s.0))
+            .with_labels(map.stations.iter().map(|s| s.1.clone()))
+            .with_radii([0.25])
+            .with_colors([rerun::Color::from_rgb(60, 160, 220)]),
+    )?;
+    Ok(())
+}
+
+const GROUP_COLOURS: [(u8, u8, u8); 10] = [
+    (230, 159, 0),
+    (86, 180, 233),
+    (0, 158, 115),
+    (240, 228, 66),
+    (204, 121, 167),
+    (213, 94, 0),
+    (0, 114, 178),
+    (170, 170, 170),
+    (120, 200, 120),
+    (200, 120, 200),
+];
+
+/// Red (survival 0) to green (survival 1).
+fn survival_colour(p: f32) -> rerun::Color {
+    let p = p.clamp(0.0, 1.0);
+    rerun::Color::from_rgb((255.0 * (1.0 - p)) as u8, (200.0 * p) as u8, 40)
+}
+
+fn run(
+    rec: &rerun::RecordingStream,
+    rx: &Receiver<Frame>,
+    dropped: &AtomicU64,
+    logged: &AtomicU64,
+) {
+    while let Ok(frame) = rx.recv() {
+        if let Err(e) = log_frame(rec, &frame, dropped.load(Ordering::Relaxed)) {
+            tracing::warn!("dashboard: {e}");
+        }
+        logged.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+fn log_frame(
+    rec: &rerun::RecordingStream,
+    f: &Frame,
+    dropped: u64,
+) -> rerun::RecordingStreamResult<()> {
+    rec.set_time_sequence("tick", f.tick as i64);
+    rec.set_duration_secs("sim_time", f.sim_time);
+    rec.log(
+        "world/humans",
+        &rerun::Points2D::new(f.humans.iter().copied())
+            .with_radii([f.human_radius])
+            .with_colors(f.human_groups.iter().map(|&g| {
+                let (r, gr, b) = GROUP_COLOURS[g as usize % GROUP_COLOURS.len()];
+                rerun::Color::from_rgb(r, gr, b)
+            })),
+    )?;
+    rec.log(
+        "world/robots",
+        &rerun::Points2D::new(f.robots.iter().map(|r| r.position))
+            .with_radii(f.robots.iter().map(|r| r.radius))
+            .with_labels(f.robots.iter().map(|r| format!("{} {}", r.id, r.planner)))
+            .with_colors(f.robots.iter().map(|r| {
+                if r.alive {
+                    rerun::Color::from_rgb(30, 30, 220)
+                } else {
+                    rerun::Color::from_rgb(220, 30, 30)
+                }
+            })),
+    )?;
+    rec.log(
+        "world/robots/heading",
+        &rerun::Arrows2D::from_vectors(
+            f.robots
+                .iter()
+                .map(|r| [0.6 * r.heading.cos(), 0.6 * r.heading.sin()]),
+        )
+        .with_origins(f.robots.iter().map(|r| r.position)),
+    )?;
+    rec.log(
+        "world/intents",
+        &rerun::LineStrips2D::new(f.intents.iter().map(|i| i.path.clone()))
+            .with_colors([rerun::Color::from_rgb(80, 80, 255)]),
+    )?;
+    rec.log(
+        "world/subgoals",
+        &rerun::Points2D::new(f.intents.iter().map(|i| i.subgoal))
+            .with_radii([0.12])
+            .with_colors([rerun::Color::from_rgb(255, 0, 255)]),
+    )?;
+    for fan in &f.fans {
+        rec.log(
+            format!("world/fan/{}", fan.robot),
+            &rerun::LineStrips2D::new(fan.candidates.iter().map(|c| c.0.clone()))
+                .with_colors(fan.candidates.iter().map(|c| survival_colour(c.1))),
+        )?;
+    }
+    if !f.events.is_empty() {
+        for e in &f.events {
+            let level = if e.warning { "WARN" } else { "INFO" };
+            rec.log(
+                "events",
+                &rerun::TextLog::new(e.text.clone()).with_level(level),
+            )?;
+        }
+        let placed: Vec<&EventView> = f.events.iter().filter(|e| e.position.is_some()).collect();
+        if !placed.is_empty() {
+            rec.log(
+                "world/events",
+                &rerun::Points2D::new(placed.iter().filter_map(|e| e.position))
+                    .with_radii([0.35])
+                    .with_labels(placed.iter().map(|e| e.text.clone()))
+                    .with_colors(placed.iter().map(|e| {
+                        if e.warning {
+                            rerun::Color::from_rgb(255, 40, 40)
+                        } else {
+                            rerun::Color::from_rgb(40, 200, 40)
+                        }
+                    })),
+            )?;
+        }
+    }
+    for (name, value) in &f.fleet_metrics {
+        rec.log(
+            format!("metrics/fleet/{name}"),
+            &rerun::Scalars::single(*value),
+        )?;
+    }
+    rec.log(
+        "metrics/fleet/dropped_frames",
+        &rerun::Scalars::single(dropped as f64),
+    )?;
+    for (robot, series) in &f.robot_metrics {
+        for (name, value) in series {
+            rec.log(
+                format!("metrics/robot/{robot}/{name}"),
+                &rerun::Scalars::single(*value),
+            )?;
+        }
+    }
+    Ok(())
+}
