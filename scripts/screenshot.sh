@@ -4,7 +4,7 @@
 #   scripts/screenshot.sh [OUT=docs/dashboard.png] [extra demo args...]
 set -euo pipefail
 out="${1:-docs/dashboard.png}"; shift || true
-bin="${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}/release/gapfleet"
+bin="${GAPFLEET_BIN:-${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}/release/gapfleet}"
 [ -x "$bin" ] || { echo "missing $bin: cargo build --release -p coordinator" >&2; exit 1; }
 command -v chromium >/dev/null || { echo "needs Debian's chromium: apt-get install chromium" >&2; exit 1; }
 log=$(mktemp)
@@ -19,13 +19,11 @@ for _ in $(seq 1 100); do
 done
 [ -n "$url" ] || { cat "$log" >&2; echo "the demo printed no dashboard URL" >&2; exit 1; }
 echo "viewer: $url"
-sleep 15  # let the fleet run a while, so the plots have history
 mkdir -p "$(dirname "$out")"
-profile=$(mktemp -d)
-chromium --headless=new --no-sandbox --no-first-run --disable-background-networking \
-    --disable-component-update --disable-sync --disable-quic --user-data-dir="$profile" \
-    --use-angle=swiftshader --enable-unsafe-swiftshader --ignore-gpu-blocklist \
-    --window-size=1600,900 --virtual-time-budget=20000 \
-    --screenshot="$(realpath -m "$out")" "$url" 2>/dev/null
-rm -rf "$profile"
-echo "saved $out"
+# playwright-core drives Debian's chromium; installed outside the work tree.
+node_dir="${GAPFLEET_NODE:-$HOME/.cache/gapfleet-node}"
+[ -d "$node_dir/node_modules/playwright-core" ] ||
+    npm install --silent --no-audit --no-fund --prefix "$node_dir" playwright-core@1.64.1
+# ES modules resolve packages next to the script: run a copy inside the node folder.
+cp "$(dirname "$0")/screenshot.mjs" "$node_dir/screenshot.mjs"
+node "$node_dir/screenshot.mjs" "$url" "$(realpath -m "$out")" "${WAIT_MS:-30000}"

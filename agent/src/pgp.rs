@@ -183,6 +183,12 @@ impl Pgp {
         &self.params
     }
 
+    /// Turns recording of the evaluated fan on or off (debug data only: decisions do not
+    /// depend on it, and off saves its allocations).
+    pub fn set_record_fan(&mut self, on: bool) {
+        self.params.record_fan = on;
+    }
+
     /// One PGP step: evaluate the fan and return the subgoal.
     pub fn plan(
         &mut self,

@@ -311,6 +311,13 @@ impl PlannerStack {
         stack
     }
 
+    /// Whether PGP returns its evaluated fan with each plan (on by default; debug data).
+    pub fn set_record_fan(&mut self, on: bool) {
+        if let Some(pgp) = &mut self.pgp {
+            pgp.set_record_fan(on);
+        }
+    }
+
     /// Which planners run.
     pub fn spec(&self) -> PlannerSpec {
         self.spec

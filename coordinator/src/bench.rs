@@ -3,7 +3,7 @@
 //! same run for comparison.
 
 use crate::demo::{DemoOptions, run_demo};
-use agent::runtime::net::{Role, free_loopback_port, loopback};
+use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
 use anyhow::Result;
 use std::time::{Duration, Instant};
@@ -75,20 +75,8 @@ pub async fn bench_fleet(
 async fn raw_round_trip(count: usize) -> Result<(f64, f64, usize)> {
     let endpoint = format!("tcp/127.0.0.1:{}", free_loopback_port()?);
     let zerr = |e: zenoh::Error| anyhow::anyhow!("raw round trip: {e}");
-    let router = zenoh::open(loopback(
-        Role::Router,
-        std::slice::from_ref(&endpoint),
-        &[],
-    )?)
-    .await
-    .map_err(zerr)?;
-    let client = zenoh::open(loopback(
-        Role::Client,
-        &[],
-        std::slice::from_ref(&endpoint),
-    )?)
-    .await
-    .map_err(zerr)?;
+    let router = open_loopback(Role::Router, &endpoint).await?;
+    let client = open_loopback(Role::Client, &endpoint).await?;
     let payload = vec![0x5a_u8; 1024];
     let queryable = router
         .declare_queryable("gapfleet/bench/echo")

@@ -3,7 +3,7 @@
 //! onset) and the social metrics, fleet-wide and per robot.
 
 use crate::server::{Event, Observer, Status};
-use dashboards::{Dashboard, EventView, Frame, IntentView, MapFrame, P, RobotView, Sinks};
+use dashboards::{Dashboard, EventView, FanView, Frame, IntentView, MapFrame, P, RobotView, Sinks};
 use std::collections::HashSet;
 use world_sim::fleet::{Fleet, FleetEvent};
 use world_sim::metrics::NEAR_MISS_GAP;
@@ -225,7 +225,23 @@ impl Observer for DashboardObserver {
             human_radius: world.humans.radius as f32,
             robots,
             intents,
-            fans: Vec::new(),
+            fans: status
+                .fans
+                .iter()
+                .flatten()
+                .filter(|f| !fleet.is_held(f.robot_id as usize))
+                .map(|f| FanView {
+                    robot: f.robot_id,
+                    candidates: f
+                        .candidates
+                        .iter()
+                        .map(|c| {
+                            let path = c.path.iter().map(|q| [q.0 as f32, q.1 as f32]).collect();
+                            (path, c.survival as f32)
+                        })
+                        .collect(),
+                })
+                .collect(),
             events,
             fleet_metrics,
             robot_metrics,

@@ -6,7 +6,7 @@
 use crate::dashboard::DashboardObserver;
 use crate::server::{CoordinatorConfig, Status, run_coordinator};
 use agent::planner::PlannerSpec;
-use agent::runtime::net::{Role, free_loopback_port, loopback};
+use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
 use anyhow::{Context, Result};
 use std::future::Future;
@@ -74,26 +74,19 @@ pub async fn run_demo(
         Some(e) => e.clone(),
         None => format!("tcp/127.0.0.1:{}", free_loopback_port()?),
     };
-    let router = zenoh::open(loopback(
-        Role::Router,
-        std::slice::from_ref(&endpoint),
-        &[],
-    )?)
-    .await
-    .map_err(|e| anyhow::anyhow!("coordinator session on {endpoint}: {e}"))?;
+    let router = open_loopback(Role::Router, &endpoint).await?;
     tracing::info!("coordinator listening on {endpoint}");
 
     let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
     let mut agents = Vec::new();
     let mut counters = Vec::new();
     for id in 0..fleet.robots() as u32 {
-        let config = loopback(Role::Client, &[], std::slice::from_ref(&endpoint))?;
-        let session = zenoh::open(config)
-            .await
-            .map_err(|e| anyhow::anyhow!("agent {id} session: {e}"))?;
+        let session = open_loopback(Role::Client, &endpoint).await?;
         let c = Arc::new(AgentCounters::default());
         counters.push(c.clone());
-        let agent_config = AgentConfig::new(id, &options.site, options.planner);
+        let mut agent_config = AgentConfig::new(id, &options.site, options.planner);
+        // Fans only travel when someone draws them.
+        agent_config.share_fan = options.sinks.any();
         let mut stop = stop_rx.clone();
         agents.push(tokio::spawn(async move {
             let shutdown = async move {

@@ -299,22 +299,6 @@ fn init_logging(default: &str) {
         .init();
 }
 
-/// Completes on SIGINT or SIGTERM.
-async fn shutdown_signal() {
-    use tokio::signal::unix::{SignalKind, signal};
-    match signal(SignalKind::terminate()) {
-        Ok(mut term) => {
-            tokio::select! {
-                _ = tokio::signal::ctrl_c() => {}
-                _ = term.recv() => {}
-            }
-        }
-        Err(_) => {
-            let _ = tokio::signal::ctrl_c().await;
-        }
-    }
-}
-
 fn runtime() -> Result<tokio::runtime::Runtime> {
     Ok(tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -353,7 +337,7 @@ fn demo(args: DemoArgs) -> Result<()> {
     let mut printed = 0u64;
     let report = runtime()?.block_on(run_demo(
         options,
-        shutdown_signal(),
+        agent::runtime::shutdown_signal(),
         |status| {
             printed += 1;
             if tty {
@@ -422,8 +406,14 @@ fn coordinator_main(args: CoordinatorArgs) -> Result<()> {
             None
         };
         let mut observers = (log, dashboard);
-        let status =
-            run_coordinator(&session, fleet, config_, shutdown_signal(), &mut observers).await?;
+        let status = run_coordinator(
+            &session,
+            fleet,
+            config_,
+            agent::runtime::shutdown_signal(),
+            &mut observers,
+        )
+        .await?;
         if let Some(d) = observers.1 {
             let stats = d.finish();
             eprintln!(

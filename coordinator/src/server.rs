@@ -108,6 +108,8 @@ pub struct Status {
     pub events: Vec<Event>,
     /// Largest planning-time p99 reported by a live agent in its last heartbeat (µs).
     pub planner_p99_us: f64,
+    /// The newest candidate fan of each robot whose agent shares it (index = robot id).
+    pub fans: Vec<Option<schemas::FanMsg>>,
     /// Robots flagged (agent crashed or left), by id.
     pub flagged: Vec<u32>,
 }
@@ -244,6 +246,11 @@ pub async fn run_coordinator(
         .await
         .map_err(zerr("info subscriber"))?;
     let mut planner_p99 = vec![0.0_f64; n];
+    let fan_sub = session
+        .declare_subscriber(keys.every_robot(Channel::Fan))
+        .with(zenoh::handlers::RingChannel::new(1024))
+        .await
+        .map_err(zerr("fan subscriber"))?;
     let mut obs_pubs = Vec::with_capacity(n);
     let mut task_pubs = Vec::with_capacity(n);
     for i in 0..n as u32 {
@@ -346,6 +353,17 @@ pub async fn run_coordinator(
             .filter(|&i| links[i].alive)
             .map(|i| planner_p99[i])
             .fold(0.0, f64::max);
+        // Fans (dashboards only).
+        while let Ok(Some(sample)) = fan_sub.try_recv() {
+            match decode::<schemas::FanMsg>(&sample.payload().to_bytes()) {
+                Ok(fan) if (fan.robot_id as usize) < n => {
+                    let id = fan.robot_id as usize;
+                    status.fans.resize(n, None);
+                    status.fans[id] = Some(fan);
+                }
+                _ => status.rejected += 1,
+            }
+        }
         // Intents.
         while let Ok(Some(sample)) = intent_sub.try_recv() {
             match decode::<IntentMsg>(&sample.payload().to_bytes()) {

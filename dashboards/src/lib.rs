@@ -13,7 +13,8 @@
 //!   `world/fan/<robot>` (PGP candidates coloured by survival, when the planner shares them),
 //!   `world/events` (markers)
 //! - `events` (text log)
-//! - `metrics/fleet/<name>` and `metrics/robot/<id>/<name>` (scalars)
+//! - `metrics/<name>/fleet` and `metrics/<name>/robot/<id>` (scalars), so that one plot per
+//!   metric holds the fleet's series and every robot's (`/metrics/<name>/**`)
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -307,10 +308,7 @@ fn blueprint() -> rerun::blueprint::Blueprint {
         Blueprint, Horizontal, Spatial2DView, TextLogView, TimeSeriesView, Vertical,
     };
     let plot = |name: &str, metric: &str| {
-        TimeSeriesView::new(name).with_contents([
-            format!("/metrics/fleet/{metric}"),
-            format!("/metrics/robot/*/{metric}"),
-        ])
+        TimeSeriesView::new(name).with_contents([format!("/metrics/{metric}/**")])
     };
     Blueprint::new(
         Horizontal::new([
@@ -330,16 +328,13 @@ fn blueprint() -> rerun::blueprint::Blueprint {
                 .into(),
                 Horizontal::new([
                     TimeSeriesView::new("tasks / min, live agents")
-                        .with_contents([
-                            "/metrics/fleet/tasks_per_minute",
-                            "/metrics/fleet/live_agents",
-                        ])
+                        .with_contents(["/metrics/tasks_per_minute/**", "/metrics/live_agents/**"])
                         .into(),
                     TimeSeriesView::new("planner p99 (µs), dropped frames")
                         .with_contents([
-                            "/metrics/fleet/planner_p99_us",
-                            "/metrics/fleet/dropped_frames",
-                            "/metrics/fleet/stale_commands",
+                            "/metrics/planner_p99_us/**",
+                            "/metrics/dropped_frames/**",
+                            "/metrics/stale_commands/**",
                         ])
                         .into(),
                 ])
@@ -499,18 +494,18 @@ fn log_frame(
     }
     for (name, value) in &f.fleet_metrics {
         rec.log(
-            format!("metrics/fleet/{name}"),
+            format!("metrics/{name}/fleet"),
             &rerun::Scalars::single(*value),
         )?;
     }
     rec.log(
-        "metrics/fleet/dropped_frames",
+        "metrics/dropped_frames/fleet",
         &rerun::Scalars::single(dropped as f64),
     )?;
     for (robot, series) in &f.robot_metrics {
         for (name, value) in series {
             rec.log(
-                format!("metrics/robot/{robot}/{name}"),
+                format!("metrics/{name}/robot/{robot}"),
                 &rerun::Scalars::single(*value),
             )?;
         }

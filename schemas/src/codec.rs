@@ -235,6 +235,32 @@ impl Message for CommandMsg {
     }
 }
 
+/// Most candidates in a fan.
+pub const MAX_CANDIDATES: usize = 64;
+
+impl Message for FanMsg {
+    const MAX_BYTES: usize = 256 << 10;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite("stamp", self.stamp)?;
+        bounded("candidates", self.candidates.len(), MAX_CANDIDATES)?;
+        if self.best as usize >= self.candidates.len().max(1) {
+            return Err(DecodeError::Invalid {
+                field: "best",
+                reason: "must index a candidate",
+            });
+        }
+        for c in &self.candidates {
+            bounded("candidates.path", c.path.len(), MAX_SAMPLES)?;
+            for p in &c.path {
+                finite_p("candidates.path", p)?;
+            }
+            finite("candidates.survival", c.survival)?;
+            finite("candidates.expected_utility", c.expected_utility)?;
+        }
+        Ok(())
+    }
+}
+
 impl Message for AgentInfo {
     const MAX_BYTES: usize = 1024;
     fn validate(&self) -> Result<(), DecodeError> {

@@ -7,6 +7,7 @@
 //! | `gapfleet/<site>/robot/<id>/cmd` | agent → coordinator | [`CommandMsg`](crate::CommandMsg) |
 //! | `gapfleet/<site>/robot/<id>/task` | coordinator → agent | [`TaskAssignment`](crate::TaskAssignment) |
 //! | `gapfleet/<site>/robot/<id>/info` | agent → fleet | [`AgentInfo`](crate::AgentInfo) |
+//! | `gapfleet/<site>/robot/<id>/fan` | agent → dashboards (opt-in) | [`FanMsg`](crate::FanMsg) |
 //! | `gapfleet/<site>/alive/<id>` | agent (liveliness token) | none |
 //! | `gapfleet/<site>/metrics` | coordinator → fleet | [`FleetMetrics`](crate::FleetMetrics) |
 //! | `gapfleet/<site>/map` | coordinator (queryable) | [`MapMsg`](crate::MapMsg) |
@@ -31,16 +32,19 @@ pub enum Channel {
     Task,
     /// The agent's heartbeat.
     Info,
+    /// PGP's candidate fan, when the agent shares it.
+    Fan,
 }
 
 impl Channel {
     /// Every channel.
-    pub const ALL: [Channel; 5] = [
+    pub const ALL: [Channel; 6] = [
         Channel::Obs,
         Channel::Intent,
         Channel::Cmd,
         Channel::Task,
         Channel::Info,
+        Channel::Fan,
     ];
 
     /// The last chunk of the key.
@@ -51,6 +55,7 @@ impl Channel {
             Channel::Cmd => "cmd",
             Channel::Task => "task",
             Channel::Info => "info",
+            Channel::Fan => "fan",
         }
     }
 }

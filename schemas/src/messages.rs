@@ -158,6 +158,33 @@ pub struct AgentInfo {
     pub plan_p99_us: f64,
 }
 
+/// One candidate of PGP's fan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FanCandidate {
+    /// Sampled path (t = 0, dt, 2dt, …).
+    pub path: Vec<P2>,
+    /// Survival probability at the end of the horizon (Eq. 5).
+    pub survival: f64,
+    /// Expected utility (Eq. 8).
+    pub expected_utility: f64,
+}
+
+/// Agent → dashboards, key `…/robot/<id>/fan`, only when the agent shares it (debugging,
+/// dashboards): PGP's evaluated candidates of one plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FanMsg {
+    /// The planning robot.
+    pub robot_id: u32,
+    /// The observation planned on.
+    pub obs_seq: u64,
+    /// Its `sim_time`.
+    pub stamp: f64,
+    /// Index of the chosen candidate.
+    pub best: u32,
+    /// Every candidate.
+    pub candidates: Vec<FanCandidate>,
+}
+
 /// Coordinator → agent, key `…/robot/<id>/task`: a pick/drop job.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TaskAssignment {

@@ -118,6 +118,22 @@ fn metrics() -> FleetMetrics {
     }
 }
 
+fn fan() -> FanMsg {
+    FanMsg {
+        robot_id: 3,
+        obs_seq: 17,
+        stamp: 12.5,
+        best: 1,
+        candidates: (0..3)
+            .map(|k| FanCandidate {
+                path: (0..33).map(|i| P2(0.25 * i as f64, k as f64)).collect(),
+                survival: 0.9 - 0.1 * k as f64,
+                expected_utility: 5.0 + k as f64,
+            })
+            .collect(),
+    }
+}
+
 fn map() -> MapMsg {
     MapMsg {
         map_version: 1,
@@ -156,6 +172,23 @@ fn every_message_round_trips() {
     round_trip(task());
     round_trip(metrics());
     round_trip(map());
+    round_trip(fan());
+}
+
+#[test]
+fn fan_rules_are_enforced() {
+    let mut f = fan();
+    f.best = 3;
+    assert!(matches!(
+        decode::<FanMsg>(&encode(&f)),
+        Err(DecodeError::Invalid { field: "best", .. })
+    ));
+    let mut f = fan();
+    f.candidates[2].path[5].1 = f64::NAN;
+    assert_eq!(
+        decode::<FanMsg>(&encode(&f)),
+        Err(DecodeError::NonFinite("candidates.path"))
+    );
 }
 
 /// What a client in another language sees: a map with `v` first and the documented names.

@@ -71,11 +71,11 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/world/robots",
         "/world/intents",
         "/events",
-        "/metrics/fleet/svr",
-        "/metrics/fleet/collision_rate",
-        "/metrics/fleet/tasks_per_minute",
-        "/metrics/robot/0/svr",
-        "/metrics/robot/2/min_human_distance",
+        "/metrics/svr/fleet",
+        "/metrics/collision_rate/fleet",
+        "/metrics/tasks_per_minute/fleet",
+        "/metrics/svr/robot/0",
+        "/metrics/min_human_distance/robot/2",
     ] {
         assert!(
             listing.contains(entity),

@@ -14,7 +14,12 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
     let mut stacks: Vec<PlannerStack> = world
         .robots
         .iter()
-        .map(|_| PlannerStack::new(planner))
+        .map(|_| {
+            // Batch runs draw nothing: no fan recording.
+            let mut stack = PlannerStack::new(planner);
+            stack.set_record_fan(false);
+            stack
+        })
         .collect();
     let mut recorders: Vec<MetricsRecorder> = (0..world.robots.len())
         .map(|i| MetricsRecorder::new(&world, i))

@@ -349,7 +349,11 @@ pub fn run_fleet(
     let mut fleet = Fleet::new(scenario)?;
     fleet.share_intents = share_intents;
     let mut stacks: Vec<PlannerStack> = (0..fleet.robots())
-        .map(|_| PlannerStack::new(planner))
+        .map(|_| {
+            let mut stack = PlannerStack::new(planner);
+            stack.set_record_fan(false);
+            stack
+        })
         .collect();
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut commands = vec![Command::STOP; fleet.robots()];

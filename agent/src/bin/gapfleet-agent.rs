@@ -28,6 +28,9 @@ struct Args {
     /// Safe-stop after this many milliseconds without observations.
     #[arg(long, default_value_t = agent::runtime::DEFAULT_OBS_TIMEOUT.as_millis() as u64)]
     obs_timeout_ms: u64,
+    /// Publish PGP's candidate fan with every plan, for dashboards (…/robot/<id>/fan).
+    #[arg(long)]
+    share_fan: bool,
     #[command(flatten)]
     net: NetArgs,
 }
@@ -51,8 +54,15 @@ async fn main() -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
     let mut agent_config = AgentConfig::new(args.robot_id, &args.site, args.planner);
     agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
+    agent_config.share_fan = args.share_fan;
     let counters = Arc::new(AgentCounters::default());
-    run_agent(&session, agent_config, counters.clone(), shutdown_signal()).await?;
+    run_agent(
+        &session,
+        agent_config,
+        counters.clone(),
+        agent::runtime::shutdown_signal(),
+    )
+    .await?;
     session
         .close()
         .await
@@ -64,20 +74,4 @@ async fn main() -> anyhow::Result<()> {
         counters.rejected.load(std::sync::atomic::Ordering::Relaxed)
     );
     Ok(())
-}
-
-/// Completes on SIGINT or SIGTERM.
-async fn shutdown_signal() {
-    use tokio::signal::unix::{SignalKind, signal};
-    match signal(SignalKind::terminate()) {
-        Ok(mut term) => {
-            tokio::select! {
-                _ = tokio::signal::ctrl_c() => {}
-                _ = term.recv() => {}
-            }
-        }
-        Err(_) => {
-            let _ = tokio::signal::ctrl_c().await;
-        }
-    }
 }

@@ -38,6 +38,8 @@ pub struct AgentConfig {
     pub planner: PlannerSpec,
     /// Safe-stop when no observation arrived for this long.
     pub obs_timeout: Duration,
+    /// Publish PGP's candidate fan with every plan (`…/robot/<id>/fan`, for dashboards).
+    pub share_fan: bool,
 }
 
 impl AgentConfig {
@@ -48,6 +50,7 @@ impl AgentConfig {
             site: site.to_owned(),
             planner,
             obs_timeout: DEFAULT_OBS_TIMEOUT,
+            share_fan: false,
         }
     }
 }
@@ -97,6 +100,10 @@ pub async fn run_agent(
         .declare_publisher(keys.robot(id, Channel::Info))
         .await
         .map_err(zerr("info publisher"))?;
+    let fan_pub = session
+        .declare_publisher(keys.robot(id, Channel::Fan))
+        .await
+        .map_err(zerr("fan publisher"))?;
     let obs_sub = session
         .declare_subscriber(keys.robot(id, Channel::Obs))
         .await
@@ -104,6 +111,7 @@ pub async fn run_agent(
 
     let planner_name = config.planner.to_string();
     let mut stack = PlannerStack::new(config.planner);
+    stack.set_record_fan(config.share_fan);
     let mut map: Option<(u32, StaticMap)> = None;
     let mut last_map_attempt: Option<Instant> = None;
     let mut last: Option<(u64, f64)> = None; // seq and stamp of the newest observation
@@ -177,6 +185,12 @@ pub async fn run_agent(
                         if let Err(e) = intent_pub.put(encode(&intent)).await {
                             tracing::warn!(robot = id, "intent not sent: {e}");
                         }
+                        if let (true, Some(fan)) = (config.share_fan, &plan.fan) {
+                            let msg = wire::fan(&obs, fan);
+                            if let Err(e) = fan_pub.put(encode(&msg)).await {
+                                tracing::debug!(robot = id, "fan not sent: {e}");
+                            }
+                        }
                         cmd
                     }
                     // Idle, or no map yet: stand still.
@@ -217,6 +231,22 @@ pub async fn run_agent(
     drop(token);
     tracing::info!(robot = id, "agent down");
     Ok(())
+}
+
+/// Completes on SIGINT or SIGTERM: the shutdown of every gapfleet process.
+pub async fn shutdown_signal() {
+    use tokio::signal::unix::{SignalKind, signal};
+    match signal(SignalKind::terminate()) {
+        Ok(mut term) => {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = term.recv() => {}
+            }
+        }
+        Err(_) => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
 }
 
 /// The runtime failed to set itself up (the session refused a declaration).

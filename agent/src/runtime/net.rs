@@ -120,6 +120,20 @@ pub fn loopback(
     Ok(c)
 }
 
+/// Opens a loopback session at `endpoint`: a router listening there, or a client connecting
+/// to it.
+pub async fn open_loopback(role: Role, endpoint: &str) -> Result<zenoh::Session, ConfigError> {
+    let endpoints = [endpoint.to_owned()];
+    let config = match role {
+        Role::Router => loopback(role, &endpoints, &[])?,
+        Role::Client | Role::Peer => loopback(role, &[], &endpoints)?,
+    };
+    zenoh::open(config).await.map_err(|e| ConfigError {
+        setting: format!("{} session on {endpoint}", role.as_str()),
+        message: e.to_string(),
+    })
+}
+
 /// A free TCP port on 127.0.0.1 (bound and released; good enough for tests and the demo).
 pub fn free_loopback_port() -> std::io::Result<u16> {
     Ok(std::net::TcpListener::bind("127.0.0.1:0")?

@@ -125,6 +125,31 @@ pub fn answer(obs: &Observation, planner: &str, plan: &Plan) -> (CommandMsg, Int
     (cmd, intent)
 }
 
+/// PGP's evaluated fan for the plan answering `obs`.
+pub fn fan(obs: &Observation, fan: &crate::pgp::Fan) -> schemas::FanMsg {
+    schemas::FanMsg {
+        robot_id: obs.robot_id,
+        obs_seq: obs.seq,
+        stamp: obs.sim_time,
+        best: fan.best as u32,
+        candidates: fan
+            .candidates
+            .iter()
+            .take(schemas::codec::MAX_CANDIDATES)
+            .map(|c| schemas::FanCandidate {
+                path: c
+                    .positions
+                    .iter()
+                    .take(schemas::codec::MAX_SAMPLES)
+                    .map(|&v| p2(v))
+                    .collect(),
+                survival: c.survival.last().copied().unwrap_or(1.0),
+                expected_utility: c.expected_utility,
+            })
+            .collect(),
+    }
+}
+
 /// A static map as a wire message.
 pub fn map_to_wire(
     map: &StaticMap,
