@@ -201,10 +201,20 @@ pub fn social_force_pair(
 }
 
 /// Wall points as PySocialForce samples them: `int(length · resolution)` points from start to
-/// end inclusive, per obstacle line.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// end inclusive, per obstacle line. Optionally indexed by a grid ([`indexed`](Self::indexed))
+/// so that the obstacle force visits only nearby points; the result is bit-identical to the
+/// full scan (same points, same order).
+#[derive(Debug, Clone, Default)]
 pub struct ObstaclePoints {
     points: Vec<Vec2>,
+    /// Cell side and grid, when indexed.
+    grid: Option<(Real, PointGrid)>,
+}
+
+impl PartialEq for ObstaclePoints {
+    fn eq(&self, other: &Self) -> bool {
+        self.points == other.points
+    }
 }
 
 impl ObstaclePoints {
@@ -224,7 +234,23 @@ impl ObstaclePoints {
                 ),
             }
         }
-        Self { points }
+        Self { points, grid: None }
+    }
+
+    /// Points given directly (tests, hand-made scenes).
+    pub fn from_points(points: Vec<Vec2>) -> Self {
+        Self { points, grid: None }
+    }
+
+    /// Indexes the points in a grid of cell side `reach`: forces on bodies for which a point
+    /// acts only within `reach` of their centre (PySocialForce's test is
+    /// `‖pos − o‖ − r < threshold + r`, so that is `threshold + 2r`) then visit only the 3 × 3
+    /// cells around the body instead of every point of the map.
+    pub fn indexed(mut self, reach: Real) -> Self {
+        let mut grid = PointGrid::default();
+        grid.build(&self.points, reach);
+        self.grid = Some((reach, grid));
+        self
     }
 
     /// Samples every wall and polygon edge of a map.
@@ -239,15 +265,35 @@ impl ObstaclePoints {
 }
 
 /// `ObstacleForce` on a body at `pos`.
-pub fn obstacle_force(pos: Vec2, points: &[Vec2], radius: Real, p: &ObstacleForceParams) -> Vec2 {
+pub fn obstacle_force(
+    pos: Vec2,
+    obstacles: &ObstaclePoints,
+    radius: Real,
+    p: &ObstacleForceParams,
+) -> Vec2 {
     let threshold = p.threshold + radius;
+    let points = &obstacles.points;
     let mut force = vec2(0.0, 0.0);
-    for o in points {
+    let mut add = |o: &Vec2| {
         let (direction, norm) = normalize(pos - o);
         let dist = norm - radius;
         if dist < threshold {
             force += direction * (-dist / p.sigma).exp();
         }
+    };
+    match &obstacles.grid {
+        // Every point that acts (centre distance < threshold + radius) lies in the 3 × 3 cells
+        // around `pos`; visiting those candidates in index order adds exactly what the full
+        // scan adds, in its order.
+        Some((reach, grid)) if threshold + radius <= *reach => {
+            let mut near: Vec<u32> = Vec::new();
+            grid.for_each_near(pos, |i| near.push(i as u32));
+            near.sort_unstable();
+            for &i in &near {
+                add(&points[i as usize]);
+            }
+        }
+        _ => points.iter().for_each(add),
     }
     force * p.factor
 }
@@ -356,7 +402,7 @@ impl Crowd {
             }
             *force = desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
                 + social * p.social.factor
-                + obstacle_force(pa, obstacles.points(), p.agent_radius, &p.obstacle);
+                + obstacle_force(pa, obstacles, p.agent_radius, &p.obstacle);
         }
         if p.enable_group {
             self.add_group_forces(p, out);
@@ -512,7 +558,7 @@ impl SocialForceAgent {
             self.params.max_speed,
             &m.desired,
         ) + social * m.social.factor
-            + obstacle_force(ego.position, points.points(), ego.radius, &m.obstacle)
+            + obstacle_force(ego.position, &points, ego.radius, &m.obstacle)
     }
 
     /// The velocity command: v + dt·F, capped at v^max, zero within the arrival distance.

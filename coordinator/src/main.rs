@@ -169,7 +169,8 @@ enum Bench {
     },
     /// World steps per second: people walking (robots parked, planners not included).
     World {
-        /// Only the open stage exists so far.
+        /// `open-space` (sized to --density), or a warehouse scenario (built-in name or file;
+        /// --density is then ignored).
         #[arg(long, default_value = "open-space")]
         scenario: String,
         /// Number of people.
@@ -701,14 +702,15 @@ fn bench_world(
     steps: usize,
     json: bool,
 ) -> Result<()> {
-    if scenario != "open-space" {
-        bail!("--scenario {scenario:?}: only open-space exists so far");
-    }
     if humans == 0 || steps == 0 || !(density > 0.0 && density <= 3.0) {
         bail!("--humans and --steps must be positive and --density in (0, 3]");
     }
-    let s = Scenario::sized_for(humans, density)?;
-    let mut world = world_sim::world::World::open_space(&s);
+    // The open stage is sized to the density; a warehouse keeps its floor and takes the count.
+    let mut world = if scenario == "open-space" {
+        world_sim::world::World::open_space(&Scenario::sized_for(humans, density)?)
+    } else {
+        world_sim::world::World::from_scenario(&warehouse(scenario, None, Some(humans), None)?)
+    };
     let park = vec![agent::model::Command::STOP; world.robots.len()];
     for _ in 0..20 {
         world.step(&park);
@@ -725,6 +727,10 @@ fn bench_world(
     let median = times[times.len() / 2];
     let mean = times.iter().sum::<f64>() / times.len() as f64;
     let people = world.humans.crowd.len();
+    // People per m² of floor: the open stage's as asked; a warehouse's over its free area.
+    let density = world
+        .site()
+        .map_or(density, |site| people as f64 / site.free_area());
     if json {
         println!(
             "{}",
@@ -735,7 +741,7 @@ fn bench_world(
         );
     } else {
         println!(
-            "{scenario}: {people} people at {density}/m², {steps} steps: median {median:.1} µs/step, mean {mean:.1} µs/step, {:.0} steps/s",
+            "{scenario}: {people} people at {density:.2}/m², {steps} steps: median {median:.1} µs/step, mean {mean:.1} µs/step, {:.0} steps/s",
             steps as f64 / total
         );
     }

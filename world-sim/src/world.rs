@@ -257,7 +257,10 @@ impl World {
             ..SfParams::default()
         };
         let crowd = Crowd::new(positions, velocities, goals, groups, &sf);
-        let obstacle_points = ObstaclePoints::from_map(&layout.map, sf.resolution);
+        // Indexed: a warehouse has tens of thousands of wall points, and a person feels only
+        // those within the obstacle threshold (exact, see `ObstaclePoints::indexed`).
+        let obstacle_points = ObstaclePoints::from_map(&layout.map, sf.resolution)
+            .indexed(sf.obstacle.threshold + 2.0 * sf.agent_radius);
         World {
             time: 0.0,
             step: 0,

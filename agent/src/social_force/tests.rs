@@ -75,11 +75,46 @@ fn obstacle_points_follow_pysocialforce_linspace() {
 fn obstacle_force_hand_computed_single_point() {
     // One point 1 m below: dist = 1 − 0.35 = 0.65 < 3.35, F = 10·exp(−0.65/0.2)·(0, 1).
     let p = SfParams::default().obstacle;
-    let f = obstacle_force(vec2(0.0, 1.0), &[vec2(0.0, 0.0)], 0.35, &p);
+    let one = ObstaclePoints::from_points(vec![vec2(0.0, 0.0)]);
+    let f = obstacle_force(vec2(0.0, 1.0), &one, 0.35, &p);
     assert!((f - vec2(0.0, 10.0 * (-0.65f64 / 0.2).exp())).norm() < EPS);
     // Out of range: nothing.
-    let f = obstacle_force(vec2(0.0, 4.0), &[vec2(0.0, 0.0)], 0.35, &p);
+    let f = obstacle_force(vec2(0.0, 4.0), &one, 0.35, &p);
     assert_eq!(f, vec2(0.0, 0.0));
+}
+
+/// The grid-indexed obstacle force is bit-identical to the full scan, everywhere on a map with
+/// many walls, including bodies outside the points' bounding box.
+#[test]
+fn indexed_obstacle_force_equals_the_full_scan_bit_for_bit() {
+    let p = SfParams::default().obstacle;
+    // A comb of 30 walls, 1.5 m apart.
+    let segments: Vec<(Vec2, Vec2)> = (0..30)
+        .map(|k| {
+            (
+                vec2(0.0, 1.5 * k as Real),
+                vec2(20.0, 1.5 * k as Real + 0.3),
+            )
+        })
+        .collect();
+    let full = ObstaclePoints::from_segments(segments.clone(), 10.0);
+    let radius = 0.35;
+    let indexed = ObstaclePoints::from_segments(segments, 10.0).indexed(p.threshold + 2.0 * radius);
+    let mut checked = 0;
+    for ix in -20..=60 {
+        for iy in -20..=110 {
+            let pos = vec2(0.37 * ix as Real, 0.41 * iy as Real);
+            let a = obstacle_force(pos, &full, radius, &p);
+            let b = obstacle_force(pos, &indexed, radius, &p);
+            assert_eq!(a.x.to_bits(), b.x.to_bits(), "at {pos:?}");
+            assert_eq!(a.y.to_bits(), b.y.to_bits(), "at {pos:?}");
+            checked += usize::from(a != vec2(0.0, 0.0));
+        }
+    }
+    assert!(checked > 2000, "most probes feel a wall ({checked})");
+    // A larger body than the grid was built for falls back to the full scan.
+    let big = obstacle_force(vec2(5.0, 5.0), &indexed, 2.0, &p);
+    assert_eq!(big, obstacle_force(vec2(5.0, 5.0), &full, 2.0, &p));
 }
 
 #[test]
