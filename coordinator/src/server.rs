@@ -441,20 +441,18 @@ pub async fn run_coordinator(
             .clamp(1, outgoing.len().max(1));
         let per_slice = outgoing.len().div_ceil(slices).max(1);
         let gap = tick_wall / (2 * slices as u32);
-        for (k, slice) in outgoing.chunks(per_slice).enumerate() {
-            if k > 0 {
+        for (k, (i, seq, bytes)) in outgoing.into_iter().enumerate() {
+            if k > 0 && k % per_slice == 0 {
                 tokio::time::sleep(gap).await;
             }
-            for (i, seq, bytes) in slice {
-                let link = &mut links[*i];
-                link.sent.push_back((*seq, Instant::now(), false));
-                if link.sent.len() > 16 {
-                    link.sent.pop_front();
-                }
-                status.observations += 1;
-                if let Err(e) = obs_pubs[*i].put(bytes.clone()).await {
-                    tracing::warn!(robot = i, "observation not sent: {e}");
-                }
+            let link = &mut links[i];
+            link.sent.push_back((seq, Instant::now(), false));
+            if link.sent.len() > 16 {
+                link.sent.pop_front();
+            }
+            status.observations += 1;
+            if let Err(e) = obs_pubs[i].put(bytes).await {
+                tracing::warn!(robot = i, "observation not sent: {e}");
             }
         }
         observer.tick(&fleet, &status, &events);
