@@ -264,6 +264,11 @@ impl ObstaclePoints {
     }
 }
 
+thread_local! {
+    /// Candidate wall points of one obstacle-force query, reused between queries.
+    static NEAR: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// `ObstacleForce` on a body at `pos`.
 pub fn obstacle_force(
     pos: Vec2,
@@ -285,14 +290,14 @@ pub fn obstacle_force(
         // Every point that acts (centre distance < threshold + radius) lies in the 3 × 3 cells
         // around `pos`; visiting those candidates in index order adds exactly what the full
         // scan adds, in its order.
-        Some((reach, grid)) if threshold + radius <= *reach => {
-            let mut near: Vec<u32> = Vec::new();
+        Some((reach, grid)) if threshold + radius <= *reach => NEAR.with_borrow_mut(|near| {
+            near.clear();
             grid.for_each_near(pos, |i| near.push(i as u32));
             near.sort_unstable();
-            for &i in &near {
+            for &i in near.iter() {
                 add(&points[i as usize]);
             }
-        }
+        }),
         _ => points.iter().for_each(add),
     }
     force * p.factor
