@@ -11,7 +11,7 @@
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::warehouse::{Site, StationKind};
-use crate::world::World;
+use crate::world::{ROBOT_ID_BIT, World};
 use agent::math::{Real, Vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
@@ -25,8 +25,6 @@ pub const WAYPOINT_REACHED_M: Real = 1.0;
 pub const INTENT_MAX_AGE_S: Real = 1.0;
 /// Random stream of task draws (the world uses 1–3).
 const TASK_STREAM: u64 = 4;
-/// Robot neighbours carry this bit in their id; the low 32 bits are the robot's index.
-pub const ROBOT_ID_BIT: u64 = 1 << 32;
 
 /// A pick/drop job.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

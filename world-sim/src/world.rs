@@ -21,6 +21,9 @@ const NOISE_STREAM: u64 = 3;
 const GROUP_SPREAD_M: Real = 0.6;
 /// People do not spawn closer than this to a robot's start (m).
 const ROBOT_CLEARANCE_M: Real = 1.5;
+/// Perceived robots carry this bit in their neighbour id; the low 32 bits are the robot's
+/// index. People's ids are their index (< 2^32).
+pub const ROBOT_ID_BIT: u64 = 1 << 32;
 /// A group on a multi-leg route moves to its next waypoint when a member is this close to its
 /// current one (m).
 const WAYPOINT_REACHED_M: Real = 1.0;
@@ -397,7 +400,7 @@ impl World {
         }
         for (j, other) in self.robots.iter().enumerate() {
             if j != index && visible(other.state.position) {
-                let id = (1u64 << 32) | j as u64;
+                let id = ROBOT_ID_BIT | j as u64;
                 seen.push(Neighbour::new(
                     id,
                     other.state.position,
