@@ -254,12 +254,12 @@ enum Experiment {
 
 /// A built-in scenario by name, or a scenario file.
 fn load_scenario(name_or_path: &str) -> Result<Scenario> {
-    if let Ok(s) = Scenario::builtin(name_or_path) {
-        return Ok(s);
-    }
     let path = std::path::Path::new(name_or_path);
-    if !path.exists() {
-        return Ok(Scenario::builtin(name_or_path)?);
+    match Scenario::builtin(name_or_path) {
+        Ok(s) => return Ok(s),
+        // Neither a built-in nor a file: the error lists the built-ins.
+        Err(unknown) if !path.exists() => return Err(unknown.into()),
+        Err(_) => {}
     }
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
@@ -516,17 +516,9 @@ fn main() -> Result<()> {
             out,
             scenario,
         }) => {
-            let builtin = scenario
-                .as_ref()
-                .and_then(|s| Scenario::builtin(&s.display().to_string()).ok());
-            let scenario = match (builtin, scenario) {
-                (Some(builtin), _) => builtin,
-                (None, Some(path)) => {
-                    let text = std::fs::read_to_string(&path)
-                        .with_context(|| format!("reading {}", path.display()))?;
-                    Scenario::from_toml(&text, &path.display().to_string())?
-                }
-                (None, None) => Scenario::builtin("open-space")?,
+            let scenario = match &scenario {
+                Some(name_or_path) => load_scenario(&name_or_path.display().to_string())?,
+                None => Scenario::builtin("open-space")?,
             };
             let algorithms = algorithms
                 .iter()
