@@ -279,6 +279,7 @@ pub async fn run_coordinator(
     }
     let mut status = Status {
         robots: n,
+        fans: vec![None; n],
         ..Status::default()
     };
     let mut round_trips_us: Vec<u32> = Vec::new();
@@ -358,7 +359,6 @@ pub async fn run_coordinator(
             match decode::<schemas::FanMsg>(&sample.payload().to_bytes()) {
                 Ok(fan) if (fan.robot_id as usize) < n => {
                     let id = fan.robot_id as usize;
-                    status.fans.resize(n, None);
                     status.fans[id] = Some(fan);
                 }
                 _ => status.rejected += 1,
@@ -584,21 +584,21 @@ pub fn map_message(fleet: &Fleet) -> schemas::MapMsg {
 }
 
 fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> FleetMetrics {
-    let per_robot: Vec<RobotRow> = (0..fleet.robots())
-        .map(|i| {
-            let m = fleet.metrics(i);
-            RobotRow {
-                robot_id: i as u32,
-                alive: links[i].alive,
-                tasks_done: fleet.tasks_done(i),
-                collision_rate: m.collision_rate,
-                svr: m.svr,
-                min_human_distance: m
-                    .min_human_distance_m
-                    .is_finite()
-                    .then_some(m.min_human_distance_m),
-                social_force: m.social_force,
-            }
+    let metrics: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
+    let per_robot: Vec<RobotRow> = metrics
+        .iter()
+        .enumerate()
+        .map(|(i, m)| RobotRow {
+            robot_id: i as u32,
+            alive: links[i].alive,
+            tasks_done: fleet.tasks_done(i),
+            collision_rate: m.collision_rate,
+            svr: m.svr,
+            min_human_distance: m
+                .min_human_distance_m
+                .is_finite()
+                .then_some(m.min_human_distance_m),
+            social_force: m.social_force,
         })
         .collect();
     let mean = |f: &dyn Fn(&RobotRow) -> Real| {
@@ -617,9 +617,7 @@ fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> FleetMetrics
         tasks_done: status.tasks_done,
         collision_rate: mean(&|r| r.collision_rate),
         svr: mean(&|r| r.svr),
-        near_misses: (0..fleet.robots())
-            .map(|i| fleet.metrics(i).robot_near_misses)
-            .sum(),
+        near_misses: metrics.iter().map(|m| m.robot_near_misses).sum(),
         dropped_commands: status.stale_commands,
         per_robot,
     }
