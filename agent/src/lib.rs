@@ -10,6 +10,7 @@
 
 pub mod dwa;
 pub mod grid;
+pub mod igp;
 pub mod map;
 pub mod math;
 pub mod model;

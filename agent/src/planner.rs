@@ -1,9 +1,11 @@
 //! One interface for every planner: [`PlannerStack`] runs an optional long-term planner (PGP)
-//! and a short-term planner (DWA, ORCA or Social Force); PGP's subgoal becomes the short-term
-//! planner's goal. Planners are named as on the command line: `dwa`, `orca`, `sf`,
-//! `pgp+dwa`, `pgp+orca`, `pgp+sf`.
+//! and a short-term planner (DWA, ORCA, Social Force, or one of the foIGP paper's planners);
+//! PGP's subgoal becomes the short-term planner's goal. Planners are named as on the command
+//! line: `dwa`, `orca`, `sf`, `foigp`, `igp-diag`, `igp-lin`, `mc`, each optionally behind
+//! `pgp+` (the PGP paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
 use crate::dwa::{Dwa, DwaParams};
+use crate::igp::{IgpParams, IgpPlanner, IgpVariant};
 use crate::map::StaticMap;
 use crate::math::{Real, Vec2, clamp_norm};
 use crate::model::{Command, EgoState, Intent, Neighbour, Plan, TrajectorySample};
@@ -38,6 +40,8 @@ pub enum LocalKind {
     Orca,
     /// Social Force agent.
     SocialForce,
+    /// First-order interacting Gaussian processes (the foIGP paper's planners).
+    Igp(IgpVariant),
 }
 
 /// Which planners a stack runs.
@@ -81,7 +85,10 @@ impl PlannerSpec {
 
 /// A planner name that is not one of ours.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown planner {0:?}; expected one of dwa, orca, sf, pgp+dwa, pgp+orca, pgp+sf")]
+#[error(
+    "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin or mc, each \
+     optionally behind pgp+ (e.g. pgp+orca)"
+)]
 pub struct UnknownPlanner(pub String);
 
 impl FromStr for PlannerSpec {
@@ -97,6 +104,10 @@ impl FromStr for PlannerSpec {
             "dwa" => LocalKind::Dwa,
             "orca" => LocalKind::Orca,
             "sf" | "social-force" => LocalKind::SocialForce,
+            "foigp" | "igp-full" => LocalKind::Igp(IgpVariant::Full),
+            "igp-diag" => LocalKind::Igp(IgpVariant::Diagonal),
+            "igp-lin" => LocalKind::Igp(IgpVariant::Linear),
+            "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
             _ => return Err(UnknownPlanner(s.to_string())),
         };
         Ok(Self { pgp, local })
@@ -109,6 +120,10 @@ impl fmt::Display for PlannerSpec {
             LocalKind::Dwa => "dwa",
             LocalKind::Orca => "orca",
             LocalKind::SocialForce => "sf",
+            LocalKind::Igp(IgpVariant::Full) => "foigp",
+            LocalKind::Igp(IgpVariant::Diagonal) => "igp-diag",
+            LocalKind::Igp(IgpVariant::Linear) => "igp-lin",
+            LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
         };
         if self.pgp {
             write!(f, "pgp+{local}")
@@ -255,6 +270,22 @@ impl LocalPlanner for SfPlanner {
     }
 }
 
+impl LocalPlanner for IgpPlanner {
+    /// The robot's reach over the GP horizon at its preferred speed.
+    fn subgoal_distance(&self) -> Real {
+        let p = self.params();
+        p.preferred_speed * p.gp.dt * p.gp.steps as Real
+    }
+
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
+        let d = IgpPlanner::plan(self, input.ego, input.neighbours, target, input.dt);
+        LocalPlan {
+            command: d.command,
+            trajectory: d.trajectory,
+        }
+    }
+}
+
 /// A constant-velocity trajectory with σ growth, t = dt..=horizon.
 fn straight(
     start: Vec2,
@@ -292,6 +323,7 @@ impl PlannerStack {
             LocalKind::Dwa => Box::new(Dwa::new(DwaParams::default())),
             LocalKind::Orca => Box::new(OrcaPlanner::new(OrcaParams::default())),
             LocalKind::SocialForce => Box::new(SfPlanner::new(SfAgentParams::default())),
+            LocalKind::Igp(variant) => Box::new(IgpPlanner::new(variant, IgpParams::default())),
         };
         let pgp = spec.pgp.then(|| {
             Pgp::new(PgpParams {
@@ -362,12 +394,16 @@ mod tests {
         for spec in PlannerSpec::STUDY {
             assert_eq!(spec.to_string().parse::<PlannerSpec>(), Ok(spec));
         }
+        for name in ["foigp", "igp-diag", "igp-lin", "mc", "pgp+foigp"] {
+            let spec: PlannerSpec = name.parse().expect("known");
+            assert_eq!(spec.to_string(), name);
+        }
         assert_eq!(
             "PGP+ORCA".parse::<PlannerSpec>().map(|s| s.to_string()),
             Ok("pgp+orca".to_string())
         );
         let err = "pgp+rrt".parse::<PlannerSpec>().unwrap_err();
-        assert!(err.to_string().contains("pgp+rrt") && err.to_string().contains("pgp+sf"));
+        assert!(err.to_string().contains("pgp+rrt") && err.to_string().contains("foigp"));
     }
 
     #[test]

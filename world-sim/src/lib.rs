@@ -6,9 +6,11 @@
 //! planner commands within their limits. Everything random is drawn from seeded streams; there
 //! is no clock and no transport here.
 
+pub mod dataset;
 pub mod episode;
 pub mod fleet;
 pub mod metrics;
+pub mod replay;
 pub mod robot;
 pub mod scenario;
 pub mod warehouse;

@@ -1,0 +1,767 @@
+//! First-order interacting Gaussian processes (foIGP; Trautman & Patel, AAAI 2020,
+//! `shared/papers/foigp-first-order-interacting-gps.md`).
+//!
+//! The robot and every person are Gaussian processes over their future positions: the mean is
+//! the *intent*, the covariance the *flexibility* (Defs. 2–3). They interact only through the
+//! decoupling Λ (Def. 5): for every pair of times (t, τ) the robot at t and a person at τ should
+//! not meet, with a width given by the (t, τ) element of the summed covariances. The planner
+//! maximises log λ (Eq. 6.1) over the robot's and the people's trajectories with Newton's
+//! method from the paper's seeds μ ± {0, 1, 2, 3}σ, on the people that the effective sample size
+//! of the first Newton steps singles out (Defs. 10–11), and drives towards the robot's optimised
+//! position one step ahead.
+//!
+//! Variants, named as in the paper's Tables 1–2: [`IgpVariant::Full`] (IGP_Full, all (t, τ)
+//! pairs), [`IgpVariant::Diagonal`] (IGP_Diag, t = τ only), [`IgpVariant::Linear`] (IGP_Lin: a
+//! person's GP is their constant-velocity line instead of a regression on their history) and
+//! [`IgpVariant::MonteCarlo`] (MC_1e5: the best of 10⁵ joint samples instead of Newton).
+//!
+//! What the paper leaves open, and what we chose (all in [`GpParams`] / [`IgpParams`]):
+//! the GP kernel (a constant-velocity prior mean with a linear-in-time and a squared-exponential
+//! kernel on the deviation from it), the horizon (12 samples at the recordings' 0.4 s), the
+//! robot's prior (a straight line to its goal at its preferred speed), and a damped Newton step
+//! with backtracking where the Hessian is not negative definite (log λ is not concave).
+
+use crate::math::{Real, Vec2, clamp_norm};
+use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
+use nalgebra::{DMatrix, DVector};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+use std::collections::{BTreeMap, VecDeque};
+
+#[cfg(test)]
+mod tests;
+
+/// The agent models: how a person's or the robot's future positions are distributed.
+///
+/// Every trajectory has a prior mean (the constant-velocity line for a person, a straight line
+/// to the goal for the robot) and the kernel
+/// `k(t, τ) = velocity_sigma² · t · τ + deviation_m² · exp(−(t − τ)² / (2 · lengthscale_s²))`
+/// on the deviation from it, conditioned on the positions seen so far (noise `noise_m`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpParams {
+    /// Time between trajectory samples (s): the recordings' 2.5 fps.
+    pub dt: Real,
+    /// Number of future samples T.
+    pub steps: usize,
+    /// Standard deviation of the smooth deviation from the prior line (m).
+    pub deviation_m: Real,
+    /// Time scale of that deviation (s).
+    pub lengthscale_s: Real,
+    /// Standard deviation of a constant velocity offset from the prior line (m/s).
+    pub velocity_sigma: Real,
+    /// Standard deviation of a measured position (m).
+    pub noise_m: Real,
+    /// Past positions (spaced at least `dt` apart) a person's GP is conditioned on.
+    pub history: usize,
+}
+
+impl Default for GpParams {
+    fn default() -> Self {
+        Self {
+            dt: 0.4,
+            steps: 12,
+            deviation_m: 0.3,
+            lengthscale_s: 2.0,
+            velocity_sigma: 0.15,
+            noise_m: 0.05,
+            history: 8,
+        }
+    }
+}
+
+impl GpParams {
+    fn kernel(&self, t: Real, tau: Real) -> Real {
+        let d = t - tau;
+        self.velocity_sigma.powi(2) * t * tau
+            + self.deviation_m.powi(2) * (-d * d / (2.0 * self.lengthscale_s.powi(2))).exp()
+    }
+
+    /// The sample times t_k = k · dt, k = 1..=T.
+    pub fn times(&self) -> impl Iterator<Item = Real> + '_ {
+        (1..=self.steps).map(|k| k as Real * self.dt)
+    }
+}
+
+/// One body's GP over its positions at the sample times: intent μ and flexibility Σ (the same
+/// Σ for x and y).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrajectoryGp {
+    /// μ: mean positions at t_1..t_T.
+    pub mean: Vec<Vec2>,
+    /// Σ: covariance of a coordinate between sample times (T × T), measurement noise included.
+    pub cov: DMatrix<Real>,
+    /// Σ⁻¹.
+    precision: DMatrix<Real>,
+    /// Lower Cholesky factor of Σ, for sampling.
+    chol: DMatrix<Real>,
+}
+
+impl TrajectoryGp {
+    /// The GP of a body whose prior mean is `prior(t)`, conditioned on positions `seen`
+    /// (time relative to now, ≤ 0).
+    fn conditioned(params: &GpParams, prior: impl Fn(Real) -> Vec2, seen: &[(Real, Vec2)]) -> Self {
+        let times: Vec<Real> = params.times().collect();
+        let n = seen.len();
+        let noise = params.noise_m.powi(2);
+        let k_oo = DMatrix::from_fn(n, n, |a, b| {
+            params.kernel(seen[a].0, seen[b].0) + if a == b { noise } else { 0.0 }
+        });
+        let k_so = DMatrix::from_fn(times.len(), n, |a, b| params.kernel(times[a], seen[b].0));
+        let k_ss = DMatrix::from_fn(times.len(), times.len(), |a, b| {
+            params.kernel(times[a], times[b])
+        });
+        let residual = DMatrix::from_fn(n, 2, |a, c| (seen[a].1 - prior(seen[a].0))[c]);
+        // K_oo has the noise on its diagonal, so it is positive definite.
+        let (alpha, reduced) = match k_oo.cholesky() {
+            Some(chol) => (chol.solve(&residual), k_so.clone() * chol.solve(&k_so.transpose())),
+            None => (DMatrix::zeros(n, 2), DMatrix::zeros(times.len(), times.len())),
+        };
+        let shift = &k_so * alpha;
+        let mean = times
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| prior(t) + Vec2::new(shift[(k, 0)], shift[(k, 1)]))
+            .collect();
+        let mut cov = k_ss - reduced;
+        cov = (&cov + cov.transpose()) * 0.5;
+        for k in 0..times.len() {
+            cov[(k, k)] += noise;
+        }
+        Self::from_mean_cov(mean, cov)
+    }
+
+    /// A GP with the given mean and covariance (symmetric positive definite; a little jitter is
+    /// added if the factorisation needs it).
+    pub fn from_mean_cov(mean: Vec<Vec2>, mut cov: DMatrix<Real>) -> Self {
+        let n = cov.nrows();
+        let mut jitter = 1e-9;
+        let chol = loop {
+            if let Some(c) = cov.clone().cholesky() {
+                break c;
+            }
+            for k in 0..n {
+                cov[(k, k)] += jitter;
+            }
+            jitter *= 10.0;
+        };
+        let precision = chol.inverse();
+        Self {
+            mean,
+            cov,
+            precision,
+            chol: chol.l(),
+        }
+    }
+
+    /// A person who is at `position` with `velocity` now and was at `past` before (times
+    /// relative to now, negative): GP regression on the history around the constant-velocity
+    /// line (foIGP, IGP_Diag).
+    pub fn person(params: &GpParams, position: Vec2, velocity: Vec2, past: &[(Real, Vec2)]) -> Self {
+        let mut seen = Vec::with_capacity(past.len() + 1);
+        seen.extend_from_slice(past);
+        seen.push((0.0, position));
+        Self::conditioned(params, |t| position + velocity * t, &seen)
+    }
+
+    /// A person's constant-velocity line with the kernel conditioned on the present position
+    /// only (IGP_Lin's linear prediction model).
+    pub fn linear(params: &GpParams, position: Vec2, velocity: Vec2) -> Self {
+        Self::conditioned(params, |t| position + velocity * t, &[(0.0, position)])
+    }
+
+    /// The robot: a straight line from `position` to `goal` at `speed`, stopping there.
+    pub fn robot(params: &GpParams, position: Vec2, goal: Vec2, speed: Real) -> Self {
+        let to_goal = goal - position;
+        let distance = to_goal.norm();
+        let direction = if distance > 1e-9 {
+            to_goal / distance
+        } else {
+            Vec2::zeros()
+        };
+        Self::conditioned(
+            params,
+            |t| position + direction * (speed * t).min(distance),
+            &[(0.0, position)],
+        )
+    }
+
+    /// σ: the standard deviation of each sample's coordinates.
+    pub fn sigma(&self) -> Vec<Real> {
+        self.cov.diagonal().iter().map(|v| v.sqrt()).collect()
+    }
+
+    fn steps(&self) -> usize {
+        self.mean.len()
+    }
+
+    /// −½ (x − μ)ᵀ Σ⁻¹ (x − μ), both coordinates.
+    fn log_prior(&self, x: &[Vec2]) -> Real {
+        let t = self.steps();
+        let mut sum = 0.0;
+        for a in 0..t {
+            let da = x[a] - self.mean[a];
+            for b in 0..t {
+                sum += self.precision[(a, b)] * da.dot(&(x[b] - self.mean[b]));
+            }
+        }
+        -0.5 * sum
+    }
+}
+
+/// Which (t, τ) pairs couple the robot with a person.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Coupling {
+    /// Every pair (Eq. 5.1): IGP_Full.
+    Full,
+    /// t = τ only ("the diagonals of Equation 5.1"): IGP_Diag.
+    Diagonal,
+}
+
+/// Pairs farther apart than this many (normalised, squared) widths contribute less than e⁻³⁰
+/// to the decoupling and are skipped.
+const U_MAX: Real = 30.0;
+/// Where two means coincide exactly, log(1 − e⁻ᵘ) is −∞; the objective treats u below this as
+/// this, so it stays finite and differentiable.
+const U_MIN: Real = 1e-12;
+
+/// The robot–crowd objective log λ (Eq. 6.1) for one robot and the people it interacts with.
+#[derive(Debug, Clone)]
+pub struct Objective {
+    bodies: Vec<TrajectoryGp>,
+    /// Per person: 1 / σ^{t,τ}_{ℓ+k} (0 where the pair does not couple).
+    inv_width: Vec<DMatrix<Real>>,
+}
+
+/// A point in the objective's domain: the robot's trajectory first, then each person's.
+pub type Trajectories = Vec<Vec<Vec2>>;
+
+impl Objective {
+    /// log λ for `robot` and `people` with the given coupling.
+    pub fn new(robot: TrajectoryGp, people: Vec<TrajectoryGp>, coupling: Coupling) -> Self {
+        let t = robot.steps();
+        let inv_width = people
+            .iter()
+            .map(|p| {
+                DMatrix::from_fn(t, t, |a, b| {
+                    let width = robot.cov[(a, b)] + p.cov[(a, b)];
+                    let coupled = coupling == Coupling::Full || a == b;
+                    if coupled && width > 0.0 {
+                        1.0 / width
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect();
+        let mut bodies = Vec::with_capacity(people.len() + 1);
+        bodies.push(robot);
+        bodies.extend(people);
+        Self { bodies, inv_width }
+    }
+
+    /// The number of people.
+    pub fn people(&self) -> usize {
+        self.bodies.len() - 1
+    }
+
+    /// The means (μ^R, μ^f).
+    pub fn means(&self) -> Trajectories {
+        self.bodies.iter().map(|b| b.mean.clone()).collect()
+    }
+
+    /// μ + k · σ for every body and both coordinates: the paper's Newton seeds.
+    pub fn seed(&self, k: Real) -> Trajectories {
+        self.bodies
+            .iter()
+            .map(|b| {
+                b.mean
+                    .iter()
+                    .zip(b.sigma())
+                    .map(|(m, s)| m + Vec2::new(k * s, k * s))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Eq. 6.1: Σᵢ Σ_t Σ_τ log(1 − Z⁻¹) minus the quadratic prior terms.
+    pub fn value(&self, x: &[Vec<Vec2>]) -> Real {
+        let t = self.bodies[0].steps();
+        let mut f: Real = self.bodies.iter().zip(x).map(|(b, xb)| b.log_prior(xb)).sum();
+        for (i, inv) in self.inv_width.iter().enumerate() {
+            let person = &x[i + 1];
+            for a in 0..t {
+                for b in 0..t {
+                    let c = inv[(a, b)];
+                    if c == 0.0 {
+                        continue;
+                    }
+                    let u = 0.5 * c * (x[0][a] - person[b]).norm_squared();
+                    if u < U_MAX {
+                        f += (-(-u.max(U_MIN)).exp_m1()).ln();
+                    }
+                }
+            }
+        }
+        f
+    }
+
+    /// Gradient and the negated Hessian of log λ at `x`, in the arrow structure the robot–person
+    /// coupling gives it (people do not couple with each other).
+    fn derivatives(&self, x: &[Vec<Vec2>], d: &mut Derivatives) {
+        let t = self.bodies[0].steps();
+        let n = 2 * t;
+        d.reset(self.people(), n);
+        for (k, body) in self.bodies.iter().enumerate() {
+            let block = if k == 0 { &mut d.a_rr } else { &mut d.a_pp[k - 1] };
+            for a in 0..t {
+                let mut g = Vec2::zeros();
+                for b in 0..t {
+                    let p = body.precision[(a, b)];
+                    g -= (x[k][b] - body.mean[b]) * p;
+                    block[(2 * a, 2 * b)] += p;
+                    block[(2 * a + 1, 2 * b + 1)] += p;
+                }
+                d.grad[k][2 * a] += g.x;
+                d.grad[k][2 * a + 1] += g.y;
+            }
+        }
+        for (i, inv) in self.inv_width.iter().enumerate() {
+            let person = &x[i + 1];
+            for a in 0..t {
+                for b in 0..t {
+                    let c = inv[(a, b)];
+                    if c == 0.0 {
+                        continue;
+                    }
+                    let delta = x[0][a] - person[b];
+                    let u = 0.5 * c * delta.norm_squared();
+                    if u >= U_MAX {
+                        continue;
+                    }
+                    let u = u.max(U_MIN);
+                    // g(u) = log(1 − e⁻ᵘ): g' = 1 / (eᵘ − 1), g'' = −eᵘ / (eᵘ − 1)².
+                    let em1 = u.exp_m1();
+                    let g1 = 1.0 / em1;
+                    let g2 = -(em1 + 1.0) / (em1 * em1);
+                    // ∇_Δ g = g' c Δ; ∇²_Δ g = g'' c² Δ Δᵀ + g' c I  (=: M).
+                    let grad = delta * (g1 * c);
+                    let m = delta * delta.transpose() * (g2 * c * c)
+                        + nalgebra::Matrix2::identity() * (g1 * c);
+                    d.grad[0][2 * a] += grad.x;
+                    d.grad[0][2 * a + 1] += grad.y;
+                    d.grad[i + 1][2 * b] -= grad.x;
+                    d.grad[i + 1][2 * b + 1] -= grad.y;
+                    // A = −H: the robot and person diagonal blocks get −M, the cross block +M.
+                    for r in 0..2 {
+                        for s in 0..2 {
+                            d.a_rr[(2 * a + r, 2 * a + s)] -= m[(r, s)];
+                            d.a_pp[i][(2 * b + r, 2 * b + s)] -= m[(r, s)];
+                            d.b[i][(2 * a + r, 2 * b + s)] += m[(r, s)];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The gradient of log λ at `x`, flattened body by body as (x₁, y₁, x₂, y₂, …).
+    pub fn gradient(&self, x: &[Vec<Vec2>]) -> Vec<Real> {
+        let mut d = Derivatives::default();
+        self.derivatives(x, &mut d);
+        d.grad.iter().flat_map(|g| g.iter().copied()).collect()
+    }
+
+    /// The Hessian of log λ at `x` as a dense matrix in the order of [`Objective::gradient`].
+    pub fn hessian(&self, x: &[Vec<Vec2>]) -> DMatrix<Real> {
+        let mut d = Derivatives::default();
+        self.derivatives(x, &mut d);
+        let n = d.a_rr.nrows();
+        let size = n * self.bodies.len();
+        let mut h = DMatrix::zeros(size, size);
+        h.view_mut((0, 0), (n, n)).copy_from(&(-&d.a_rr));
+        for i in 0..self.people() {
+            let o = n * (i + 1);
+            h.view_mut((o, o), (n, n)).copy_from(&(-&d.a_pp[i]));
+            h.view_mut((0, o), (n, n)).copy_from(&(-&d.b[i]));
+            h.view_mut((o, 0), (n, n)).copy_from(&(-d.b[i].transpose()));
+        }
+        h
+    }
+
+    /// The damped Newton step p solving (A + λI) p = ∇ with A = −H, by the Schur complement on
+    /// the robot block. `None` if A + λI is not positive definite.
+    fn newton_step(d: &Derivatives, lambda: Real) -> Option<Vec<DVector<Real>>> {
+        let n = d.a_rr.nrows();
+        let damp = DMatrix::<Real>::identity(n, n) * lambda;
+        let mut schur = &d.a_rr + &damp;
+        let mut rhs = d.grad[0].clone();
+        let mut solved = Vec::with_capacity(d.a_pp.len());
+        for (i, a_pp) in d.a_pp.iter().enumerate() {
+            let chol = (a_pp + &damp).cholesky()?;
+            let y = chol.solve(&d.b[i].transpose());
+            let g = chol.solve(&d.grad[i + 1]);
+            schur -= &d.b[i] * &y;
+            rhs -= &d.b[i] * &g;
+            solved.push((y, g));
+        }
+        let p_robot = schur.cholesky()?.solve(&rhs);
+        let mut step = Vec::with_capacity(solved.len() + 1);
+        for (y, g) in &solved {
+            step.push(g - y * &p_robot);
+        }
+        step.insert(0, p_robot);
+        Some(step)
+    }
+
+    /// The first Newton step's length at the means (Δx of the ESS, Def. 10).
+    pub fn first_step_length(&self) -> Real {
+        let x = self.means();
+        let mut d = Derivatives::default();
+        self.derivatives(&x, &mut d);
+        if d.grad.iter().all(|g| g.iter().all(|&v| v == 0.0)) {
+            return 0.0;
+        }
+        DAMPING
+            .iter()
+            .find_map(|&lambda| Self::newton_step(&d, lambda))
+            .map_or(0.0, |p| p.iter().map(|v| v.norm_squared()).sum::<Real>().sqrt())
+    }
+
+    /// Newton's method from `x` (damped where the Hessian is not negative definite, with
+    /// backtracking): a local maximum of log λ and its value.
+    pub fn maximise(&self, mut x: Trajectories, options: &NewtonOptions) -> (Trajectories, Real) {
+        let mut d = Derivatives::default();
+        let mut f = self.value(&x);
+        for _ in 0..options.max_iterations {
+            self.derivatives(&x, &mut d);
+            let grad_max = d.grad.iter().flat_map(|g| g.iter()).fold(0.0, |m: Real, v| m.max(v.abs()));
+            if grad_max < options.gradient_tolerance {
+                break;
+            }
+            let mut moved = None;
+            for &lambda in &DAMPING {
+                let Some(p) = Self::newton_step(&d, lambda) else {
+                    continue;
+                };
+                let slope: Real = p.iter().zip(&d.grad).map(|(p, g)| p.dot(g)).sum();
+                let mut alpha = 1.0;
+                while alpha > 1e-4 {
+                    let candidate = step_by(&x, &p, alpha);
+                    let fc = self.value(&candidate);
+                    if fc >= f + 1e-4 * alpha * slope {
+                        let length = alpha * p.iter().map(|v| v.amax()).fold(0.0, Real::max);
+                        moved = Some((candidate, fc, length));
+                        break;
+                    }
+                    alpha *= 0.5;
+                }
+                if moved.is_some() {
+                    break;
+                }
+            }
+            let Some((candidate, fc, length)) = moved else {
+                break;
+            };
+            x = candidate;
+            f = fc;
+            if length < options.step_tolerance {
+                break;
+            }
+        }
+        (x, f)
+    }
+
+    /// The best of `samples` joint draws from the bodies' GPs (MC_1e5).
+    pub fn best_sample(&self, samples: usize, rng: &mut ChaCha8Rng) -> (Trajectories, Real) {
+        let mut best = (self.means(), self.value(&self.means()));
+        let mut x = self.means();
+        let mut z = Vec::new();
+        for _ in 0..samples {
+            for (body, xb) in self.bodies.iter().zip(x.iter_mut()) {
+                let t = body.steps();
+                z.clear();
+                z.extend((0..t).map(|_| {
+                    let zx: Real = StandardNormal.sample(rng);
+                    let zy: Real = StandardNormal.sample(rng);
+                    Vec2::new(zx, zy)
+                }));
+                for a in 0..t {
+                    let mut p = body.mean[a];
+                    for (b, zb) in z.iter().enumerate().take(a + 1) {
+                        p += zb * body.chol[(a, b)];
+                    }
+                    xb[a] = p;
+                }
+            }
+            let f = self.value(&x);
+            if f > best.1 {
+                best = (x.clone(), f);
+            }
+        }
+        best
+    }
+}
+
+/// Damping tried in turn until A + λI is positive definite and the step climbs.
+const DAMPING: [Real; 9] = [0.0, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4];
+
+fn step_by(x: &[Vec<Vec2>], p: &[DVector<Real>], alpha: Real) -> Trajectories {
+    x.iter()
+        .zip(p)
+        .map(|(xb, pb)| {
+            xb.iter()
+                .enumerate()
+                .map(|(a, v)| v + Vec2::new(pb[2 * a], pb[2 * a + 1]) * alpha)
+                .collect()
+        })
+        .collect()
+}
+
+/// Gradient and A = −H in blocks: robot, each person, and robot × person.
+#[derive(Debug, Default)]
+struct Derivatives {
+    grad: Vec<DVector<Real>>,
+    a_rr: DMatrix<Real>,
+    a_pp: Vec<DMatrix<Real>>,
+    b: Vec<DMatrix<Real>>,
+}
+
+impl Derivatives {
+    fn reset(&mut self, people: usize, n: usize) {
+        self.grad.resize(people + 1, DVector::zeros(n));
+        self.grad.iter_mut().for_each(|g| *g = DVector::zeros(n));
+        self.a_rr = DMatrix::zeros(n, n);
+        self.a_pp.resize(people, DMatrix::zeros(n, n));
+        self.a_pp.iter_mut().for_each(|m| *m = DMatrix::zeros(n, n));
+        self.b.resize(people, DMatrix::zeros(n, n));
+        self.b.iter_mut().for_each(|m| *m = DMatrix::zeros(n, n));
+    }
+}
+
+/// When Newton's method stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonOptions {
+    /// At most this many iterations.
+    pub max_iterations: usize,
+    /// Stop when every gradient component is below this.
+    pub gradient_tolerance: Real,
+    /// Stop when no coordinate moved more than this (m).
+    pub step_tolerance: Real,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        Self {
+            max_iterations: 30,
+            gradient_tolerance: 1e-6,
+            step_tolerance: 1e-4,
+        }
+    }
+}
+
+/// The effective sample size of the people's first Newton steps (Def. 10) and the people it
+/// keeps: the round(ESS) with the longest steps, longest first.
+pub fn ess_selection(steps: &[Real]) -> (Real, Vec<usize>) {
+    let total: Real = steps.iter().sum();
+    if total <= 0.0 || !total.is_finite() {
+        return (0.0, Vec::new());
+    }
+    let ess = 1.0 / steps.iter().map(|s| (s / total).powi(2)).sum::<Real>();
+    let mut order: Vec<usize> = (0..steps.len()).filter(|&i| steps[i] > 0.0).collect();
+    order.sort_by(|&a, &b| steps[b].total_cmp(&steps[a]).then(a.cmp(&b)));
+    order.truncate((ess.round() as usize).max(1));
+    (ess, order)
+}
+
+/// The planners of the foIGP paper's tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum IgpVariant {
+    /// IGP_Full: people's GPs regressed on their history, every (t, τ) pair coupled.
+    Full,
+    /// IGP_Diag: as Full, but only t = τ coupled.
+    Diagonal,
+    /// IGP_Lin: people's constant-velocity lines, every pair coupled.
+    Linear,
+    /// MC_1e5: the best of 10⁵ joint samples instead of Newton's method.
+    MonteCarlo,
+}
+
+/// The planner's parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IgpParams {
+    /// The agent models.
+    pub gp: GpParams,
+    /// The robot's prior speed along the line to its goal (m/s): the study robot's 1 m/s.
+    pub preferred_speed: Real,
+    /// Commands are capped at this speed (m/s).
+    pub max_speed: Real,
+    /// At most this many people enter the optimisation (the top of the ESS ranking).
+    pub max_people: usize,
+    /// People farther than this are not modelled at all (m).
+    pub range_m: Real,
+    /// Newton stopping rules.
+    pub newton: NewtonOptions,
+    /// Joint samples for MC_1e5.
+    pub samples: usize,
+    /// Seed of MC_1e5's random stream.
+    pub seed: u64,
+}
+
+impl Default for IgpParams {
+    fn default() -> Self {
+        Self {
+            gp: GpParams::default(),
+            preferred_speed: 1.0,
+            max_speed: 1.0,
+            max_people: 8,
+            range_m: 12.0,
+            newton: NewtonOptions::default(),
+            samples: 100_000,
+            seed: 0x1F16_0000,
+        }
+    }
+}
+
+/// What one foIGP plan found, for tests and dashboards.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgpDecision {
+    /// The velocity command.
+    pub command: Command,
+    /// The robot's optimised trajectory with σ.
+    pub trajectory: Vec<TrajectorySample>,
+    /// Neighbour ids that entered the optimisation, most significant first.
+    pub selected: Vec<u64>,
+    /// The effective sample size.
+    pub ess: Real,
+    /// log λ at the optimum.
+    pub log_lambda: Real,
+}
+
+/// The foIGP planner. It keeps each perceived person's recent positions (keyed by neighbour
+/// id, dropped when the person is no longer perceived) for the GP regression, so its plans
+/// depend on the sequence of inputs, deterministically.
+#[derive(Debug, Clone)]
+pub struct IgpPlanner {
+    variant: IgpVariant,
+    params: IgpParams,
+    /// Seconds since the first plan (the sum of the control periods).
+    clock: Real,
+    tracks: BTreeMap<u64, VecDeque<(Real, Vec2)>>,
+    rng: ChaCha8Rng,
+}
+
+impl IgpPlanner {
+    /// A planner of the given variant.
+    pub fn new(variant: IgpVariant, params: IgpParams) -> Self {
+        Self {
+            variant,
+            params,
+            clock: 0.0,
+            tracks: BTreeMap::new(),
+            rng: ChaCha8Rng::seed_from_u64(params.seed),
+        }
+    }
+
+    /// Its parameters.
+    pub fn params(&self) -> &IgpParams {
+        &self.params
+    }
+
+    /// Which variant it is.
+    pub fn variant(&self) -> IgpVariant {
+        self.variant
+    }
+
+    /// Remembers where the perceived people are now; forgets the others.
+    fn track(&mut self, neighbours: &[Neighbour]) {
+        let now = self.clock;
+        let dt = self.params.gp.dt;
+        let keep = self.params.gp.history;
+        self.tracks.retain(|id, _| neighbours.iter().any(|n| n.id == *id));
+        for n in neighbours {
+            let track = self.tracks.entry(n.id).or_default();
+            if track.back().is_none_or(|&(t, _)| now - t >= dt - 1e-9) {
+                track.push_back((now, n.position));
+                while track.len() > keep {
+                    track.pop_front();
+                }
+            }
+        }
+    }
+
+    fn person_gp(&self, n: &Neighbour) -> TrajectoryGp {
+        let gp = &self.params.gp;
+        if self.variant == IgpVariant::Linear {
+            return TrajectoryGp::linear(gp, n.position, n.velocity);
+        }
+        let past: Vec<(Real, Vec2)> = self
+            .tracks
+            .get(&n.id)
+            .into_iter()
+            .flatten()
+            .filter(|(t, _)| *t < self.clock - 1e-9)
+            .map(|&(t, p)| (t - self.clock, p))
+            .collect();
+        TrajectoryGp::person(gp, n.position, n.velocity, &past)
+    }
+
+    /// One plan towards `goal`; `dt` is the time until the next plan.
+    pub fn plan(&mut self, ego: &EgoState, neighbours: &[Neighbour], goal: Vec2, dt: Real) -> IgpDecision {
+        self.track(neighbours);
+        let p = self.params;
+        let robot = TrajectoryGp::robot(&p.gp, ego.position, goal, p.preferred_speed);
+        let coupling = if self.variant == IgpVariant::Diagonal {
+            Coupling::Diagonal
+        } else {
+            Coupling::Full
+        };
+        let near: Vec<&Neighbour> = neighbours
+            .iter()
+            .filter(|n| (n.position - ego.position).norm() <= p.range_m)
+            .collect();
+        let people: Vec<TrajectoryGp> = near.iter().map(|n| self.person_gp(n)).collect();
+        // Def. 10: the first Newton step of each robot–person pair, then the ESS.
+        let steps: Vec<Real> = people
+            .iter()
+            .map(|person| {
+                Objective::new(robot.clone(), vec![person.clone()], coupling).first_step_length()
+            })
+            .collect();
+        let (ess, mut order) = ess_selection(&steps);
+        order.truncate(p.max_people);
+        let selected: Vec<u64> = order.iter().map(|&i| near[i].id).collect();
+        let chosen: Vec<TrajectoryGp> = order.iter().map(|&i| people[i].clone()).collect();
+        let objective = Objective::new(robot, chosen, coupling);
+        let (best, log_lambda) = match self.variant {
+            IgpVariant::MonteCarlo => objective.best_sample(p.samples, &mut self.rng),
+            _ => {
+                // Sec. 6: seeds at (μ^R, μ^f) ± {0, 1, 2, 3}σ; the best local maximum wins.
+                let mut best = objective.maximise(objective.means(), &p.newton);
+                for k in [1.0, -1.0, 2.0, -2.0, 3.0, -3.0] {
+                    let run = objective.maximise(objective.seed(k), &p.newton);
+                    if run.1 > best.1 {
+                        best = run;
+                    }
+                }
+                best
+            }
+        };
+        self.clock += dt;
+        // Def. 11: drive to the optimised position one sample ahead.
+        let velocity = clamp_norm((best[0][0] - ego.position) / p.gp.dt, p.max_speed);
+        let trajectory = best[0]
+            .iter()
+            .zip(objective.bodies[0].sigma())
+            .zip(p.gp.times())
+            .map(|((&position, sigma), t)| TrajectorySample { t, position, sigma })
+            .collect();
+        IgpDecision {
+            command: Command::Velocity(velocity),
+            trajectory,
+            selected,
+            ess,
+            log_lambda,
+        }
+    }
+}

@@ -1,0 +1,431 @@
+//! The foIGP paper's evaluation on recorded crowds (Sec. 7): pick a pedestrian, remove them from
+//! what the planner sees, give the planner their start and goal, and replay everyone else as
+//! recorded (they do not react). The robot is judged against what that person actually did.
+//!
+//! Runs are *partial* (consecutive ≈ 10 m stretches of a pedestrian's path; only start and goal
+//! are given) or *full* (a pedestrian's whole track; as in the paper, the goal at each step is
+//! the person's recorded position one annotation step ahead). Per run: s, the smallest
+//! centre-to-centre distance to any pedestrian; the path lengths d_r (robot) and d_h (the
+//! person); the density of people within 3 m. The "human" row measures the removed person the
+//! same way over their own time window.
+
+use crate::dataset::{Recording, SAMPLE_DT, Track};
+use crate::robot::RobotBody;
+use crate::scenario::RobotSpec;
+use agent::map::{MapError, Obstacle, StaticMap};
+use agent::math::{Real, Vec2};
+use agent::model::{AgentKind, Command, Neighbour};
+use agent::planner::PlanningInput;
+use std::fmt;
+use std::str::FromStr;
+
+/// Partial (≈ 10 m stretches) or full (whole tracks) runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum RunKind {
+    /// Consecutive stretches of `segment_m` of a pedestrian's path; start and goal only.
+    Partial,
+    /// A pedestrian's whole track, the goal following the person one step ahead.
+    Full,
+}
+
+impl FromStr for RunKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "partial" => Ok(Self::Partial),
+            "full" => Ok(Self::Full),
+            other => Err(format!("unknown run kind {other:?}; expected partial or full")),
+        }
+    }
+}
+
+impl fmt::Display for RunKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Partial => "partial",
+            Self::Full => "full",
+        })
+    }
+}
+
+/// How runs are cut and played.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayOptions {
+    /// Simulation step (s); the recording is interpolated to it.
+    pub dt: Real,
+    /// Planners replan this often and hold their command in between (s): the recordings'
+    /// annotation step, as in the paper.
+    pub replan_period: Real,
+    /// Length of a partial run (m).
+    pub segment_m: Real,
+    /// Full runs need at least this much recorded path (m), so d_r / d_h means something.
+    pub min_full_m: Real,
+    /// Radius of the density circle (m).
+    pub density_radius_m: Real,
+    /// The robot perceives people within this range (m), through walls (the recordings have no
+    /// occlusion model).
+    pub sensor_range_m: Real,
+    /// Body radius given to the recorded people (m).
+    pub person_radius_m: Real,
+    /// After the person's own end time, the robot gets this long, or as long as the person
+    /// took, whichever is longer, to arrive (s).
+    pub patience_s: Real,
+    /// The robot.
+    pub robot: RobotSpec,
+}
+
+impl Default for ReplayOptions {
+    fn default() -> Self {
+        Self {
+            dt: 0.1,
+            replan_period: SAMPLE_DT,
+            segment_m: 10.0,
+            min_full_m: 5.0,
+            density_radius_m: 3.0,
+            sensor_range_m: 12.0,
+            person_radius_m: 0.3,
+            patience_s: 10.0,
+            // The PGP study's robot (Table I: 1 m/s), holonomic or unicycle as commanded.
+            robot: RobotSpec {
+                radius_m: 0.3,
+                max_speed: 1.0,
+                max_accel: 1.5,
+                max_yaw_rate: 1.0,
+                max_yaw_accel: 1.5,
+                goal_tolerance_m: 0.5,
+                sensor_range_m: 12.0,
+                position_noise_m: 0.0,
+                velocity_noise: 0.0,
+                occlusion: false,
+            },
+        }
+    }
+}
+
+/// One run: whose place the robot takes, and when and where.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayRun {
+    /// The removed pedestrian.
+    pub pedestrian: u64,
+    /// Partial or full.
+    pub kind: RunKind,
+    /// Which stretch of the pedestrian's path (0 for full runs).
+    pub segment: usize,
+    /// First and last annotation index of the stretch.
+    pub samples: (usize, usize),
+    /// Start time (s).
+    pub t_start: Real,
+    /// The person's arrival time (s).
+    pub t_end: Real,
+    /// Where the person was at `t_start`.
+    pub start: Vec2,
+    /// Where the person was at `t_end`.
+    pub goal: Vec2,
+    /// d_h: the person's annotated path length (m).
+    pub human_path_m: Real,
+}
+
+/// The runs of a recording, by pedestrian id and stretch.
+pub fn runs(recording: &Recording, kind: RunKind, options: &ReplayOptions) -> Vec<ReplayRun> {
+    let mut out = Vec::new();
+    for track in &recording.tracks {
+        let run = |segment, first: usize, last: usize| ReplayRun {
+            pedestrian: track.id,
+            kind,
+            segment,
+            samples: (first, last),
+            t_start: track.samples[first].t,
+            t_end: track.samples[last].t,
+            start: track.samples[first].position,
+            goal: track.samples[last].position,
+            human_path_m: track.path_length(first, last),
+        };
+        match kind {
+            RunKind::Full => {
+                let last = track.samples.len() - 1;
+                if track.path_length(0, last) >= options.min_full_m {
+                    out.push(run(0, 0, last));
+                }
+            }
+            RunKind::Partial => {
+                let (mut first, mut walked, mut segment) = (0, 0.0, 0);
+                for i in 1..track.samples.len() {
+                    walked += (track.samples[i].position - track.samples[i - 1].position).norm();
+                    if walked >= options.segment_m {
+                        out.push(run(segment, first, i));
+                        (first, walked, segment) = (i, 0.0, segment + 1);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// How a run went, for the robot or for the person.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunOutcome {
+    /// Whether the goal was reached before time ran out (always true for the person).
+    pub reached: bool,
+    /// s: the smallest centre-to-centre distance to any pedestrian (m; ∞ if nobody was there).
+    pub min_distance_m: Real,
+    /// d_r (robot) or d_h (person): path length (m).
+    pub path_m: Real,
+    /// d_h, for the ratio.
+    pub human_path_m: Real,
+    /// How long it took (s).
+    pub duration_s: Real,
+    /// Mean over the run of the people within the density radius per m².
+    pub mean_density: Real,
+    /// The largest such density.
+    pub max_density: Real,
+    /// How many plans were made (0 for the person).
+    pub replans: usize,
+}
+
+impl RunOutcome {
+    /// d_r / d_h.
+    pub fn path_ratio(&self) -> Real {
+        self.path_m / self.human_path_m
+    }
+}
+
+/// Running s and density.
+struct Exposure {
+    min_distance: Real,
+    density_sum: Real,
+    density_max: Real,
+    samples: usize,
+    radius: Real,
+}
+
+impl Exposure {
+    fn new(radius: Real) -> Self {
+        Self {
+            min_distance: Real::INFINITY,
+            density_sum: 0.0,
+            density_max: 0.0,
+            samples: 0,
+            radius,
+        }
+    }
+
+    fn record(&mut self, recording: &Recording, t: Real, at: Vec2, skip: u64) {
+        let mut near = 0usize;
+        for (_, p, _) in recording.people_at(t, Some(skip)) {
+            let d = (p - at).norm();
+            self.min_distance = self.min_distance.min(d);
+            if d <= self.radius {
+                near += 1;
+            }
+        }
+        let density = near as Real / (std::f64::consts::PI * self.radius * self.radius);
+        self.density_sum += density;
+        self.density_max = self.density_max.max(density);
+        self.samples += 1;
+    }
+
+    fn finish(self, reached: bool, path_m: Real, human_path_m: Real, duration_s: Real, replans: usize) -> RunOutcome {
+        RunOutcome {
+            reached,
+            min_distance_m: self.min_distance,
+            path_m,
+            human_path_m,
+            duration_s,
+            mean_density: self.density_sum / self.samples.max(1) as Real,
+            max_density: self.density_max,
+            replans,
+        }
+    }
+}
+
+/// The recording's obstacle lines as a planner map.
+pub fn map_of(recording: &Recording) -> Result<StaticMap, MapError> {
+    StaticMap::new(recording.walls.iter().map(|&(a, b)| Obstacle::Wall(a, b)).collect())
+}
+
+fn simulation_steps(from: Real, to: Real, dt: Real) -> usize {
+    ((to - from) / dt).round().max(0.0) as usize
+}
+
+/// The removed person's own outcome over their time window: the "Human" row.
+pub fn human_outcome(recording: &Recording, run: &ReplayRun, options: &ReplayOptions) -> RunOutcome {
+    let mut exposure = Exposure::new(options.density_radius_m);
+    let track = recording.track(run.pedestrian).expect("runs come from this recording's tracks");
+    for k in 0..=simulation_steps(run.t_start, run.t_end, options.dt) {
+        let t = (run.t_start + k as Real * options.dt).min(run.t_end);
+        let (at, _) = track.state_at(t).expect("inside the track's window");
+        exposure.record(recording, t, at, run.pedestrian);
+    }
+    exposure.finish(true, run.human_path_m, run.human_path_m, run.t_end - run.t_start, 0)
+}
+
+fn goal_at(track: &Track, run: &ReplayRun, t: Real) -> Vec2 {
+    match run.kind {
+        RunKind::Partial => run.goal,
+        RunKind::Full => track
+            .state_at((t + SAMPLE_DT).min(run.t_end))
+            .map_or(run.goal, |(p, _)| p),
+    }
+}
+
+/// Plays one run with the robot in the person's place; `plan` is called every replan period
+/// with what the robot perceives and returns the command it holds until the next plan.
+pub fn replay(
+    recording: &Recording,
+    map: &StaticMap,
+    run: &ReplayRun,
+    options: &ReplayOptions,
+    plan: &mut dyn FnMut(&PlanningInput<'_>) -> Command,
+) -> RunOutcome {
+    let track = recording.track(run.pedestrian).expect("runs come from this recording's tracks");
+    let mut robot = RobotBody::new(run.start, run.goal, options.robot.clone());
+    let mut exposure = Exposure::new(options.density_radius_m);
+    exposure.record(recording, run.t_start, robot.state.position, run.pedestrian);
+    let duration = run.t_end - run.t_start;
+    let deadline = run.t_end + options.patience_s.max(duration);
+    let every = simulation_steps(0.0, options.replan_period, options.dt).max(1);
+    let range = options.sensor_range_m;
+    let mut command = Command::STOP;
+    let mut neighbours = Vec::new();
+    let (mut path, mut replans, mut reached) = (0.0, 0, false);
+    let steps = simulation_steps(run.t_start, deadline, options.dt);
+    let mut t = run.t_start;
+    for k in 0..steps {
+        t = run.t_start + k as Real * options.dt;
+        if k % every == 0 {
+            let at = robot.state.position;
+            neighbours.clear();
+            neighbours.extend(
+                recording
+                    .people_at(t, Some(run.pedestrian))
+                    .filter(|(_, p, _)| (p - at).norm() <= range)
+                    .map(|(id, p, v)| {
+                        Neighbour::new(id, p, v, options.person_radius_m, AgentKind::Human)
+                    }),
+            );
+            let input = PlanningInput {
+                ego: &robot.state,
+                neighbours: &neighbours,
+                map,
+                goal: goal_at(track, run, t),
+                dt: options.replan_period,
+            };
+            command = plan(&input);
+            replans += 1;
+        }
+        let before = robot.state.position;
+        robot.apply(command, options.dt);
+        path += (robot.state.position - before).norm();
+        t = run.t_start + (k + 1) as Real * options.dt;
+        exposure.record(recording, t, robot.state.position, run.pedestrian);
+        if (robot.state.position - run.goal).norm() < options.robot.goal_tolerance_m {
+            reached = true;
+            break;
+        }
+    }
+    exposure.finish(reached, path, run.human_path_m, t - run.t_start, replans)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::{Sample, Track};
+    use agent::math::vec2;
+
+    /// Two people: 1 walks +x along y = 0 for 12 s at 1 m/s, 2 stands at (6, 3).
+    fn toy() -> Recording {
+        let walker = Track {
+            id: 1,
+            samples: (0..=30)
+                .map(|k| {
+                    let t = k as Real * 0.4;
+                    Sample {
+                        t,
+                        position: vec2(t, 0.0),
+                        velocity: vec2(1.0, 0.0),
+                    }
+                })
+                .collect(),
+        };
+        let stander = Track {
+            id: 2,
+            samples: (0..=40)
+                .map(|k| Sample {
+                    t: k as Real * 0.4,
+                    position: vec2(6.0, 3.0),
+                    velocity: vec2(0.0, 0.0),
+                })
+                .collect(),
+        };
+        Recording {
+            name: "toy".into(),
+            tracks: vec![walker, stander],
+            walls: vec![],
+        }
+    }
+
+    #[test]
+    fn partial_runs_are_consecutive_ten_metre_stretches() {
+        let rec = toy();
+        let runs = runs(&rec, RunKind::Partial, &ReplayOptions::default());
+        // 12 m walked: one 10 m stretch (samples 0..=25); the standing person walks nowhere.
+        assert_eq!(runs.len(), 1);
+        let r = &runs[0];
+        assert_eq!((r.pedestrian, r.samples), (1, (0, 25)));
+        assert!((r.human_path_m - 10.0).abs() < 1e-9 && (r.t_end - 10.0).abs() < 1e-9);
+        let full = super::runs(&rec, RunKind::Full, &ReplayOptions::default());
+        assert_eq!(full.len(), 1);
+        assert!((full[0].human_path_m - 12.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_human_row_comes_from_the_data_alone() {
+        let rec = toy();
+        let options = ReplayOptions::default();
+        let run = &runs(&rec, RunKind::Partial, &options)[0];
+        let human = human_outcome(&rec, run, &options);
+        // Closest to the stander when passing x = 6: 3 m.
+        assert!((human.min_distance_m - 3.0).abs() < 1e-9, "{human:?}");
+        assert_eq!(human.path_ratio(), 1.0);
+        // The stander is within 3 m only at x = 6 exactly: one of 101 samples.
+        let one = 1.0 / (std::f64::consts::PI * 9.0);
+        assert!((human.max_density - one).abs() < 1e-12);
+        assert!((human.mean_density - one / 101.0).abs() < 1e-12, "{human:?}");
+    }
+
+    #[test]
+    fn a_robot_driving_straight_takes_the_persons_path() {
+        let rec = toy();
+        let options = ReplayOptions::default();
+        let run = &runs(&rec, RunKind::Partial, &options)[0];
+        let map = map_of(&rec).expect("no walls");
+        let mut seen = Vec::new();
+        let outcome = replay(&rec, &map, run, &options, &mut |input| {
+            seen.push(input.neighbours.iter().map(|n| n.id).collect::<Vec<_>>());
+            Command::Velocity((input.goal - input.ego.position).normalize())
+        });
+        assert!(outcome.reached, "{outcome:?}");
+        // The person is never among the neighbours; the stander always is (within 12 m).
+        assert!(seen.iter().all(|ids| ids == &vec![2]));
+        assert_eq!(outcome.replans, seen.len());
+        // It stops within the tolerance, 0.5 m short: about 9.5 m driven.
+        assert!((outcome.path_m - 9.5).abs() < 0.15, "{outcome:?}");
+        // Sampled every 0.1 s, the robot passes x = 6 between samples: within a few mm.
+        assert!((outcome.min_distance_m - 3.0).abs() < 1e-3, "{outcome:?}");
+    }
+
+    #[test]
+    fn a_robot_that_never_moves_runs_out_of_time() {
+        let rec = toy();
+        let options = ReplayOptions::default();
+        let run = &runs(&rec, RunKind::Full, &options)[0];
+        let map = map_of(&rec).expect("no walls");
+        let outcome = replay(&rec, &map, run, &options, &mut |_| Command::STOP);
+        assert!(!outcome.reached);
+        assert_eq!(outcome.path_m, 0.0);
+        // 12 s of the person's own time plus max(10 s, 12 s).
+        assert!((outcome.duration_s - 24.0).abs() < 1e-6, "{outcome:?}");
+    }
+}
