@@ -114,8 +114,14 @@ impl TrajectoryGp {
         let residual = DMatrix::from_fn(n, 2, |a, c| (seen[a].1 - prior(seen[a].0))[c]);
         // K_oo has the noise on its diagonal, so it is positive definite.
         let (alpha, reduced) = match k_oo.cholesky() {
-            Some(chol) => (chol.solve(&residual), k_so.clone() * chol.solve(&k_so.transpose())),
-            None => (DMatrix::zeros(n, 2), DMatrix::zeros(times.len(), times.len())),
+            Some(chol) => (
+                chol.solve(&residual),
+                k_so.clone() * chol.solve(&k_so.transpose()),
+            ),
+            None => (
+                DMatrix::zeros(n, 2),
+                DMatrix::zeros(times.len(), times.len()),
+            ),
         };
         let shift = &k_so * alpha;
         let mean = times
@@ -157,7 +163,12 @@ impl TrajectoryGp {
     /// A person who is at `position` with `velocity` now and was at `past` before (times
     /// relative to now, negative): GP regression on the history around the constant-velocity
     /// line (foIGP, IGP_Diag).
-    pub fn person(params: &GpParams, position: Vec2, velocity: Vec2, past: &[(Real, Vec2)]) -> Self {
+    pub fn person(
+        params: &GpParams,
+        position: Vec2,
+        velocity: Vec2,
+        past: &[(Real, Vec2)],
+    ) -> Self {
         let mut seen = Vec::with_capacity(past.len() + 1);
         seen.extend_from_slice(past);
         seen.push((0.0, position));
@@ -197,12 +208,11 @@ impl TrajectoryGp {
 
     /// −½ (x − μ)ᵀ Σ⁻¹ (x − μ), both coordinates.
     fn log_prior(&self, x: &[Vec2]) -> Real {
-        let t = self.steps();
+        let deviation: Vec<Vec2> = x.iter().zip(&self.mean).map(|(x, m)| x - m).collect();
         let mut sum = 0.0;
-        for a in 0..t {
-            let da = x[a] - self.mean[a];
-            for b in 0..t {
-                sum += self.precision[(a, b)] * da.dot(&(x[b] - self.mean[b]));
+        for (a, da) in deviation.iter().enumerate() {
+            for (b, db) in deviation.iter().enumerate() {
+                sum += self.precision[(a, b)] * da.dot(db);
             }
         }
         -0.5 * sum
@@ -286,8 +296,19 @@ impl Objective {
 
     /// Eq. 6.1: Σᵢ Σ_t Σ_τ log(1 − Z⁻¹) minus the quadratic prior terms.
     pub fn value(&self, x: &[Vec<Vec2>]) -> Real {
+        let prior: Real = self
+            .bodies
+            .iter()
+            .zip(x)
+            .map(|(b, xb)| b.log_prior(xb))
+            .sum();
+        prior + self.coupling(x)
+    }
+
+    /// The coupling part of Eq. 6.1: Σᵢ Σ_t Σ_τ log(1 − Z⁻¹) (never positive).
+    fn coupling(&self, x: &[Vec<Vec2>]) -> Real {
         let t = self.bodies[0].steps();
-        let mut f: Real = self.bodies.iter().zip(x).map(|(b, xb)| b.log_prior(xb)).sum();
+        let mut f = 0.0;
         for (i, inv) in self.inv_width.iter().enumerate() {
             let person = &x[i + 1];
             for a in 0..t {
@@ -313,7 +334,11 @@ impl Objective {
         let n = 2 * t;
         d.reset(self.people(), n);
         for (k, body) in self.bodies.iter().enumerate() {
-            let block = if k == 0 { &mut d.a_rr } else { &mut d.a_pp[k - 1] };
+            let block = if k == 0 {
+                &mut d.a_rr
+            } else {
+                &mut d.a_pp[k - 1]
+            };
             for a in 0..t {
                 let mut g = Vec2::zeros();
                 for b in 0..t {
@@ -390,27 +415,34 @@ impl Objective {
     }
 
     /// The damped Newton step p solving (A + λI) p = ∇ with A = −H, by the Schur complement on
-    /// the robot block. `None` if A + λI is not positive definite.
+    /// the robot block: with A_ii + λI = L Lᵀ and W = L⁻¹ B_iᵀ, the robot block is
+    /// S = A_RR + λI − Σ WᵀW. `None` if A + λI is not positive definite.
     fn newton_step(d: &Derivatives, lambda: Real) -> Option<Vec<DVector<Real>>> {
-        let n = d.a_rr.nrows();
-        let damp = DMatrix::<Real>::identity(n, n) * lambda;
-        let mut schur = &d.a_rr + &damp;
+        let mut schur = d.a_rr.clone();
+        add_to_diagonal(&mut schur, lambda);
         let mut rhs = d.grad[0].clone();
-        let mut solved = Vec::with_capacity(d.a_pp.len());
+        let mut factors = Vec::with_capacity(d.a_pp.len());
         for (i, a_pp) in d.a_pp.iter().enumerate() {
-            let chol = (a_pp + &damp).cholesky()?;
-            let y = chol.solve(&d.b[i].transpose());
-            let g = chol.solve(&d.grad[i + 1]);
-            schur -= &d.b[i] * &y;
-            rhs -= &d.b[i] * &g;
-            solved.push((y, g));
+            let mut c = a_pp.clone();
+            add_to_diagonal(&mut c, lambda);
+            let l = c.cholesky()?.unpack();
+            let mut w = d.b[i].transpose();
+            forward_substitute(&l, &mut w);
+            let mut v = d.grad[i + 1].clone();
+            l.solve_lower_triangular_mut(&mut v);
+            schur.gemm_tr(-1.0, &w, &w, 1.0);
+            rhs.gemv_tr(-1.0, &w, &v, 1.0);
+            factors.push((l, w, v));
         }
         let p_robot = schur.cholesky()?.solve(&rhs);
-        let mut step = Vec::with_capacity(solved.len() + 1);
-        for (y, g) in &solved {
-            step.push(g - y * &p_robot);
+        let mut step = Vec::with_capacity(factors.len() + 1);
+        step.push(p_robot);
+        for (l, w, mut v) in factors {
+            // p_i = L⁻ᵀ (v − W p_R)
+            v.gemv(-1.0, &w, &step[0], 1.0);
+            l.tr_solve_lower_triangular_mut(&mut v);
+            step.push(v);
         }
-        step.insert(0, p_robot);
         Some(step)
     }
 
@@ -419,13 +451,17 @@ impl Objective {
         let x = self.means();
         let mut d = Derivatives::default();
         self.derivatives(&x, &mut d);
-        if d.grad.iter().all(|g| g.iter().all(|&v| v == 0.0)) {
+        // A person whose pull on the pair is below this is not worth a factorisation: their
+        // step would be ~1e-9 m, nothing next to the steps of people who matter.
+        if d.grad.iter().all(|g| g.amax() < NEGLIGIBLE_GRADIENT) {
             return 0.0;
         }
         DAMPING
             .iter()
             .find_map(|&lambda| Self::newton_step(&d, lambda))
-            .map_or(0.0, |p| p.iter().map(|v| v.norm_squared()).sum::<Real>().sqrt())
+            .map_or(0.0, |p| {
+                p.iter().map(|v| v.norm_squared()).sum::<Real>().sqrt()
+            })
     }
 
     /// Newton's method from `x` (damped where the Hessian is not negative definite, with
@@ -435,7 +471,11 @@ impl Objective {
         let mut f = self.value(&x);
         for _ in 0..options.max_iterations {
             self.derivatives(&x, &mut d);
-            let grad_max = d.grad.iter().flat_map(|g| g.iter()).fold(0.0, |m: Real, v| m.max(v.abs()));
+            let grad_max = d
+                .grad
+                .iter()
+                .flat_map(|g| g.iter())
+                .fold(0.0, |m: Real, v| m.max(v.abs()));
             if grad_max < options.gradient_tolerance {
                 break;
             }
@@ -473,28 +513,37 @@ impl Objective {
     }
 
     /// The best of `samples` joint draws from the bodies' GPs (MC_1e5).
+    ///
+    /// A draw x = μ + L z (Σ = L Lᵀ) has prior term −½ |z|², and the coupling terms are never
+    /// positive, so a draw whose −½ |z|² is already below the best value cannot win: its
+    /// coupling is not evaluated. The result is the same as evaluating every draw.
     pub fn best_sample(&self, samples: usize, rng: &mut ChaCha8Rng) -> (Trajectories, Real) {
-        let mut best = (self.means(), self.value(&self.means()));
+        let mut best = (self.means(), Real::NEG_INFINITY);
         let mut x = self.means();
-        let mut z = Vec::new();
+        let mut z: Vec<Vec<Vec2>> = self.means();
         for _ in 0..samples {
-            for (body, xb) in self.bodies.iter().zip(x.iter_mut()) {
-                let t = body.steps();
-                z.clear();
-                z.extend((0..t).map(|_| {
+            let mut prior = 0.0;
+            for zb in z.iter_mut() {
+                for v in zb.iter_mut() {
                     let zx: Real = StandardNormal.sample(rng);
                     let zy: Real = StandardNormal.sample(rng);
-                    Vec2::new(zx, zy)
-                }));
-                for a in 0..t {
-                    let mut p = body.mean[a];
-                    for (b, zb) in z.iter().enumerate().take(a + 1) {
-                        p += zb * body.chol[(a, b)];
-                    }
-                    xb[a] = p;
+                    *v = Vec2::new(zx, zy);
+                    prior -= 0.5 * v.norm_squared();
                 }
             }
-            let f = self.value(&x);
+            if prior <= best.1 {
+                continue;
+            }
+            for ((body, xb), zb) in self.bodies.iter().zip(x.iter_mut()).zip(&z) {
+                for (a, xa) in xb.iter_mut().enumerate() {
+                    let mut p = body.mean[a];
+                    for (b, zv) in zb.iter().enumerate().take(a + 1) {
+                        p += zv * body.chol[(a, b)];
+                    }
+                    *xa = p;
+                }
+            }
+            let f = prior + self.coupling(&x);
             if f > best.1 {
                 best = (x.clone(), f);
             }
@@ -502,6 +551,37 @@ impl Objective {
         best
     }
 }
+
+fn add_to_diagonal(m: &mut DMatrix<Real>, value: Real) {
+    if value != 0.0 {
+        for k in 0..m.nrows() {
+            m[(k, k)] += value;
+        }
+    }
+}
+
+/// Solves L X = X in place for a lower-triangular L, column by column in axpy form (both
+/// operands contiguous in column-major storage; nalgebra's general multi-column solve was
+/// most of a replan's time).
+fn forward_substitute(l: &DMatrix<Real>, x: &mut DMatrix<Real>) {
+    let n = l.nrows();
+    let ls = l.as_slice();
+    for col in x.as_mut_slice().chunks_mut(n) {
+        for k in 0..n {
+            let xk = col[k] / ls[k * n + k];
+            col[k] = xk;
+            if xk != 0.0 {
+                let lk = &ls[k * n + k + 1..(k + 1) * n];
+                for (xi, li) in col[k + 1..].iter_mut().zip(lk) {
+                    *xi -= li * xk;
+                }
+            }
+        }
+    }
+}
+
+/// Gradients below this at the means count as no interaction in the ESS.
+const NEGLIGIBLE_GRADIENT: Real = 1e-9;
 
 /// Damping tried in turn until A + λI is positive definite and the step climbs.
 const DAMPING: [Real; 9] = [0.0, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4];
@@ -678,7 +758,8 @@ impl IgpPlanner {
         let now = self.clock;
         let dt = self.params.gp.dt;
         let keep = self.params.gp.history;
-        self.tracks.retain(|id, _| neighbours.iter().any(|n| n.id == *id));
+        self.tracks
+            .retain(|id, _| neighbours.iter().any(|n| n.id == *id));
         for n in neighbours {
             let track = self.tracks.entry(n.id).or_default();
             if track.back().is_none_or(|&(t, _)| now - t >= dt - 1e-9) {
@@ -707,7 +788,13 @@ impl IgpPlanner {
     }
 
     /// One plan towards `goal`; `dt` is the time until the next plan.
-    pub fn plan(&mut self, ego: &EgoState, neighbours: &[Neighbour], goal: Vec2, dt: Real) -> IgpDecision {
+    pub fn plan(
+        &mut self,
+        ego: &EgoState,
+        neighbours: &[Neighbour],
+        goal: Vec2,
+        dt: Real,
+    ) -> IgpDecision {
         self.track(neighbours);
         let p = self.params;
         let robot = TrajectoryGp::robot(&p.gp, ego.position, goal, p.preferred_speed);

@@ -319,16 +319,53 @@ pub struct PlannerStack {
 impl PlannerStack {
     /// The stack `spec` with the PGP paper's parameters.
     pub fn new(spec: PlannerSpec) -> Self {
+        Self::build(spec, None)
+    }
+
+    /// The stack `spec` with the papers' parameters except the robot's top speed (m/s), which
+    /// every planner of the stack uses instead of its default (PGP's candidate speed and v^max,
+    /// DWA's v^max, ORCA's and SF's maximum speed, foIGP's preferred and maximum speed).
+    pub fn with_max_speed(spec: PlannerSpec, max_speed: Real) -> Self {
+        Self::build(spec, Some(max_speed))
+    }
+
+    fn build(spec: PlannerSpec, max_speed: Option<Real>) -> Self {
         let local: Box<dyn LocalPlanner> = match spec.local {
-            LocalKind::Dwa => Box::new(Dwa::new(DwaParams::default())),
-            LocalKind::Orca => Box::new(OrcaPlanner::new(OrcaParams::default())),
-            LocalKind::SocialForce => Box::new(SfPlanner::new(SfAgentParams::default())),
-            LocalKind::Igp(variant) => Box::new(IgpPlanner::new(variant, IgpParams::default())),
+            LocalKind::Dwa => {
+                let d = DwaParams::default();
+                let v_max = max_speed.unwrap_or(d.v_max);
+                Box::new(Dwa::new(DwaParams { v_max, ..d }))
+            }
+            LocalKind::Orca => {
+                let d = OrcaParams::default();
+                let max_speed = max_speed.unwrap_or(d.max_speed);
+                Box::new(OrcaPlanner::new(OrcaParams { max_speed, ..d }))
+            }
+            LocalKind::SocialForce => {
+                let d = SfAgentParams::default();
+                let max_speed = max_speed.unwrap_or(d.max_speed);
+                Box::new(SfPlanner::new(SfAgentParams { max_speed, ..d }))
+            }
+            LocalKind::Igp(variant) => {
+                let d = IgpParams::default();
+                let params = match max_speed {
+                    Some(v) => IgpParams {
+                        preferred_speed: v,
+                        max_speed: v,
+                        ..d
+                    },
+                    None => d,
+                };
+                Box::new(IgpPlanner::new(variant, params))
+            }
         };
         let pgp = spec.pgp.then(|| {
+            let d = PgpParams::default();
             Pgp::new(PgpParams {
                 subgoal_distance: local.subgoal_distance(),
-                ..PgpParams::default()
+                v_max: max_speed.unwrap_or(d.v_max),
+                speed: max_speed.unwrap_or(d.speed),
+                ..d
             })
         });
         Self { spec, pgp, local }

@@ -6,5 +6,6 @@ pub mod dashboard;
 pub mod demo;
 pub mod experiment;
 pub mod plots;
+pub mod replay_study;
 pub mod server;
 pub mod stats;

@@ -244,6 +244,37 @@ enum Experiment {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// The foIGP paper's protocol on a recorded crowd (OpenTraj obsmat.txt format): each
+    /// planner in turn takes a pedestrian's place among the others as recorded.
+    Eth {
+        /// A sequence folder with obsmat.txt (and optionally map.xml), e.g.
+        /// world-sim/datasets/ETH/seq_eth.
+        #[arg(long)]
+        dataset: PathBuf,
+        /// Planners, comma-separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "foigp,igp-diag,igp-lin,mc,dwa,pgp+orca"
+        )]
+        planners: Vec<String>,
+        /// partial (≈ 10 m stretches, start and goal only) or full (whole tracks).
+        #[arg(long, default_value = "partial")]
+        runs: world_sim::replay::RunKind,
+        /// Only the first N runs.
+        #[arg(long)]
+        limit: Option<usize>,
+        /// The robot's top speed, for every planner (m/s; default: the recording's median
+        /// walking speed).
+        #[arg(long)]
+        robot_speed: Option<f64>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Output folder (default: results/eth/<sequence>-<runs>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
     Summarize {
         /// The study's output folder.
@@ -582,6 +613,15 @@ fn main() -> Result<()> {
             scenario,
             out,
         }) => intent_sharing(&scenario, seeds, seconds, robots, humans, planner, out),
+        Command::Experiment(Experiment::Eth {
+            dataset,
+            planners,
+            runs,
+            limit,
+            robot_speed,
+            jobs,
+            out,
+        }) => replay_study(&dataset, &planners, runs, limit, robot_speed, jobs, out),
         Command::Experiment(Experiment::Summarize { dir }) => {
             let path = dir.join("runs.csv");
             let text = std::fs::read_to_string(&path)
@@ -737,5 +777,76 @@ fn bench_world(
             steps as f64 / total
         );
     }
+    Ok(())
+}
+
+/// `gapfleet experiment eth`.
+fn replay_study(
+    dataset: &std::path::Path,
+    planners: &[String],
+    kind: world_sim::replay::RunKind,
+    limit: Option<usize>,
+    robot_speed: Option<f64>,
+    jobs: Option<usize>,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    use coordinator::replay_study::{ReplayStudy, write_outputs};
+    use world_sim::dataset::Recording;
+    use world_sim::replay::{ReplayOptions, map_of, median_speed};
+    let recording = Recording::load(dataset)?;
+    let map =
+        map_of(&recording).with_context(|| format!("{}: map.xml obstacles", dataset.display()))?;
+    let planners = planners
+        .iter()
+        .map(|p| p.parse())
+        .collect::<Result<Vec<_>, _>>()?;
+    let out = out
+        .unwrap_or_else(|| PathBuf::from("results/eth").join(format!("{}-{kind}", recording.name)));
+    let speed = robot_speed.unwrap_or_else(|| (median_speed(&recording) * 100.0).round() / 100.0);
+    if !(speed.is_finite() && speed > 0.0 && speed <= 5.0) {
+        bail!("--robot-speed: {speed} is not in (0, 5] m/s");
+    }
+    let mut options = ReplayOptions::default();
+    options.robot.max_speed = speed;
+    let study = ReplayStudy {
+        recording,
+        map,
+        planners,
+        kind,
+        options,
+        limit,
+    };
+    let runs = study.runs().len();
+    if runs == 0 {
+        bail!("{}: no {kind} runs in this recording", dataset.display());
+    }
+    let threads =
+        jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    eprintln!(
+        "{}: {} tracks, {runs} {kind} runs × ({} planners + human), robot top speed {speed} m/s, \
+         on {threads} threads",
+        study.recording.name,
+        study.recording.tracks.len(),
+        study.planners.len()
+    );
+    let bar = ProgressBar::new(study.jobs() as u64).with_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} runs, eta {eta}")?
+            .progress_chars("=> "),
+    );
+    let started = Instant::now();
+    let rows = pool.install(|| study.execute(&|| bar.inc(1)));
+    bar.finish();
+    let table =
+        write_outputs(&out, &study, &rows).with_context(|| format!("writing {}", out.display()))?;
+    eprintln!(
+        "{} runs in {:.1} s; wrote {}/runs.csv, table.json, table.md",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        out.display()
+    );
+    print!("{}", coordinator::replay_study::table_markdown(&table));
     Ok(())
 }

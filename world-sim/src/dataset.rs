@@ -126,13 +126,15 @@ impl Recording {
         let tracks = parse_obsmat(&text, SAMPLE_DT).map_err(|e| e.at(&obsmat))?;
         let map = dir.join("map.xml");
         let walls = if map.exists() {
-            parse_map_xml(&read(&map)?).map_err(|message| DatasetError::File { path: map, message })?
+            parse_map_xml(&read(&map)?)
+                .map_err(|message| DatasetError::File { path: map, message })?
         } else {
             Vec::new()
         };
-        let name = dir
-            .file_name()
-            .map_or_else(|| dir.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let name = dir.file_name().map_or_else(
+            || dir.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         Ok(Self {
             name,
             tracks,
@@ -149,7 +151,11 @@ impl Recording {
     }
 
     /// Everyone present at `t` except `skip`: (id, position, velocity), by id.
-    pub fn people_at(&self, t: Real, skip: Option<u64>) -> impl Iterator<Item = (u64, Vec2, Vec2)> + '_ {
+    pub fn people_at(
+        &self,
+        t: Real,
+        skip: Option<u64>,
+    ) -> impl Iterator<Item = (u64, Vec2, Vec2)> + '_ {
         self.tracks
             .iter()
             .filter(move |track| Some(track.id) != skip)
@@ -221,7 +227,10 @@ pub fn parse_obsmat(text: &str, sample_dt: Real) -> Result<Vec<Track>, ObsmatErr
                 .parse()
                 .map_err(|_| fail(number, format!("column {}: not a number: {field:?}", k + 1)))?;
             if !v.is_finite() {
-                return Err(fail(number, format!("column {}: not finite: {field:?}", k + 1)));
+                return Err(fail(
+                    number,
+                    format!("column {}: not finite: {field:?}", k + 1),
+                ));
             }
             values[k] = v;
         }
@@ -229,14 +238,19 @@ pub fn parse_obsmat(text: &str, sample_dt: Real) -> Result<Vec<Track>, ObsmatErr
             if v >= 0.0 && v.fract() == 0.0 && v < 1e15 {
                 Ok(v as u64)
             } else {
-                Err(fail(number, format!("{what} must be a non-negative integer, got {v}")))
+                Err(fail(
+                    number,
+                    format!("{what} must be a non-negative integer, got {v}"),
+                ))
             }
         };
         let frame = whole(values[0], "frame number")?;
         let id = whole(values[1], "pedestrian id")?;
         let position = Vec2::new(values[2], values[4]);
         let velocity = Vec2::new(values[5], values[7]);
-        raw.entry(id).or_default().push((frame, position, velocity, number));
+        raw.entry(id)
+            .or_default()
+            .push((frame, position, velocity, number));
     }
     if raw.is_empty() {
         return Err(fail(0, "no observations".into()));
@@ -248,7 +262,10 @@ pub fn parse_obsmat(text: &str, sample_dt: Real) -> Result<Vec<Track>, ObsmatErr
             if w[0].0 == w[1].0 {
                 return Err(fail(
                     w[1].3,
-                    format!("pedestrian annotated twice in frame {} (also line {})", w[1].0, w[0].3),
+                    format!(
+                        "pedestrian annotated twice in frame {} (also line {})",
+                        w[1].0, w[0].3
+                    ),
                 ));
             }
             *gaps.entry(w[1].0 - w[0].0).or_default() += 1;
@@ -291,7 +308,9 @@ pub fn parse_map_xml(text: &str) -> Result<Vec<(Vec2, Vec2)>, String> {
                 .parse::<Real>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("line {line}: attribute {name}={raw:?} is not a finite number"))
+                .ok_or_else(|| {
+                    format!("line {line}: attribute {name}={raw:?} is not a finite number")
+                })
         };
         let a = Vec2::new(attr("x1")?, attr("y1")?);
         let b = Vec2::new(attr("x2")?, attr("y2")?);
@@ -307,7 +326,9 @@ mod tests {
     use super::*;
 
     fn dataset(path: &str) -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets").join(path)
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("datasets")
+            .join(path)
     }
 
     #[test]
@@ -353,7 +374,11 @@ mod tests {
         assert_eq!(e.line, 2);
         assert!(e.message.contains("expected 8 columns"), "{}", e.message);
         let e = err("1 1 0 0 abc 0 0 0\n");
-        assert!(e.message.contains("column 5") && e.message.contains("abc"), "{}", e.message);
+        assert!(
+            e.message.contains("column 5") && e.message.contains("abc"),
+            "{}",
+            e.message
+        );
         let e = err("1 1 0 0 nan 0 0 0\n");
         assert!(e.message.contains("not finite"), "{}", e.message);
         let e = err("1.5 1 0 0 0 0 0 0\n");
@@ -377,8 +402,11 @@ mod tests {
         let bad = Recording::load(&dir).expect_err("bad line");
         assert!(bad.to_string().contains("obsmat.txt:2:"), "{bad}");
         std::fs::write(dir.join("obsmat.txt"), "1 1 0 0 0 0 0 0\n").expect("write");
-        std::fs::write(dir.join("map.xml"), "<Trial><Line x1=\"0\" y1=\"zero\" x2=\"1\" y2=\"1\"/></Trial>")
-            .expect("write");
+        std::fs::write(
+            dir.join("map.xml"),
+            "<Trial><Line x1=\"0\" y1=\"zero\" x2=\"1\" y2=\"1\"/></Trial>",
+        )
+        .expect("write");
         let bad = Recording::load(&dir).expect_err("bad map");
         assert!(bad.to_string().contains("y1=\"zero\""), "{bad}");
         std::fs::write(dir.join("map.xml"), "<Trial><Line").expect("write");
@@ -396,7 +424,13 @@ mod tests {
         let text = "100 1 0 0 0 0 0 0\n110 1 1 0 0 0 0 0\n130 1 2 0 0 0 0 0\n110 2 5 0 5 0 0 0\n";
         let tracks = parse_obsmat(text, 0.4).expect("valid");
         let times: Vec<Real> = tracks[0].samples.iter().map(|s| s.t).collect();
-        assert!(times.iter().zip([0.0, 0.4, 1.2]).all(|(t, e)| (t - e).abs() < 1e-12), "{times:?}");
+        assert!(
+            times
+                .iter()
+                .zip([0.0, 0.4, 1.2])
+                .all(|(t, e)| (t - e).abs() < 1e-12),
+            "{times:?}"
+        );
         assert_eq!(tracks[1].samples[0].t, 0.4);
     }
 }

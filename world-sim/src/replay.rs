@@ -13,7 +13,7 @@ use crate::dataset::{Recording, SAMPLE_DT, Track};
 use crate::robot::RobotBody;
 use crate::scenario::RobotSpec;
 use agent::map::{MapError, Obstacle, StaticMap};
-use agent::math::{Real, Vec2};
+use agent::math::{Real, Vec2, angle_of, clamp_norm};
 use agent::model::{AgentKind, Command, Neighbour};
 use agent::planner::PlanningInput;
 use std::fmt;
@@ -35,7 +35,9 @@ impl FromStr for RunKind {
         match s.trim().to_ascii_lowercase().as_str() {
             "partial" => Ok(Self::Partial),
             "full" => Ok(Self::Full),
-            other => Err(format!("unknown run kind {other:?}; expected partial or full")),
+            other => Err(format!(
+                "unknown run kind {other:?}; expected partial or full"
+            )),
         }
     }
 }
@@ -226,7 +228,14 @@ impl Exposure {
         self.samples += 1;
     }
 
-    fn finish(self, reached: bool, path_m: Real, human_path_m: Real, duration_s: Real, replans: usize) -> RunOutcome {
+    fn finish(
+        self,
+        reached: bool,
+        path_m: Real,
+        human_path_m: Real,
+        duration_s: Real,
+        replans: usize,
+    ) -> RunOutcome {
         RunOutcome {
             reached,
             min_distance_m: self.min_distance,
@@ -240,9 +249,30 @@ impl Exposure {
     }
 }
 
+/// The median annotated walking speed of a recording (m/s): the default top speed of the
+/// robot that takes a pedestrian's place.
+pub fn median_speed(recording: &Recording) -> Real {
+    let mut speeds: Vec<Real> = recording
+        .tracks
+        .iter()
+        .flat_map(|t| t.samples.iter().map(|s| s.velocity.norm()))
+        .collect();
+    if speeds.is_empty() {
+        return 0.0;
+    }
+    speeds.sort_by(Real::total_cmp);
+    speeds[speeds.len() / 2]
+}
+
 /// The recording's obstacle lines as a planner map.
 pub fn map_of(recording: &Recording) -> Result<StaticMap, MapError> {
-    StaticMap::new(recording.walls.iter().map(|&(a, b)| Obstacle::Wall(a, b)).collect())
+    StaticMap::new(
+        recording
+            .walls
+            .iter()
+            .map(|&(a, b)| Obstacle::Wall(a, b))
+            .collect(),
+    )
 }
 
 fn simulation_steps(from: Real, to: Real, dt: Real) -> usize {
@@ -250,15 +280,27 @@ fn simulation_steps(from: Real, to: Real, dt: Real) -> usize {
 }
 
 /// The removed person's own outcome over their time window: the "Human" row.
-pub fn human_outcome(recording: &Recording, run: &ReplayRun, options: &ReplayOptions) -> RunOutcome {
+pub fn human_outcome(
+    recording: &Recording,
+    run: &ReplayRun,
+    options: &ReplayOptions,
+) -> RunOutcome {
     let mut exposure = Exposure::new(options.density_radius_m);
-    let track = recording.track(run.pedestrian).expect("runs come from this recording's tracks");
+    let track = recording
+        .track(run.pedestrian)
+        .expect("runs come from this recording's tracks");
     for k in 0..=simulation_steps(run.t_start, run.t_end, options.dt) {
         let t = (run.t_start + k as Real * options.dt).min(run.t_end);
         let (at, _) = track.state_at(t).expect("inside the track's window");
         exposure.record(recording, t, at, run.pedestrian);
     }
-    exposure.finish(true, run.human_path_m, run.human_path_m, run.t_end - run.t_start, 0)
+    exposure.finish(
+        true,
+        run.human_path_m,
+        run.human_path_m,
+        run.t_end - run.t_start,
+        0,
+    )
 }
 
 fn goal_at(track: &Track, run: &ReplayRun, t: Real) -> Vec2 {
@@ -279,8 +321,19 @@ pub fn replay(
     options: &ReplayOptions,
     plan: &mut dyn FnMut(&PlanningInput<'_>) -> Command,
 ) -> RunOutcome {
-    let track = recording.track(run.pedestrian).expect("runs come from this recording's tracks");
-    let mut robot = RobotBody::new(run.start, run.goal, options.robot.clone());
+    let track = recording
+        .track(run.pedestrian)
+        .expect("runs come from this recording's tracks");
+    let mut robot = RobotBody::new(run.start, run.goal, options.robot);
+    // It arrives in the person's place walking as they were (within its limits), so that the
+    // people walking with them do not run into a robot starting from rest.
+    if let Some((_, velocity)) = track.state_at(run.t_start) {
+        let velocity = clamp_norm(velocity, options.robot.max_speed);
+        if velocity.norm() > 1e-3 {
+            robot.state.velocity = velocity;
+            robot.state.heading = angle_of(&velocity);
+        }
+    }
     let mut exposure = Exposure::new(options.density_radius_m);
     exposure.record(recording, run.t_start, robot.state.position, run.pedestrian);
     let duration = run.t_end - run.t_start;
@@ -392,7 +445,10 @@ mod tests {
         // The stander is within 3 m only at x = 6 exactly: one of 101 samples.
         let one = 1.0 / (std::f64::consts::PI * 9.0);
         assert!((human.max_density - one).abs() < 1e-12);
-        assert!((human.mean_density - one / 101.0).abs() < 1e-12, "{human:?}");
+        assert!(
+            (human.mean_density - one / 101.0).abs() < 1e-12,
+            "{human:?}"
+        );
     }
 
     #[test]

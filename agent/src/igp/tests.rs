@@ -46,8 +46,8 @@ fn gradient_matches_central_differences() {
         let grad = objective.gradient(&x);
         let h = 1e-6;
         for (i, g) in grad.iter().enumerate() {
-            let numeric =
-                (objective.value(&nudge(&x, i, h)) - objective.value(&nudge(&x, i, -h))) / (2.0 * h);
+            let numeric = (objective.value(&nudge(&x, i, h)) - objective.value(&nudge(&x, i, -h)))
+                / (2.0 * h);
             assert!(
                 (g - numeric).abs() <= 1e-5 * (1.0 + numeric.abs()),
                 "{coupling:?} d/dx[{i}]: analytic {g}, numeric {numeric}"
@@ -142,7 +142,10 @@ fn newton_converges_to_a_maximum_and_the_robot_gives_way() {
         .zip(&objective.means()[1])
         .map(|(r, h)| (r - h).norm())
         .fold(Real::INFINITY, Real::min);
-    assert!(closest > closest_at_means + 0.2, "{closest_at_means} → {closest}");
+    assert!(
+        closest > closest_at_means + 0.2,
+        "{closest_at_means} → {closest}"
+    );
     assert!(x[0].iter().any(|r| r.y < -0.1), "robot swerves to -y");
 }
 
@@ -224,7 +227,12 @@ fn tracks_keep_samples_at_least_dt_apart_and_forget_the_unseen() {
     }
     let track = &planner.tracks[&3];
     assert!(track.len() <= planner.params.gp.history);
-    assert!(track.iter().zip(track.iter().skip(1)).all(|(a, b)| b.0 - a.0 >= 0.4 - 1e-9));
+    assert!(
+        track
+            .iter()
+            .zip(track.iter().skip(1))
+            .all(|(a, b)| b.0 - a.0 >= 0.4 - 1e-9)
+    );
     planner.plan(&ego(), &[], vec2(10.0, 0.0), 0.1);
     assert!(planner.tracks.is_empty());
 }

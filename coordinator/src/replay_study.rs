@@ -1,0 +1,366 @@
+//! `gapfleet experiment eth`: planners in recorded pedestrians' places (the foIGP paper's
+//! protocol, Sec. 7; see `world_sim::replay`), run in parallel, summarised like the paper's
+//! Tables 1 and 2. Replan times are the only wall-clock figures; everything else is a function
+//! of the recording and the planners.
+
+use agent::map::StaticMap;
+use agent::planner::{PlannerSpec, PlannerStack};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+use world_sim::dataset::Recording;
+use world_sim::replay::{self, ReplayOptions, ReplayRun, RunKind, RunOutcome};
+
+/// The name of the row measuring the removed people themselves.
+pub const HUMAN: &str = "human";
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct ReplayStudy {
+    /// The recorded crowd.
+    pub recording: Recording,
+    /// Its obstacle lines.
+    pub map: StaticMap,
+    /// The planners, in table order.
+    pub planners: Vec<PlannerSpec>,
+    /// Partial or full runs.
+    pub kind: RunKind,
+    /// How runs are cut and played.
+    pub options: ReplayOptions,
+    /// Only the first N runs (for smoke tests).
+    pub limit: Option<usize>,
+}
+
+/// One planner (or the human) on one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayRow {
+    /// Planner name, or [`HUMAN`].
+    pub planner: String,
+    /// The run.
+    pub run: ReplayRun,
+    /// What happened.
+    pub outcome: RunOutcome,
+    /// Wall time spent planning in this run (s).
+    pub planning_s: f64,
+}
+
+impl ReplayStudy {
+    /// The runs, in order.
+    pub fn runs(&self) -> Vec<ReplayRun> {
+        let mut runs = replay::runs(&self.recording, self.kind, &self.options);
+        if let Some(limit) = self.limit {
+            runs.truncate(limit);
+        }
+        runs
+    }
+
+    /// How many (planner, run) pairs [`ReplayStudy::execute`] plays, human rows included.
+    pub fn jobs(&self) -> usize {
+        self.runs().len() * (self.planners.len() + 1)
+    }
+
+    /// Plays every planner on every run on the current rayon pool, plus the human rows;
+    /// `progress` is called after each. Rows come back human first, then planner by planner.
+    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<ReplayRow> {
+        let runs = self.runs();
+        let mut jobs: Vec<(Option<PlannerSpec>, &ReplayRun)> =
+            runs.iter().map(|r| (None, r)).collect();
+        for &spec in &self.planners {
+            jobs.extend(runs.iter().map(|r| (Some(spec), r)));
+        }
+        jobs.into_par_iter()
+            .map(|(spec, run)| {
+                let row = match spec {
+                    None => ReplayRow {
+                        planner: HUMAN.into(),
+                        run: run.clone(),
+                        outcome: replay::human_outcome(&self.recording, run, &self.options),
+                        planning_s: 0.0,
+                    },
+                    Some(spec) => self.play(spec, run),
+                };
+                progress();
+                row
+            })
+            .collect()
+    }
+
+    fn play(&self, spec: PlannerSpec, run: &ReplayRun) -> ReplayRow {
+        let mut stack = PlannerStack::with_max_speed(spec, self.options.robot.max_speed);
+        stack.set_record_fan(false);
+        let mut planning_s = 0.0;
+        let outcome = replay::replay(
+            &self.recording,
+            &self.map,
+            run,
+            &self.options,
+            &mut |input| {
+                let started = Instant::now();
+                let command = stack.plan(input).command;
+                planning_s += started.elapsed().as_secs_f64();
+                command
+            },
+        );
+        ReplayRow {
+            planner: spec.to_string(),
+            run: run.clone(),
+            outcome,
+            planning_s,
+        }
+    }
+}
+
+/// `runs.csv`: one line per (planner, run).
+pub fn runs_csv(rows: &[ReplayRow]) -> String {
+    let mut out = String::from(
+        "planner,pedestrian,segment,t_start_s,t_end_s,reached,s_m,path_m,human_path_m,ratio,\
+         duration_s,mean_density,max_density,replans,mean_replan_s\n",
+    );
+    for r in rows {
+        let o = &r.outcome;
+        let replan = if o.replans > 0 {
+            format!("{:.6}", r.planning_s / o.replans as f64)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "{},{},{},{:.1},{:.1},{},{:.4},{:.4},{:.4},{:.4},{:.1},{:.4},{:.4},{},{}",
+            r.planner,
+            r.run.pedestrian,
+            r.run.segment,
+            r.run.t_start,
+            r.run.t_end,
+            o.reached,
+            o.min_distance_m,
+            o.path_m,
+            o.human_path_m,
+            o.path_ratio(),
+            o.duration_s,
+            o.mean_density,
+            o.max_density,
+            o.replans,
+            replan
+        );
+    }
+    out
+}
+
+/// One row of the paper's tables, keyed as `table.json` spells it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TableRow {
+    /// Planner name or "human".
+    pub planner: String,
+    /// Runs in the row.
+    pub runs: usize,
+    /// Share of runs that reached the goal in time (%).
+    pub pct_reached: f64,
+    /// μ(s): mean over runs of the smallest distance to a pedestrian (m).
+    pub mean_s: f64,
+    /// Its standard deviation.
+    pub sd_s: f64,
+    /// % of runs with s < 0.3 m.
+    pub pct_s_lt_0_3: f64,
+    /// % of runs with s < 0.21 m (the closest two people passed in the paper's data).
+    pub pct_s_lt_0_21: f64,
+    /// μ(d_r): mean path length (m).
+    pub mean_path_m: f64,
+    /// Its standard deviation.
+    pub sd_path_m: f64,
+    /// % of runs with d_r / d_h > 1.25 (null for the human row).
+    pub pct_ratio_gt_1_25: Option<f64>,
+    /// max(d_r / d_h) (null for the human row).
+    pub max_ratio: Option<f64>,
+    /// μ(t): mean time of all replanning steps (s; null for the human row).
+    pub mean_replan_s: Option<f64>,
+    /// μ(ρ): mean over runs of the run's mean density within 3 m (people/m²).
+    pub mean_density: f64,
+    /// Its standard deviation.
+    pub sd_density: f64,
+    /// Mean over runs of the run's largest density (Table 2's μ(max ρ)).
+    pub mean_max_density: f64,
+}
+
+fn mean_sd(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
+    let n = values.clone().count() as f64;
+    if n == 0.0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let mean = values.clone().sum::<f64>() / n;
+    let var = values.map(|v| (v - mean).powi(2)).sum::<f64>() / n;
+    (mean, var.sqrt())
+}
+
+fn pct(count: usize, of: usize) -> f64 {
+    100.0 * count as f64 / of.max(1) as f64
+}
+
+/// The table: the human row first, then the planners in the given order.
+pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
+    let names = std::iter::once(HUMAN.to_string()).chain(planners.iter().map(|p| p.to_string()));
+    names
+        .map(|name| {
+            let mine: Vec<&ReplayRow> = rows.iter().filter(|r| r.planner == name).collect();
+            let outcomes = mine.iter().map(|r| &r.outcome);
+            let n = mine.len();
+            let (mean_s, sd_s) = mean_sd(outcomes.clone().map(|o| o.min_distance_m));
+            let (mean_path_m, sd_path_m) = mean_sd(outcomes.clone().map(|o| o.path_m));
+            let (mean_density, sd_density) = mean_sd(outcomes.clone().map(|o| o.mean_density));
+            let (mean_max_density, _) = mean_sd(outcomes.clone().map(|o| o.max_density));
+            let robot = name != HUMAN;
+            let replans: usize = outcomes.clone().map(|o| o.replans).sum();
+            let planning: f64 = mine.iter().map(|r| r.planning_s).sum();
+            TableRow {
+                planner: name.clone(),
+                runs: n,
+                pct_reached: pct(outcomes.clone().filter(|o| o.reached).count(), n),
+                mean_s,
+                sd_s,
+                pct_s_lt_0_3: pct(
+                    outcomes.clone().filter(|o| o.min_distance_m < 0.3).count(),
+                    n,
+                ),
+                pct_s_lt_0_21: pct(
+                    outcomes.clone().filter(|o| o.min_distance_m < 0.21).count(),
+                    n,
+                ),
+                mean_path_m,
+                sd_path_m,
+                pct_ratio_gt_1_25: robot.then(|| {
+                    pct(
+                        outcomes.clone().filter(|o| o.path_ratio() > 1.25).count(),
+                        n,
+                    )
+                }),
+                max_ratio: robot.then(|| {
+                    outcomes
+                        .clone()
+                        .map(RunOutcome::path_ratio)
+                        .fold(0.0, f64::max)
+                }),
+                mean_replan_s: (robot && replans > 0).then(|| planning / replans as f64),
+                mean_density,
+                sd_density,
+                mean_max_density,
+            }
+        })
+        .collect()
+}
+
+/// The table as Markdown, laid out like the paper's Tables 1 and 2.
+pub fn table_markdown(table: &[TableRow]) -> String {
+    let mut out = String::from(
+        "| | runs | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let na = |v: Option<f64>, f: &dyn Fn(f64) -> String| v.map_or("NA".to_string(), f);
+    for r in table {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} |",
+            r.planner,
+            r.runs,
+            r.pct_reached,
+            r.mean_s,
+            r.sd_s,
+            r.pct_s_lt_0_3,
+            r.pct_s_lt_0_21,
+            r.mean_path_m,
+            r.sd_path_m,
+            na(r.pct_ratio_gt_1_25, &|v| format!("{v:.0}%")),
+            na(r.max_ratio, &|v| format!("{v:.2}")),
+            na(r.mean_replan_s, &|v| format!("{:.2} ms", v * 1e3)),
+            r.mean_density,
+            r.sd_density,
+            r.mean_max_density,
+        );
+    }
+    out
+}
+
+/// Writes `runs.csv`, `table.json` and `table.md` into `out`.
+pub fn write_outputs(
+    out: &Path,
+    study: &ReplayStudy,
+    rows: &[ReplayRow],
+) -> std::io::Result<Vec<TableRow>> {
+    std::fs::create_dir_all(out)?;
+    std::fs::write(out.join("runs.csv"), runs_csv(rows))?;
+    let table = table(rows, &study.planners);
+    let json = serde_json::json!({
+        "dataset": study.recording.name,
+        "runs": study.kind.to_string(),
+        "rows": table,
+    });
+    let text = serde_json::to_string_pretty(&json).map_err(std::io::Error::other)?;
+    std::fs::write(out.join("table.json"), text + "\n")?;
+    let md = format!(
+        "# {} — {} runs\n\n{}",
+        study.recording.name,
+        study.kind,
+        table_markdown(&table)
+    );
+    std::fs::write(out.join("table.md"), md)?;
+    Ok(table)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn seq_eth() -> Recording {
+        let dir =
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../world-sim/datasets/ETH/seq_eth");
+        Recording::load(&dir).expect("seq_eth loads")
+    }
+
+    #[test]
+    fn smoke_study_on_seq_eth() {
+        let recording = seq_eth();
+        let map = replay::map_of(&recording).expect("valid walls");
+        let study = ReplayStudy {
+            recording,
+            map,
+            planners: vec![
+                "foigp".parse().expect("known"),
+                "dwa".parse().expect("known"),
+            ],
+            kind: RunKind::Partial,
+            options: ReplayOptions::default(),
+            limit: Some(4),
+        };
+        let rows = study.execute(&|| {});
+        assert_eq!(rows.len(), study.jobs());
+        assert_eq!(rows.len(), 12);
+        let t = table(&rows, &study.planners);
+        assert_eq!(
+            t.iter().map(|r| r.planner.as_str()).collect::<Vec<_>>(),
+            ["human", "foigp", "dwa"]
+        );
+        let human = &t[0];
+        assert_eq!(human.runs, 4);
+        assert!(human.max_ratio.is_none() && human.mean_replan_s.is_none());
+        assert!((9.9..12.0).contains(&human.mean_path_m), "{human:?}");
+        for r in &t[1..] {
+            assert_eq!(r.runs, 4);
+            assert!(r.mean_path_m > 0.0 && r.mean_s.is_finite(), "{r:?}");
+            assert!(r.mean_replan_s.is_some_and(|s| s > 0.0));
+        }
+        // Deterministic apart from the replan times.
+        let again = study.execute(&|| {});
+        let strip = |rows: &[ReplayRow]| {
+            rows.iter()
+                .map(|r| (r.planner.clone(), r.outcome))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(strip(&rows), strip(&again));
+        let md = table_markdown(&t);
+        assert!(
+            md.lines().count() == 5 && md.contains("| human | 4 |"),
+            "{md}"
+        );
+    }
+}
