@@ -430,7 +430,10 @@ impl Objective {
             forward_substitute(&l, &mut w);
             let mut v = d.grad[i + 1].clone();
             l.solve_lower_triangular_mut(&mut v);
-            schur.gemm_tr(-1.0, &w, &w, 1.0);
+            // S −= WᵀW through a transposed copy: nalgebra's `gemm_tr` works dot product by dot
+            // product, the product operator goes through matrixmultiply's kernels.
+            let wt = w.transpose();
+            schur -= &wt * &w;
             rhs.gemv_tr(-1.0, &w, &v, 1.0);
             factors.push((l, w, v));
         }
@@ -469,6 +472,7 @@ impl Objective {
     pub fn maximise(&self, mut x: Trajectories, options: &NewtonOptions) -> (Trajectories, Real) {
         let mut d = Derivatives::default();
         let mut f = self.value(&x);
+        let mut lambda: Real = 0.0;
         for _ in 0..options.max_iterations {
             self.derivatives(&x, &mut d);
             let grad_max = d
@@ -479,25 +483,29 @@ impl Objective {
             if grad_max < options.gradient_tolerance {
                 break;
             }
+            // Levenberg–Marquardt damping carried across iterations: λ shrinks after a step
+            // that climbs and grows while A + λI is indefinite or the step does not climb
+            // within a few halvings.
             let mut moved = None;
-            for &lambda in &DAMPING {
-                let Some(p) = Self::newton_step(&d, lambda) else {
-                    continue;
-                };
-                let slope: Real = p.iter().zip(&d.grad).map(|(p, g)| p.dot(g)).sum();
-                let mut alpha = 1.0;
-                while alpha > 1e-4 {
-                    let candidate = step_by(&x, &p, alpha);
-                    let fc = self.value(&candidate);
-                    if fc >= f + 1e-4 * alpha * slope {
-                        let length = alpha * p.iter().map(|v| v.amax()).fold(0.0, Real::max);
-                        moved = Some((candidate, fc, length));
-                        break;
+            while moved.is_none() && lambda <= MAX_DAMPING {
+                if let Some(p) = Self::newton_step(&d, lambda) {
+                    let slope: Real = p.iter().zip(&d.grad).map(|(p, g)| p.dot(g)).sum();
+                    let mut alpha = 1.0;
+                    while alpha >= MIN_STEP_FRACTION {
+                        let candidate = step_by(&x, &p, alpha);
+                        let fc = self.value(&candidate);
+                        if fc >= f + 1e-4 * alpha * slope {
+                            let length = alpha * p.iter().map(|v| v.amax()).fold(0.0, Real::max);
+                            moved = Some((candidate, fc, length));
+                            break;
+                        }
+                        alpha *= 0.5;
                     }
-                    alpha *= 0.5;
                 }
                 if moved.is_some() {
-                    break;
+                    lambda = if lambda > 1e-3 { lambda / 10.0 } else { 0.0 };
+                } else {
+                    lambda = (lambda * 10.0).max(1e-3);
                 }
             }
             let Some((candidate, fc, length)) = moved else {
@@ -583,8 +591,12 @@ fn forward_substitute(l: &DMatrix<Real>, x: &mut DMatrix<Real>) {
 /// Gradients below this at the means count as no interaction in the ESS.
 const NEGLIGIBLE_GRADIENT: Real = 1e-9;
 
-/// Damping tried in turn until A + λI is positive definite and the step climbs.
+/// Damping tried in turn for the ESS's first steps, until A + λI is positive definite.
 const DAMPING: [Real; 9] = [0.0, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 1e2, 1e3, 1e4];
+/// Newton gives up (at a local maximum, as far as it can tell) beyond this damping.
+const MAX_DAMPING: Real = 1e6;
+/// Backtracking halves a step at most down to this fraction before raising the damping.
+const MIN_STEP_FRACTION: Real = 1.0 / 16.0;
 
 fn step_by(x: &[Vec<Vec2>], p: &[DVector<Real>], alpha: Real) -> Trajectories {
     x.iter()
@@ -608,14 +620,19 @@ struct Derivatives {
 }
 
 impl Derivatives {
+    /// Zeroes everything for `people` people and 2T = `n`, reusing the storage.
     fn reset(&mut self, people: usize, n: usize) {
+        if self.a_rr.nrows() != n {
+            *self = Self::default();
+            self.a_rr = DMatrix::zeros(n, n);
+        }
         self.grad.resize(people + 1, DVector::zeros(n));
-        self.grad.iter_mut().for_each(|g| *g = DVector::zeros(n));
-        self.a_rr = DMatrix::zeros(n, n);
+        self.grad.iter_mut().for_each(|g| g.fill(0.0));
+        self.a_rr.fill(0.0);
         self.a_pp.resize(people, DMatrix::zeros(n, n));
-        self.a_pp.iter_mut().for_each(|m| *m = DMatrix::zeros(n, n));
+        self.a_pp.iter_mut().for_each(|m| m.fill(0.0));
         self.b.resize(people, DMatrix::zeros(n, n));
-        self.b.iter_mut().for_each(|m| *m = DMatrix::zeros(n, n));
+        self.b.iter_mut().for_each(|m| m.fill(0.0));
     }
 }
 
