@@ -23,12 +23,16 @@ pub struct PlotError {
 /// One panel: its y-axis label and how to read the value from a group.
 type Panel = (&'static str, fn(&Group) -> Option<f64>);
 
-/// Writes `fig4_success.png` and `fig5_social.png` into `out`.
-pub fn write_figures(summary: &Summary, out: &Path) -> Result<(), PlotError> {
+fn register_font() {
     REGISTER.call_once(|| {
         // The bundled font is valid; a failure would only leave labels blank.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
     });
+}
+
+/// Writes `fig4_success.png` and `fig5_social.png` into `out`.
+pub fn write_figures(summary: &Summary, out: &Path) -> Result<(), PlotError> {
+    register_font();
     let fig4: [Panel; 3] = [
         ("time to goal (s)", |g| g.time_to_goal_s),
         ("path length (m)", |g| g.path_length_m),
@@ -139,6 +143,104 @@ fn figure(path: &Path, title: &str, panels: &[Panel], summary: &Summary) -> Resu
             .border_style(BLACK)
             .background_style(WHITE.mix(0.85))
             .draw()
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))
+}
+
+/// One planner's runs on a recorded crowd: (s, d_r / d_h) per run.
+pub type ReplayPoints<'a> = (&'a str, Vec<(f64, f64)>);
+
+/// The foIGP paper's Figs. 5c / 6c: per planner, each run's closest distance to a pedestrian s
+/// against its path length relative to the person's, d_r / d_h; lines at s = 0.21 m and 0.3 m
+/// and at d_r / d_h = 1.25. The people's own s are drawn in grey at d_r / d_h = 1.
+pub fn write_replay_figure(
+    path: &Path,
+    title: &str,
+    planners: &[ReplayPoints<'_>],
+    human_s: &[f64],
+) -> Result<(), PlotError> {
+    register_font();
+    let err = |e: &dyn std::fmt::Display| PlotError {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    let rows = planners.len().div_ceil(2).max(1);
+    let root = BitMapBackend::new(path, (1000, 60 + 330 * rows as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let root = root
+        .titled(title, ("sans-serif", 22))
+        .map_err(|e| err(&e))?;
+    let finite = |v: f64| v.is_finite().then_some(v);
+    let x_max = planners
+        .iter()
+        .flat_map(|(_, p)| p.iter().map(|q| q.0))
+        .chain(human_s.iter().copied())
+        .filter_map(finite)
+        .fold(1.0, f64::max)
+        .min(4.0)
+        * 1.05;
+    let y_max = planners
+        .iter()
+        .flat_map(|(_, p)| p.iter().map(|q| q.1))
+        .filter_map(finite)
+        .fold(1.5, f64::max)
+        * 1.05;
+    let y_min = planners
+        .iter()
+        .flat_map(|(_, p)| p.iter().map(|q| q.1))
+        .filter_map(finite)
+        .fold(0.9, f64::min)
+        * 0.95;
+    for (area, (name, points)) in root.split_evenly((rows, 2)).iter().zip(planners) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(*name, ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(36)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..x_max, y_min..y_max)
+            .map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("s: closest distance to a pedestrian (m)")
+            .y_desc("d_r / d_h")
+            .label_style(("sans-serif", 13))
+            .draw()
+            .map_err(|e| err(&e))?;
+        let grey = RGBColor(170, 170, 170);
+        chart
+            .draw_series(human_s.iter().filter_map(|&s| {
+                finite(s).map(|s| Circle::new((s.min(x_max), 1.0), 2, grey.filled()))
+            }))
+            .map_err(|e| err(&e))?;
+        let red = RGBColor(214, 39, 40);
+        for x in [0.21, 0.3] {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(x, y_min), (x, y_max)],
+                    5,
+                    4,
+                    red.stroke_width(1),
+                ))
+                .map_err(|e| err(&e))?;
+        }
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(0.0, 1.25), (x_max, 1.25)],
+                5,
+                4,
+                BLACK.stroke_width(1),
+            ))
+            .map_err(|e| err(&e))?;
+        let blue = RGBColor(31, 119, 180);
+        chart
+            .draw_series(points.iter().filter_map(|&(s, r)| {
+                Some(Circle::new(
+                    (finite(s)?.min(x_max), finite(r)?.min(y_max)),
+                    3,
+                    blue.filled(),
+                ))
+            }))
             .map_err(|e| err(&e))?;
     }
     root.present().map_err(|e| err(&e))

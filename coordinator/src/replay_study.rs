@@ -116,7 +116,7 @@ impl ReplayStudy {
 pub fn runs_csv(rows: &[ReplayRow]) -> String {
     let mut out = String::from(
         "planner,pedestrian,segment,t_start_s,t_end_s,reached,s_m,path_m,human_path_m,ratio,\
-         duration_s,mean_density,max_density,replans,mean_replan_s\n",
+         duration_s,mean_density,max_density,replans,mean_replan_s,closest_pedestrian,closest_t_s\n",
     );
     for r in rows {
         let o = &r.outcome;
@@ -127,7 +127,7 @@ pub fn runs_csv(rows: &[ReplayRow]) -> String {
         };
         let _ = writeln!(
             out,
-            "{},{},{},{:.1},{:.1},{},{:.4},{:.4},{:.4},{:.4},{:.1},{:.4},{:.4},{},{}",
+            "{},{},{},{:.1},{:.1},{},{:.4},{:.4},{:.4},{:.4},{:.1},{:.4},{:.4},{},{},{},{}",
             r.planner,
             r.run.pedestrian,
             r.run.segment,
@@ -142,7 +142,9 @@ pub fn runs_csv(rows: &[ReplayRow]) -> String {
             o.mean_density,
             o.max_density,
             o.replans,
-            replan
+            replan,
+            o.closest.map_or(String::new(), |c| c.0.to_string()),
+            o.closest.map_or(String::new(), |c| format!("{:.1}", c.1)),
         );
     }
     out
@@ -157,6 +159,9 @@ pub struct TableRow {
     pub runs: usize,
     /// Share of runs that reached the goal in time (%).
     pub pct_reached: f64,
+    /// Runs in which nobody else was ever present (s = ∞): left out of μ(s) and σ(s), counted
+    /// as s ≥ 0.3 m.
+    pub runs_alone: usize,
     /// μ(s): mean over runs of the smallest distance to a pedestrian (m).
     pub mean_s: f64,
     /// Its standard deviation.
@@ -205,7 +210,11 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
             let mine: Vec<&ReplayRow> = rows.iter().filter(|r| r.planner == name).collect();
             let outcomes = mine.iter().map(|r| &r.outcome);
             let n = mine.len();
-            let (mean_s, sd_s) = mean_sd(outcomes.clone().map(|o| o.min_distance_m));
+            let met = outcomes
+                .clone()
+                .map(|o| o.min_distance_m)
+                .filter(|s| s.is_finite());
+            let (mean_s, sd_s) = mean_sd(met.clone());
             let (mean_path_m, sd_path_m) = mean_sd(outcomes.clone().map(|o| o.path_m));
             let (mean_density, sd_density) = mean_sd(outcomes.clone().map(|o| o.mean_density));
             let (mean_max_density, _) = mean_sd(outcomes.clone().map(|o| o.max_density));
@@ -215,6 +224,7 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
             TableRow {
                 planner: name.clone(),
                 runs: n,
+                runs_alone: n - met.count(),
                 pct_reached: pct(outcomes.clone().filter(|o| o.reached).count(), n),
                 mean_s,
                 sd_s,
@@ -252,16 +262,17 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
 /// The table as Markdown, laid out like the paper's Tables 1 and 2.
 pub fn table_markdown(table: &[TableRow]) -> String {
     let mut out = String::from(
-        "| | runs | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let na = |v: Option<f64>, f: &dyn Fn(f64) -> String| v.map_or("NA".to_string(), f);
     for r in table {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} |",
+            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} |",
             r.planner,
             r.runs,
+            r.runs_alone,
             r.pct_reached,
             r.mean_s,
             r.sd_s,
@@ -280,7 +291,7 @@ pub fn table_markdown(table: &[TableRow]) -> String {
     out
 }
 
-/// Writes `runs.csv`, `table.json` and `table.md` into `out`.
+/// Writes `runs.csv`, `table.json`, `table.md` and `safety_vs_path.png` into `out`.
 pub fn write_outputs(
     out: &Path,
     study: &ReplayStudy,
@@ -303,6 +314,28 @@ pub fn write_outputs(
         table_markdown(&table)
     );
     std::fs::write(out.join("table.md"), md)?;
+    let points: Vec<crate::plots::ReplayPoints<'_>> = table
+        .iter()
+        .filter(|t| t.planner != HUMAN)
+        .map(|t| {
+            let mine = rows.iter().filter(|r| r.planner == t.planner);
+            let points = mine
+                .map(|r| (r.outcome.min_distance_m, r.outcome.path_ratio()))
+                .collect();
+            (t.planner.as_str(), points)
+        })
+        .collect();
+    let human_s: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.planner == HUMAN)
+        .map(|r| r.outcome.min_distance_m)
+        .collect();
+    let title = format!(
+        "{} — {} runs: safety vs path length (cf. foIGP paper Figs. 5c/6c)",
+        study.recording.name, study.kind
+    );
+    crate::plots::write_replay_figure(&out.join("safety_vs_path.png"), &title, &points, &human_s)
+        .map_err(std::io::Error::other)?;
     Ok(table)
 }
 
@@ -359,7 +392,7 @@ mod tests {
         assert_eq!(strip(&rows), strip(&again));
         let md = table_markdown(&t);
         assert!(
-            md.lines().count() == 5 && md.contains("| human | 4 |"),
+            md.lines().count() == 5 && md.contains("| human | 4 | 0 |"),
             "{md}"
         );
     }

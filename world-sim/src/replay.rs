@@ -172,6 +172,8 @@ pub struct RunOutcome {
     pub reached: bool,
     /// s: the smallest centre-to-centre distance to any pedestrian (m; ∞ if nobody was there).
     pub min_distance_m: Real,
+    /// Who was that close, and when (s): for looking at the closest approaches in the data.
+    pub closest: Option<(u64, Real)>,
     /// d_r (robot) or d_h (person): path length (m).
     pub path_m: Real,
     /// d_h, for the ratio.
@@ -196,6 +198,7 @@ impl RunOutcome {
 /// Running s and density.
 struct Exposure {
     min_distance: Real,
+    closest: Option<(u64, Real)>,
     density_sum: Real,
     density_max: Real,
     samples: usize,
@@ -206,6 +209,7 @@ impl Exposure {
     fn new(radius: Real) -> Self {
         Self {
             min_distance: Real::INFINITY,
+            closest: None,
             density_sum: 0.0,
             density_max: 0.0,
             samples: 0,
@@ -215,9 +219,12 @@ impl Exposure {
 
     fn record(&mut self, recording: &Recording, t: Real, at: Vec2, skip: u64) {
         let mut near = 0usize;
-        for (_, p, _) in recording.people_at(t, Some(skip)) {
+        for (id, p, _) in recording.people_at(t, Some(skip)) {
             let d = (p - at).norm();
-            self.min_distance = self.min_distance.min(d);
+            if d < self.min_distance {
+                self.min_distance = d;
+                self.closest = Some((id, t));
+            }
             if d <= self.radius {
                 near += 1;
             }
@@ -239,6 +246,7 @@ impl Exposure {
         RunOutcome {
             reached,
             min_distance_m: self.min_distance,
+            closest: self.closest,
             path_m,
             human_path_m,
             duration_s,
