@@ -50,6 +50,11 @@ pub struct DashboardObserver {
     seen_events: usize,
 }
 
+/// Dashboards show the delay and extra path robots cause people over windows this long (s);
+/// commands that draw turn the measurement on (`Fleet::measure_human_impact`: one more crowd
+/// step per tick, for a shadow crowd that ignores robots).
+pub const HUMAN_IMPACT_WINDOW_S: f64 = 10.0;
+
 impl DashboardObserver {
     /// Starts a dashboard on `sinks` for `fleet`, labelling robots with `planner`.
     pub fn start(
@@ -201,6 +206,10 @@ impl Observer for DashboardObserver {
         ];
         if min_human.is_finite() {
             fleet_metrics.push(("min_human_distance", min_human));
+        }
+        if let Some(w) = fleet.human_impact().and_then(|i| i.latest()) {
+            fleet_metrics.push(("human_delay_s_per_min", w.delay_per_minute()));
+            fleet_metrics.push(("human_extra_path_m_per_min", w.extra_path_per_minute()));
         }
         let robot_metrics = per_robot
             .iter()

@@ -3,7 +3,7 @@
 //! scouting off), its own planner stack and its own tokio task, exactly as a separate
 //! `gapfleet-agent` process would.
 
-use crate::dashboard::DashboardObserver;
+use crate::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
 use crate::server::{CoordinatorConfig, Status, run_coordinator};
 use agent::planner::PlannerSpec;
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
@@ -62,6 +62,7 @@ pub async fn run_demo(
     let mut fleet = Fleet::new(&options.scenario)?;
     fleet.share_intents = options.share_intents;
     let dashboard = if options.sinks.any() {
+        fleet.measure_human_impact(HUMAN_IMPACT_WINDOW_S);
         let d = DashboardObserver::start(&fleet, &options.sinks, &options.planner.to_string())?;
         if let Some(url) = d.web_url() {
             on_web_url(url);

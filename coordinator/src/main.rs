@@ -429,6 +429,7 @@ fn coordinator_main(args: CoordinatorArgs) -> Result<()> {
         };
         let sinks = args.rerun.sinks();
         let dashboard = if sinks.any() {
+            fleet.measure_human_impact(coordinator::dashboard::HUMAN_IMPACT_WINDOW_S);
             let d = coordinator::dashboard::DashboardObserver::start(&fleet, &sinks, "agent")?;
             if let Some(url) = d.web_url() {
                 eprintln!("dashboard: open {url}");

@@ -324,6 +324,12 @@ fn blueprint() -> rerun::blueprint::Blueprint {
                 Horizontal::new([
                     plot("min human distance (m)", "min_human_distance").into(),
                     plot("social force", "social_force").into(),
+                    TimeSeriesView::new("delay / extra path robots cause people (per min)")
+                        .with_contents([
+                            "/metrics/human_delay_s_per_min/**",
+                            "/metrics/human_extra_path_m_per_min/**",
+                        ])
+                        .into(),
                 ])
                 .into(),
                 Horizontal::new([

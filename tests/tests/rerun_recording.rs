@@ -22,7 +22,9 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
             "--humans",
             "12",
             "--seconds",
-            "8",
+            // Two 10 s windows of the human-impact measurement: its series starts after the
+            // first, and frames may be dropped (by design) when the logger lags.
+            "20",
             "--speed",
             "4",
         ])
@@ -76,6 +78,8 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/metrics/tasks_per_minute/fleet",
         "/metrics/svr/robot/0",
         "/metrics/min_human_distance/robot/2",
+        "/metrics/human_delay_s_per_min/fleet",
+        "/metrics/human_extra_path_m_per_min/fleet",
     ] {
         assert!(
             listing.contains(entity),

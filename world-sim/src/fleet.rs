@@ -8,6 +8,7 @@
 //! route's current waypoint; intermediate waypoints count as reached within
 //! [`WAYPOINT_REACHED_M`], stations within the robot's goal tolerance.
 
+use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::warehouse::{Site, StationKind};
@@ -102,6 +103,7 @@ pub struct Fleet {
     held: Vec<bool>,
     intents: Vec<Option<(Real, Vec<TrajectorySample>)>>,
     recorders: Vec<MetricsRecorder>,
+    impact: Option<HumanImpact>,
     tasks_done: Vec<u64>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
@@ -135,6 +137,7 @@ impl Fleet {
             held: vec![false; n],
             intents: vec![None; n],
             recorders,
+            impact: None,
             tasks_done: vec![0; n],
             share_intents: true,
         })
@@ -269,6 +272,9 @@ impl Fleet {
         for r in &mut self.recorders {
             r.record(&self.world);
         }
+        if let Some(impact) = &mut self.impact {
+            impact.record(&self.world);
+        }
         let mut events = Vec::new();
         for i in 0..self.robots() {
             let robot = &self.world.robots[i];
@@ -310,6 +316,17 @@ impl Fleet {
         }
         self.update_goals();
         events
+    }
+
+    /// Starts measuring the delay and extra path the robots cause people, in windows of
+    /// `window_s` (a shadow crowd that ignores robots: one more crowd step per step).
+    pub fn measure_human_impact(&mut self, window_s: Real) {
+        self.impact = Some(HumanImpact::new(&self.world, window_s));
+    }
+
+    /// What the robots cost people, if measured.
+    pub fn human_impact(&self) -> Option<&HumanImpact> {
+        self.impact.as_ref()
     }
 
     /// Metrics of robot `i` so far.

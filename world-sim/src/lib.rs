@@ -9,6 +9,7 @@
 pub mod dataset;
 pub mod episode;
 pub mod fleet;
+pub mod impact;
 pub mod metrics;
 pub mod replay;
 pub mod robot;

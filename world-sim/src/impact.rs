@@ -1,0 +1,213 @@
+//! What robots cost the people around them: the delay and the extra path they cause, measured
+//! against a shadow of the same crowd in which nobody reacts to robots.
+//!
+//! At the start of each window the world is copied into a shadow whose people ignore robots;
+//! both are stepped in lockstep (people are deterministic, so without robots the two stay
+//! bit-identical). At the end of the window, for every person whose goal did not change in
+//! either world during it:
+//!
+//! - **delay** = (progress in the shadow − progress in the real world) / desired speed, in
+//!   seconds, where progress is how much closer to the goal the person got and the desired
+//!   speed is the Social Force Model's (PySocialForce's max speed);
+//! - **extra path** = (path − progress) in the real world − (path − progress) in the shadow, in
+//!   metres: the detour beyond straight progress that robots added.
+//!
+//! Then the shadow is re-synchronised with the real world. Costs one extra crowd step per step.
+
+use crate::world::World;
+use agent::math::{Real, Vec2};
+
+/// One finished window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactWindow {
+    /// Simulation time at the window's end (s).
+    pub end_time: Real,
+    /// Window length (s).
+    pub length_s: Real,
+    /// People whose goal stayed the same in both worlds (the ones measured).
+    pub people: usize,
+    /// Σ delay over them (person-seconds).
+    pub delay_s: Real,
+    /// Σ extra path over them (m).
+    pub extra_path_m: Real,
+}
+
+impl ImpactWindow {
+    /// Person-seconds of delay per minute of simulation.
+    pub fn delay_per_minute(&self) -> Real {
+        self.delay_s / (self.length_s / 60.0)
+    }
+
+    /// Metres of extra path per minute of simulation.
+    pub fn extra_path_per_minute(&self) -> Real {
+        self.extra_path_m / (self.length_s / 60.0)
+    }
+}
+
+/// Measures robots' impact on people window by window.
+#[derive(Debug, Clone)]
+pub struct HumanImpact {
+    shadow: World,
+    window_steps: u64,
+    steps: u64,
+    goals: Vec<Vec2>,
+    start_distance: Vec<Real>,
+    path: Vec<Real>,
+    shadow_path: Vec<Real>,
+    last: Vec<Vec2>,
+    windows: Vec<ImpactWindow>,
+}
+
+fn shadow_of(world: &World) -> World {
+    let mut shadow = world.clone();
+    shadow.humans.react_to_robots = false;
+    shadow.robots.clear();
+    shadow
+}
+
+impl HumanImpact {
+    /// Starts measuring `world` in windows of `window_s` seconds.
+    pub fn new(world: &World, window_s: Real) -> Self {
+        let mut impact = Self {
+            shadow: shadow_of(world),
+            window_steps: ((window_s / world.dt).round() as u64).max(1),
+            steps: 0,
+            goals: Vec::new(),
+            start_distance: Vec::new(),
+            path: Vec::new(),
+            shadow_path: Vec::new(),
+            last: Vec::new(),
+            windows: Vec::new(),
+        };
+        impact.restart(world);
+        impact
+    }
+
+    fn restart(&mut self, world: &World) {
+        self.shadow = shadow_of(world);
+        let crowd = &world.humans.crowd;
+        self.goals.clone_from(&crowd.goals);
+        self.start_distance = crowd
+            .positions
+            .iter()
+            .zip(&crowd.goals)
+            .map(|(p, g)| (g - p).norm())
+            .collect();
+        self.path = vec![0.0; crowd.positions.len()];
+        self.shadow_path = vec![0.0; crowd.positions.len()];
+        self.last.clone_from(&crowd.positions);
+        self.steps = 0;
+    }
+
+    /// Call after every step of `world`; steps the shadow alongside.
+    pub fn record(&mut self, world: &World) {
+        let before: Vec<Vec2> = self.shadow.humans.crowd.positions.clone();
+        self.shadow.step(&[]);
+        let shadow = &self.shadow.humans.crowd;
+        for (i, (a, b)) in before.iter().zip(&shadow.positions).enumerate() {
+            self.shadow_path[i] += (b - a).norm();
+        }
+        let crowd = &world.humans.crowd;
+        for (i, (last, now)) in self.last.iter_mut().zip(&crowd.positions).enumerate() {
+            self.path[i] += (now - *last).norm();
+            *last = *now;
+        }
+        self.steps += 1;
+        if self.steps < self.window_steps {
+            return;
+        }
+        let mut window = ImpactWindow {
+            end_time: world.time,
+            length_s: self.steps as Real * world.dt,
+            people: 0,
+            delay_s: 0.0,
+            extra_path_m: 0.0,
+        };
+        for i in 0..crowd.positions.len() {
+            let goal = self.goals[i];
+            if crowd.goals[i] != goal || shadow.goals[i] != goal {
+                continue;
+            }
+            let progress = self.start_distance[i] - (goal - crowd.positions[i]).norm();
+            let shadow_progress = self.start_distance[i] - (goal - shadow.positions[i]).norm();
+            let speed = crowd.max_speeds[i].max(1e-3);
+            window.people += 1;
+            window.delay_s += (shadow_progress - progress) / speed;
+            window.extra_path_m +=
+                (self.path[i] - progress) - (self.shadow_path[i] - shadow_progress);
+        }
+        self.windows.push(window);
+        self.restart(world);
+    }
+
+    /// The most recent finished window.
+    pub fn latest(&self) -> Option<&ImpactWindow> {
+        self.windows.last()
+    }
+
+    /// Every finished window, oldest first.
+    pub fn windows(&self) -> &[ImpactWindow] {
+        &self.windows
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+    use agent::model::Command;
+
+    fn run(react: bool, park_at_crowd: bool) -> Vec<ImpactWindow> {
+        let mut s = Scenario::builtin("hallway").expect("builtin");
+        s.seed = 3;
+        s.humans.react_to_robots = react;
+        let mut world = World::from_scenario(&s);
+        if park_at_crowd {
+            // Park the robot in the middle of the corridor, where people walk both ways.
+            let mid = world
+                .humans
+                .crowd
+                .positions
+                .iter()
+                .fold(Vec2::zeros(), |a, p| a + p)
+                / world.humans.crowd.positions.len() as Real;
+            world.robots[0].state.position = mid;
+        } else {
+            world.robots[0].state.position = Vec2::new(-1e4, -1e4);
+        }
+        let mut impact = HumanImpact::new(&world, 5.0);
+        let stop = vec![Command::STOP; world.robots.len()];
+        for _ in 0..300 {
+            world.step(&stop);
+            impact.record(&world);
+        }
+        impact.windows().to_vec()
+    }
+
+    #[test]
+    fn people_who_never_meet_a_robot_lose_nothing() {
+        let windows = run(true, false);
+        assert_eq!(windows.len(), 6);
+        for w in &windows {
+            assert!(w.people > 0);
+            assert!(
+                w.delay_s.abs() < 1e-9 && w.extra_path_m.abs() < 1e-9,
+                "{w:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_robot_parked_in_the_crowd_delays_people_and_makes_them_detour() {
+        let windows = run(true, true);
+        let delay: Real = windows.iter().map(|w| w.delay_s).sum();
+        let extra: Real = windows.iter().map(|w| w.extra_path_m).sum();
+        // Measured: 8.3 person-s and 1.1 m over the six 5 s windows (seed 3).
+        assert!(delay > 2.0, "delay {delay} person-s over {windows:?}");
+        assert!(extra > 0.3, "extra path {extra} m");
+        // People who ignore robots are not affected, whatever the robot does.
+        for w in run(false, true) {
+            assert_eq!((w.delay_s, w.extra_path_m), (0.0, 0.0), "{w:?}");
+        }
+    }
+}
