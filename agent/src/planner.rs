@@ -83,6 +83,14 @@ impl PlannerSpec {
     ];
 }
 
+impl PlannerSpec {
+    /// Whether the short-term planner keeps clear of walls and shelves. The foIGP family does
+    /// not: the foIGP paper's model has people and the robot only.
+    pub fn avoids_static_obstacles(&self) -> bool {
+        !matches!(self.local, LocalKind::Igp(_))
+    }
+}
+
 /// A planner name that is not one of ours.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(

@@ -351,6 +351,13 @@ fn demo(args: DemoArgs) -> Result<()> {
         Some(args.humans),
         Some(args.seed),
     )?;
+    if !args.planner.avoids_static_obstacles() {
+        eprintln!(
+            "warning: {} does not see shelves or walls (the foIGP paper models people only); \
+             robots will drive into them",
+            args.planner
+        );
+    }
     let options = DemoOptions {
         scenario,
         planner: args.planner,

@@ -19,7 +19,8 @@ struct Args {
     /// The robot this agent drives.
     #[arg(long)]
     robot_id: u32,
-    /// Planner stack: dwa, orca, sf, pgp+dwa, pgp+orca or pgp+sf.
+    /// Planner stack: dwa, orca, sf, foigp, igp-diag, igp-lin or mc, each optionally behind
+    /// pgp+ (e.g. pgp+orca). The foIGP family does not see walls or shelves.
     #[arg(long, default_value = "pgp+orca")]
     planner: PlannerSpec,
     /// Site name (key prefix gapfleet/<site>).
@@ -45,6 +46,12 @@ async fn main() -> anyhow::Result<()> {
         .with_writer(std::io::stderr)
         .init();
     let args = Args::parse();
+    if !args.planner.avoids_static_obstacles() {
+        tracing::warn!(
+            "{} does not see shelves or walls (the foIGP paper models people only)",
+            args.planner
+        );
+    }
     let mut net = args.net.clone();
     if net.connect.is_empty() && net.zenoh_config.is_none() {
         net.connect.push("tcp/127.0.0.1:7447".to_owned());
