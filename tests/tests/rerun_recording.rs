@@ -91,3 +91,85 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The real `rerun` executable's path (the wrapper below must not find itself).
+fn real_rerun() -> std::path::PathBuf {
+    let cli = rerun_cli();
+    if cli.contains('/') {
+        return cli.into();
+    }
+    std::env::var_os("PATH")
+        .and_then(|paths| {
+            std::env::split_paths(&paths)
+                .map(|d| d.join(&cli))
+                .find(|p| p.is_file())
+        })
+        .expect("the rerun CLI is installed (bash tests/run.sh installs it)")
+}
+
+/// `--spawn` starts a `rerun` viewer process itself (the Rerun SDK's spawn: `rerun` from
+/// PATH, on port 9876) and streams to it. A headless machine has no window to show, so the
+/// `rerun` found on PATH here is a wrapper that runs the real viewer with `--save FILE`
+/// (gRPC server, no window, everything received written to FILE); the file then holds the
+/// dashboard.
+#[test]
+fn spawn_starts_a_viewer_process_and_streams_to_it() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = std::env::temp_dir().join(format!("gapfleet-spawn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let saved = dir.join("spawned.rrd");
+    let wrapper = dir.join("rerun");
+    std::fs::write(
+        &wrapper,
+        format!(
+            "#!/bin/sh\nexec '{}' \"$@\" --save '{}'\n",
+            real_rerun().display(),
+            saved.display()
+        ),
+    )
+    .expect("write the wrapper");
+    std::fs::set_permissions(&wrapper, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    let path = format!(
+        "{}:{}",
+        dir.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    // The spawned viewer inherits the demo's output streams and outlives it (as a viewer
+    // should), so the demo writes to a file rather than to pipes this test would wait on.
+    let log = dir.join("demo.log");
+    let status = Command::new(binary("gapfleet"))
+        .args(["demo", "--robots", "2", "--humans", "8", "--seconds", "5"])
+        .args(["--speed", "5", "--spawn"])
+        .env("PATH", &path)
+        .env("RERUN_ANALYTICS", "0")
+        .stdin(std::process::Stdio::null())
+        .stdout(std::fs::File::create(&log).expect("log file"))
+        .stderr(std::fs::File::create(dir.join("demo.err")).expect("log file"))
+        .status()
+        .expect("gapfleet demo runs");
+    // Stop the spawned viewer with Ctrl-C.
+    let _ = Command::new("pkill")
+        .args(["-INT", "-f", &saved.display().to_string()])
+        .status();
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    assert!(
+        status.success(),
+        "demo --spawn failed: {}",
+        std::fs::read_to_string(dir.join("demo.err")).unwrap_or_default()
+    );
+    let print = Command::new(real_rerun())
+        .args(["rrd", "print"])
+        .arg(&saved)
+        .env("RERUN_ANALYTICS", "0")
+        .output()
+        .expect("rerun rrd print runs");
+    let listing = String::from_utf8_lossy(&print.stdout);
+    for entity in ["/map/shelves", "/world/robots", "/metrics/svr/fleet"] {
+        assert!(
+            listing.contains(entity),
+            "{entity} missing from what the spawned viewer received:\n{}",
+            String::from_utf8_lossy(&print.stderr)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
