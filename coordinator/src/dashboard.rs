@@ -207,7 +207,8 @@ impl Observer for DashboardObserver {
         if min_human.is_finite() {
             fleet_metrics.push(("min_human_distance", min_human));
         }
-        if let Some(w) = fleet.human_impact().and_then(|i| i.latest()) {
+        let impact = fleet.human_impact().and_then(|i| i.latest());
+        if let Some(w) = impact {
             fleet_metrics.push(("human_delay_s_per_min", w.delay_per_minute()));
             fleet_metrics.push(("human_extra_path_m_per_min", w.extra_path_per_minute()));
         }
@@ -222,6 +223,10 @@ impl Observer for DashboardObserver {
                 ];
                 if m.min_human_distance_m.is_finite() {
                     series.push(("min_human_distance", m.min_human_distance_m));
+                }
+                if let Some((delay, extra)) = impact.and_then(|w| w.robot_per_minute(i)) {
+                    series.push(("human_delay_s_per_min", delay));
+                    series.push(("human_extra_path_m_per_min", extra));
                 }
                 (i as u32, series)
             })

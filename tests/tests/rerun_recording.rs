@@ -80,6 +80,7 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/metrics/min_human_distance/robot/2",
         "/metrics/human_delay_s_per_min/fleet",
         "/metrics/human_extra_path_m_per_min/fleet",
+        "/metrics/human_delay_s_per_min/robot/0",
     ] {
         assert!(
             listing.contains(entity),

@@ -13,12 +13,20 @@
 //!   metres: the detour beyond straight progress that robots added.
 //!
 //! Then the shadow is re-synchronised with the real world. Costs one extra crowd step per step.
+//!
+//! **Per robot**: one shadow cannot say which robot caused what, so each person's delay and
+//! extra path are shared among the robots that were their nearest robot within
+//! [`ATTRIBUTION_RANGE_M`] during the window, in proportion to the steps each one was. What
+//! reaches people only through other people (nobody's nearest robot) stays in the fleet total.
 
 use crate::world::World;
 use agent::math::{Real, Vec2};
 
+/// A person's delay is attributed to robots that came at least this close (m).
+pub const ATTRIBUTION_RANGE_M: Real = 3.0;
+
 /// One finished window.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ImpactWindow {
     /// Simulation time at the window's end (s).
     pub end_time: Real,
@@ -30,6 +38,10 @@ pub struct ImpactWindow {
     pub delay_s: Real,
     /// Σ extra path over them (m).
     pub extra_path_m: Real,
+    /// The delay attributed to each robot (person-seconds), by robot index.
+    pub robot_delay_s: Vec<Real>,
+    /// The extra path attributed to each robot (m).
+    pub robot_extra_path_m: Vec<Real>,
 }
 
 impl ImpactWindow {
@@ -41,6 +53,15 @@ impl ImpactWindow {
     /// Metres of extra path per minute of simulation.
     pub fn extra_path_per_minute(&self) -> Real {
         self.extra_path_m / (self.length_s / 60.0)
+    }
+
+    /// Robot `i`'s share, per minute: (person-seconds of delay, metres of extra path).
+    pub fn robot_per_minute(&self, i: usize) -> Option<(Real, Real)> {
+        let minutes = self.length_s / 60.0;
+        Some((
+            self.robot_delay_s.get(i)? / minutes,
+            self.robot_extra_path_m.get(i)? / minutes,
+        ))
     }
 }
 
@@ -55,6 +76,8 @@ pub struct HumanImpact {
     path: Vec<Real>,
     shadow_path: Vec<Real>,
     last: Vec<Vec2>,
+    /// Per person: (robot, steps it was their nearest robot within range).
+    exposure: Vec<Vec<(usize, u32)>>,
     windows: Vec<ImpactWindow>,
 }
 
@@ -77,6 +100,7 @@ impl HumanImpact {
             path: Vec::new(),
             shadow_path: Vec::new(),
             last: Vec::new(),
+            exposure: Vec::new(),
             windows: Vec::new(),
         };
         impact.restart(world);
@@ -96,6 +120,7 @@ impl HumanImpact {
         self.path = vec![0.0; crowd.positions.len()];
         self.shadow_path = vec![0.0; crowd.positions.len()];
         self.last.clone_from(&crowd.positions);
+        self.exposure = vec![Vec::new(); crowd.positions.len()];
         self.steps = 0;
     }
 
@@ -111,6 +136,19 @@ impl HumanImpact {
         for (i, (last, now)) in self.last.iter_mut().zip(&crowd.positions).enumerate() {
             self.path[i] += (now - *last).norm();
             *last = *now;
+            let nearest = world
+                .robots
+                .iter()
+                .enumerate()
+                .map(|(r, robot)| (r, (robot.state.position - now).norm()))
+                .filter(|&(_, d)| d <= ATTRIBUTION_RANGE_M)
+                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            if let Some((r, _)) = nearest {
+                match self.exposure[i].iter_mut().find(|(robot, _)| *robot == r) {
+                    Some((_, steps)) => *steps += 1,
+                    None => self.exposure[i].push((r, 1)),
+                }
+            }
         }
         self.steps += 1;
         if self.steps < self.window_steps {
@@ -122,6 +160,8 @@ impl HumanImpact {
             people: 0,
             delay_s: 0.0,
             extra_path_m: 0.0,
+            robot_delay_s: vec![0.0; world.robots.len()],
+            robot_extra_path_m: vec![0.0; world.robots.len()],
         };
         for i in 0..crowd.positions.len() {
             let goal = self.goals[i];
@@ -131,10 +171,17 @@ impl HumanImpact {
             let progress = self.start_distance[i] - (goal - crowd.positions[i]).norm();
             let shadow_progress = self.start_distance[i] - (goal - shadow.positions[i]).norm();
             let speed = crowd.max_speeds[i].max(1e-3);
+            let delay = (shadow_progress - progress) / speed;
+            let extra = (self.path[i] - progress) - (self.shadow_path[i] - shadow_progress);
             window.people += 1;
-            window.delay_s += (shadow_progress - progress) / speed;
-            window.extra_path_m +=
-                (self.path[i] - progress) - (self.shadow_path[i] - shadow_progress);
+            window.delay_s += delay;
+            window.extra_path_m += extra;
+            let exposed: u32 = self.exposure[i].iter().map(|e| e.1).sum();
+            for &(r, steps) in &self.exposure[i] {
+                let share = Real::from(steps) / Real::from(exposed);
+                window.robot_delay_s[r] += delay * share;
+                window.robot_extra_path_m[r] += extra * share;
+            }
         }
         self.windows.push(window);
         self.restart(world);
@@ -202,6 +249,17 @@ mod tests {
         let windows = run(true, true);
         let delay: Real = windows.iter().map(|w| w.delay_s).sum();
         let extra: Real = windows.iter().map(|w| w.extra_path_m).sum();
+        // Only the parked robot (index 0) was near anyone: it carries what was attributed.
+        let attributed: Real = windows.iter().map(|w| w.robot_delay_s[0]).sum();
+        assert!(
+            attributed > 0.5 * delay,
+            "attributed {attributed} of {delay}"
+        );
+        assert!(
+            windows
+                .iter()
+                .all(|w| w.robot_delay_s[1..].iter().all(|&d| d == 0.0))
+        );
         // Measured: 8.3 person-s and 1.1 m over the six 5 s windows (seed 3).
         assert!(delay > 2.0, "delay {delay} person-s over {windows:?}");
         assert!(extra > 0.3, "extra path {extra} m");
