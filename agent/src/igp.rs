@@ -307,8 +307,20 @@ impl Objective {
 
     /// The coupling part of Eq. 6.1: Σᵢ Σ_t Σ_τ log(1 − Z⁻¹) (never positive).
     fn coupling(&self, x: &[Vec<Vec2>]) -> Real {
-        let t = self.bodies[0].steps();
         let mut f = 0.0;
+        self.for_each_coupled_pair(x, |_, _, _, _, _, u| f += (-(-u).exp_m1()).ln());
+        f
+    }
+
+    /// Calls `visit(person, t, τ, 1/σ^{t,τ}, Δ = x_R,t − x_person,τ, u)` for every coupled pair
+    /// close enough to count (u < U_MAX), u clamped below at U_MIN.
+    #[inline]
+    fn for_each_coupled_pair(
+        &self,
+        x: &[Vec<Vec2>],
+        mut visit: impl FnMut(usize, usize, usize, Real, Vec2, Real),
+    ) {
+        let t = self.bodies[0].steps();
         for (i, inv) in self.inv_width.iter().enumerate() {
             let person = &x[i + 1];
             for a in 0..t {
@@ -317,14 +329,14 @@ impl Objective {
                     if c == 0.0 {
                         continue;
                     }
-                    let u = 0.5 * c * (x[0][a] - person[b]).norm_squared();
+                    let delta = x[0][a] - person[b];
+                    let u = 0.5 * c * delta.norm_squared();
                     if u < U_MAX {
-                        f += (-(-u.max(U_MIN)).exp_m1()).ln();
+                        visit(i, a, b, c, delta, u.max(U_MIN));
                     }
                 }
             }
         }
-        f
     }
 
     /// Gradient and the negated Hessian of log λ at `x`, in the arrow structure the robot–person
@@ -351,43 +363,28 @@ impl Objective {
                 d.grad[k][2 * a + 1] += g.y;
             }
         }
-        for (i, inv) in self.inv_width.iter().enumerate() {
-            let person = &x[i + 1];
-            for a in 0..t {
-                for b in 0..t {
-                    let c = inv[(a, b)];
-                    if c == 0.0 {
-                        continue;
-                    }
-                    let delta = x[0][a] - person[b];
-                    let u = 0.5 * c * delta.norm_squared();
-                    if u >= U_MAX {
-                        continue;
-                    }
-                    let u = u.max(U_MIN);
-                    // g(u) = log(1 − e⁻ᵘ): g' = 1 / (eᵘ − 1), g'' = −eᵘ / (eᵘ − 1)².
-                    let em1 = u.exp_m1();
-                    let g1 = 1.0 / em1;
-                    let g2 = -(em1 + 1.0) / (em1 * em1);
-                    // ∇_Δ g = g' c Δ; ∇²_Δ g = g'' c² Δ Δᵀ + g' c I  (=: M).
-                    let grad = delta * (g1 * c);
-                    let m = delta * delta.transpose() * (g2 * c * c)
-                        + nalgebra::Matrix2::identity() * (g1 * c);
-                    d.grad[0][2 * a] += grad.x;
-                    d.grad[0][2 * a + 1] += grad.y;
-                    d.grad[i + 1][2 * b] -= grad.x;
-                    d.grad[i + 1][2 * b + 1] -= grad.y;
-                    // A = −H: the robot and person diagonal blocks get −M, the cross block +M.
-                    for r in 0..2 {
-                        for s in 0..2 {
-                            d.a_rr[(2 * a + r, 2 * a + s)] -= m[(r, s)];
-                            d.a_pp[i][(2 * b + r, 2 * b + s)] -= m[(r, s)];
-                            d.b[i][(2 * a + r, 2 * b + s)] += m[(r, s)];
-                        }
-                    }
+        self.for_each_coupled_pair(x, |i, a, b, c, delta, u| {
+            // g(u) = log(1 − e⁻ᵘ): g' = 1 / (eᵘ − 1), g'' = −eᵘ / (eᵘ − 1)².
+            let em1 = u.exp_m1();
+            let g1 = 1.0 / em1;
+            let g2 = -(em1 + 1.0) / (em1 * em1);
+            // ∇_Δ g = g' c Δ; ∇²_Δ g = g'' c² Δ Δᵀ + g' c I  (=: M).
+            let grad = delta * (g1 * c);
+            let m =
+                delta * delta.transpose() * (g2 * c * c) + nalgebra::Matrix2::identity() * (g1 * c);
+            d.grad[0][2 * a] += grad.x;
+            d.grad[0][2 * a + 1] += grad.y;
+            d.grad[i + 1][2 * b] -= grad.x;
+            d.grad[i + 1][2 * b + 1] -= grad.y;
+            // A = −H: the robot and person diagonal blocks get −M, the cross block +M.
+            for r in 0..2 {
+                for s in 0..2 {
+                    d.a_rr[(2 * a + r, 2 * a + s)] -= m[(r, s)];
+                    d.a_pp[i][(2 * b + r, 2 * b + s)] -= m[(r, s)];
+                    d.b[i][(2 * a + r, 2 * b + s)] += m[(r, s)];
                 }
             }
-        }
+        });
     }
 
     /// The gradient of log λ at `x`, flattened body by body as (x₁, y₁, x₂, y₂, …).
