@@ -208,11 +208,11 @@ impl TrajectoryGp {
 
     /// −½ (x − μ)ᵀ Σ⁻¹ (x − μ), both coordinates.
     fn log_prior(&self, x: &[Vec2]) -> Real {
-        let deviation: Vec<Vec2> = x.iter().zip(&self.mean).map(|(x, m)| x - m).collect();
         let mut sum = 0.0;
-        for (a, da) in deviation.iter().enumerate() {
-            for (b, db) in deviation.iter().enumerate() {
-                sum += self.precision[(a, b)] * da.dot(db);
+        for (a, (xa, ma)) in x.iter().zip(&self.mean).enumerate() {
+            let da = xa - ma;
+            for (b, (xb, mb)) in x.iter().zip(&self.mean).enumerate() {
+                sum += self.precision[(a, b)] * da.dot(&(xb - mb));
             }
         }
         -0.5 * sum

@@ -188,13 +188,12 @@ pub struct TableRow {
     pub mean_max_density: f64,
 }
 
+/// Mean and standard deviation (population), through `stats::mean`; NaN for no values.
 fn mean_sd(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
-    let n = values.clone().count() as f64;
-    if n == 0.0 {
+    let Some(mean) = crate::stats::mean(values.clone()) else {
         return (f64::NAN, f64::NAN);
-    }
-    let mean = values.clone().sum::<f64>() / n;
-    let var = values.map(|v| (v - mean).powi(2)).sum::<f64>() / n;
+    };
+    let var = crate::stats::mean(values.map(|v| (v - mean).powi(2))).unwrap_or(f64::NAN);
     (mean, var.sqrt())
 }
 

@@ -5,12 +5,12 @@
 //!     cargo bench -p world-sim --bench foigp
 
 use agent::igp::{IgpParams, IgpPlanner, IgpVariant};
-use agent::model::{AgentKind, EgoState, Neighbour};
+use agent::model::{EgoState, Neighbour};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::path::Path;
 use world_sim::dataset::Recording;
-use world_sim::replay::{ReplayOptions, RunKind, median_speed, runs};
+use world_sim::replay::{ReplayOptions, RunKind, median_speed, perceived, runs};
 
 /// A planner warmed up on a scene's history, and the scene.
 struct Scene {
@@ -39,11 +39,8 @@ fn scenes(variant: IgpVariant, count: usize) -> Vec<Scene> {
             let track = rec.track(run.pedestrian).expect("run's track");
             let at = |t: f64| {
                 let (position, velocity) = track.state_at(t).expect("inside the run");
-                let seen: Vec<Neighbour> = rec
-                    .people_at(t, Some(run.pedestrian))
-                    .filter(|(_, p, _)| (p - position).norm() <= options.sensor_range_m)
-                    .map(|(id, p, v)| Neighbour::new(id, p, v, 0.3, AgentKind::Human))
-                    .collect();
+                let seen: Vec<Neighbour> =
+                    perceived(&rec, t, run.pedestrian, position, &options).collect();
                 let ego = EgoState {
                     position,
                     heading: velocity.y.atan2(velocity.x),

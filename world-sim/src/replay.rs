@@ -320,6 +320,21 @@ fn goal_at(track: &Track, run: &ReplayRun, t: Real) -> Vec2 {
     }
 }
 
+/// What a robot at `at` perceives at `t` in place of pedestrian `removed`: everyone else
+/// within the sensor range, as recorded.
+pub fn perceived<'a>(
+    recording: &'a Recording,
+    t: Real,
+    removed: u64,
+    at: Vec2,
+    options: &'a ReplayOptions,
+) -> impl Iterator<Item = Neighbour> + 'a {
+    recording
+        .people_at(t, Some(removed))
+        .filter(move |(_, p, _)| (p - at).norm() <= options.sensor_range_m)
+        .map(|(id, p, v)| Neighbour::new(id, p, v, options.person_radius_m, AgentKind::Human))
+}
+
 /// Plays one run with the robot in the person's place; `plan` is called every replan period
 /// with what the robot perceives and returns the command it holds until the next plan.
 pub fn replay(
@@ -347,7 +362,6 @@ pub fn replay(
     let duration = run.t_end - run.t_start;
     let deadline = run.t_end + options.patience_s.max(duration);
     let every = simulation_steps(0.0, options.replan_period, options.dt).max(1);
-    let range = options.sensor_range_m;
     let mut command = Command::STOP;
     let mut neighbours = Vec::new();
     let (mut path, mut replans, mut reached) = (0.0, 0, false);
@@ -358,14 +372,7 @@ pub fn replay(
         if k % every == 0 {
             let at = robot.state.position;
             neighbours.clear();
-            neighbours.extend(
-                recording
-                    .people_at(t, Some(run.pedestrian))
-                    .filter(|(_, p, _)| (p - at).norm() <= range)
-                    .map(|(id, p, v)| {
-                        Neighbour::new(id, p, v, options.person_radius_m, AgentKind::Human)
-                    }),
-            );
+            neighbours.extend(perceived(recording, t, run.pedestrian, at, options));
             let input = PlanningInput {
                 ego: &robot.state,
                 neighbours: &neighbours,
