@@ -58,6 +58,40 @@ impl PointGrid {
         cy * self.cols + cx
     }
 
+    /// The items in cell order (row by row, ascending index within a cell): the order in
+    /// which [`runs_near`](Self::runs_near) numbers them.
+    pub fn items(&self) -> &[u32] {
+        &self.items
+    }
+
+    /// Calls `f(lo, hi)` for each row of the 3 × 3 cells around `p`: positions `lo..hi` of
+    /// [`items`](Self::items), which together hold every item within one cell side of `p`.
+    /// The runs come in ascending order and do not overlap.
+    pub fn runs_near(&self, p: Vec2, mut f: impl FnMut(usize, usize)) {
+        if self.items.is_empty() {
+            return;
+        }
+        let fx = ((p.x - self.min.x) / self.cell).floor();
+        let fy = ((p.y - self.min.y) / self.cell).floor();
+        let x0 = (fx - 1.0).max(0.0);
+        let x1 = (fx + 1.0).min(self.cols as Real - 1.0);
+        if x0 > x1 {
+            return;
+        }
+        for dy in -1..=1 {
+            let y = fy + dy as Real;
+            if y < 0.0 || y >= self.rows as Real {
+                continue;
+            }
+            let row = y as usize * self.cols;
+            let lo = self.starts[row + x0 as usize] as usize;
+            let hi = self.starts[row + x1 as usize + 1] as usize;
+            if lo < hi {
+                f(lo, hi);
+            }
+        }
+    }
+
     /// Calls `f` with every item in the 3 × 3 cells around `p`: a superset of the items within
     /// one cell side of `p`.
     pub fn for_each_near(&self, p: Vec2, mut f: impl FnMut(usize)) {
@@ -112,6 +146,16 @@ mod tests {
             found.sort_unstable();
             found.dedup();
             prop_assert!(found.iter().all(|&i| i < points.len()));
+            // The runs hold the same items, each once.
+            let mut in_runs = Vec::new();
+            let mut last_hi = 0;
+            grid.runs_near(q, |lo, hi| {
+                assert!(lo >= last_hi && lo < hi, "runs ascend without overlap");
+                last_hi = hi;
+                in_runs.extend(grid.items()[lo..hi].iter().map(|&i| i as usize));
+            });
+            in_runs.sort_unstable();
+            prop_assert_eq!(in_runs, found);
         }
     }
 }

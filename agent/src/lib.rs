@@ -9,6 +9,7 @@
 //! input gives the same output, bit for bit.
 
 pub mod dwa;
+pub mod fastmath;
 pub mod grid;
 pub mod igp;
 pub mod map;

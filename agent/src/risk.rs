@@ -8,40 +8,10 @@ use crate::math::Real;
 pub const EXP_NEG_MAX: Real = 60.0;
 
 /// e^(−x) for x in [0, [`EXP_NEG_MAX`]], within 2 ulp of `f64::exp`, branch-free so that
-/// loops over it vectorise. Cody–Waite reduction x·log2(e) = n + r with |r·ln 2| ≤ ln2/2, a
-/// degree-13 Taylor polynomial (truncation error < 5·10⁻¹⁸ relative), and 2^−n assembled
-/// from bits. Pure IEEE arithmetic without fused operations: the same bits on every machine.
+/// loops over it vectorise (see [`crate::fastmath`]).
 #[inline(always)]
 pub fn exp_neg(x: Real) -> Real {
-    const LOG2E: Real = std::f64::consts::LOG2_E;
-    // ln 2 split so that n·LN2_HI is exact for |n| < 2^11.
-    const LN2_HI: Real = Real::from_bits(0x3fe6_2e42_fee0_0000); // fdlibm's ln2_hi
-    const LN2_LO: Real = Real::from_bits(0x3dea_39ef_3579_3c76); // fdlibm's ln2_lo
-    // 1.5·2^52: adding it rounds to the nearest integer, which lands in the low mantissa bits.
-    const MAGIC: Real = 6_755_399_441_055_744.0;
-    let x = x.clamp(0.0, EXP_NEG_MAX);
-    let shifted = -x * LOG2E + MAGIC;
-    let n = shifted - MAGIC;
-    let r = (-x - n * LN2_HI) - n * LN2_LO;
-    // Horner on Σ r^i / i!, i = 0..=13.
-    let mut p = 1.0 / 6_227_020_800.0;
-    p = p * r + 1.0 / 479_001_600.0;
-    p = p * r + 1.0 / 39_916_800.0;
-    p = p * r + 1.0 / 3_628_800.0;
-    p = p * r + 1.0 / 362_880.0;
-    p = p * r + 1.0 / 40_320.0;
-    p = p * r + 1.0 / 5_040.0;
-    p = p * r + 1.0 / 720.0;
-    p = p * r + 1.0 / 120.0;
-    p = p * r + 1.0 / 24.0;
-    p = p * r + 1.0 / 6.0;
-    p = p * r + 0.5;
-    p = p * r + 1.0;
-    p = p * r + 1.0;
-    // n is in [−87, 0]: 2^n is a normal number with biased exponent n + 1023.
-    let n_bits = shifted.to_bits().wrapping_sub(MAGIC.to_bits());
-    let scale = Real::from_bits(n_bits.wrapping_add(1023) << 52);
-    p * scale
+    crate::fastmath::exp_reduced(-x.clamp(0.0, EXP_NEG_MAX))
 }
 
 /// Eq. 1: probability that ego and agent k collide at step i,

@@ -11,9 +11,10 @@
 //! - the desired force pulls towards `max_speed` (1.3 × the initial speed by default);
 //! - an agent closer than 0.5 m to its goal stops.
 
+use crate::fastmath;
 use crate::grid::PointGrid;
 use crate::map::StaticMap;
-use crate::math::{Real, Vec2, angle_of, left_normal, vec2};
+use crate::math::{Real, Vec2, left_normal, vec2};
 use crate::model::{EgoState, Neighbour};
 
 /// `[desired_force]`
@@ -139,19 +140,20 @@ impl Default for SfParams {
     }
 }
 
-/// `stateutils.normalize` for one vector: the unit vector and the norm, zero for zero.
-#[inline]
+/// `stateutils.normalize` for one vector: the unit vector and the norm, zero for zero. It
+/// multiplies by 1/‖v‖ where numpy divides (one division instead of two; 1 ulp apart).
+#[inline(always)]
 fn normalize(v: Vec2) -> (Vec2, Real) {
     let n = v.norm();
     if n == 0.0 {
         (vec2(0.0, 0.0), 0.0)
     } else {
-        (v / n, n)
+        (v * (1.0 / n), n)
     }
 }
 
 /// `DesiredForce`: relax towards `max_speed` along the direction to `goal`.
-#[inline]
+#[inline(always)]
 pub fn desired_force(
     pos: Vec2,
     vel: Vec2,
@@ -168,8 +170,10 @@ pub fn desired_force(
     f / p.relaxation_time * p.factor
 }
 
-/// `SocialForce` exerted on `a` by `b` (without the overall factor).
-#[inline]
+/// `SocialForce` exerted on `a` by `b` (without the overall factor). Straight-line code
+/// (`exp` and `atan2` from [`fastmath`], selects for PySocialForce's special cases) so that
+/// the crowd's loops over it vectorise.
+#[inline(always)]
 pub fn social_force_pair(
     pos_a: Vec2,
     vel_a: Vec2,
@@ -182,13 +186,8 @@ pub fn social_force_pair(
     let (interaction_direction, interaction_length) =
         normalize(vel_diff * p.lambda_importance + diff_direction);
     let b = p.gamma * interaction_length;
-    if b == 0.0 {
-        // PySocialForce divides by B = 0 here; numpy's exp(−inf) makes the force zero.
-        return vec2(0.0, 0.0);
-    }
-    // Not wrapped into (−π, π], as in PySocialForce.
-    let theta = angle_of(&interaction_direction) - angle_of(&diff_direction);
-    let velocity_amount = (-diff_length / b - (p.n_prime * b * theta).powi(2)).exp();
+    let theta = pysf_theta(diff_direction, interaction_direction);
+    let velocity_amount = fastmath::exp(-diff_length / b - (p.n_prime * b * theta).powi(2));
     let sign = if theta > 0.0 {
         1.0
     } else if theta < 0.0 {
@@ -196,24 +195,281 @@ pub fn social_force_pair(
     } else {
         0.0
     };
-    let angle_amount = -sign * (-diff_length / b - (p.n * b * theta).powi(2)).exp();
-    interaction_direction * velocity_amount + left_normal(&interaction_direction) * angle_amount
+    let angle_amount = -sign * fastmath::exp(-diff_length / b - (p.n * b * theta).powi(2));
+    let f = interaction_direction * velocity_amount
+        + left_normal(&interaction_direction) * angle_amount;
+    // PySocialForce divides by B = 0 when ‖D‖ = 0; numpy's exp(−inf) makes the force zero.
+    if b == 0.0 { vec2(0.0, 0.0) } else { f }
+}
+
+/// θ = atan2(i) − atan2(e), not wrapped into (−π, π], as PySocialForce computes the
+/// interaction angle (`vec_diff_angle`), with one `atan2` instead of two: the angle w from e to
+/// i in [−π, π], moved by 2π when the turn from e to i crosses the negative x axis, where the
+/// two angles jump (e in the upper half-plane and i in the lower one with w > 0, or the
+/// reverse with w < 0; the half-planes are told apart by sign bits, as `atan2` does). For
+/// e = 0, `atan2(e)` = 0 and θ = atan2(i); for i = 0, θ = −atan2(e).
+#[inline(always)]
+pub fn pysf_theta(e: Vec2, i: Vec2) -> Real {
+    use std::f64::consts::TAU;
+    let e_zero = (e.x == 0.0) & (e.y == 0.0);
+    let i_zero = (i.x == 0.0) & (i.y == 0.0);
+    let (y, x) = if e_zero {
+        (i.y, i.x)
+    } else if i_zero {
+        (-e.y, e.x)
+    } else {
+        (e.x * i.y - e.y * i.x, e.x * i.x + e.y * i.y)
+    };
+    let w = fastmath::atan2(y, x);
+    let (e_lower, i_lower) = (e.y.is_sign_negative(), i.y.is_sign_negative());
+    // Parallel vectors on the negative x axis with zeros of opposite sign: π vs −π.
+    let on_the_cut = (w == 0.0) & (e.x < 0.0);
+    if !e_lower & i_lower & ((w > 0.0) | on_the_cut) {
+        w - TAU
+    } else if e_lower & !i_lower & ((w < 0.0) | on_the_cut) {
+        w + TAU
+    } else {
+        w
+    }
+}
+
+/// Sums over people and wall points are kept as `LANES` partial sums, item i adding to partial
+/// sum i mod `LANES`, which are added in a fixed order at the end. The loops then vectorise,
+/// give the same bits at every vector width, and give the same bits for any superset of the
+/// items that act (the others add exact zeros).
+const LANES: usize = 8;
+
+/// `LANES` partial sums of 2-D forces.
+#[derive(Debug, Clone, Copy)]
+struct Partial {
+    x: [Real; LANES],
+    y: [Real; LANES],
+}
+
+impl Partial {
+    const ZERO: Self = Self {
+        x: [0.0; LANES],
+        y: [0.0; LANES],
+    };
+
+    #[inline(always)]
+    fn total(&self) -> Vec2 {
+        fn tree(a: &[Real; LANES]) -> Real {
+            ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))
+        }
+        vec2(tree(&self.x), tree(&self.y))
+    }
+}
+
+/// Items per pass of the vectorised loops (a multiple of `LANES`).
+const CHUNK: usize = 64;
+
+/// Adds `fx[k]`, `fy[k]` to partial sum k mod `LANES` (lengths are multiples of `LANES`).
+#[inline(always)]
+fn accumulate(acc: &mut Partial, fx: &[Real], fy: &[Real]) {
+    for (x, y) in fx.chunks_exact(LANES).zip(fy.chunks_exact(LANES)) {
+        for l in 0..LANES {
+            acc.x[l] += x[l];
+            acc.y[l] += y[l];
+        }
+    }
+}
+
+/// Positions and velocities of a crowd as columns, and the neighbours of one agent gathered
+/// from them: the agents that act, packed, so that the vectorised force loop wastes no lanes.
+#[derive(Debug, Clone, Default)]
+struct Columns {
+    x: Vec<Real>,
+    y: Vec<Real>,
+    vx: Vec<Real>,
+    vy: Vec<Real>,
+    /// The packed neighbours of the agent being summed: positions, velocities, and room to
+    /// pack one more item past the last.
+    near: [Vec<Real>; 4],
+}
+
+impl Columns {
+    /// `positions[order[k]]` and `velocities[order[k]]` at k.
+    fn gather(
+        &mut self,
+        positions: &[Vec2],
+        velocities: &[Vec2],
+        order: impl Iterator<Item = usize>,
+    ) {
+        for column in [&mut self.x, &mut self.y, &mut self.vx, &mut self.vy] {
+            column.clear();
+        }
+        for i in order {
+            self.x.push(positions[i].x);
+            self.y.push(positions[i].y);
+            self.vx.push(velocities[i].x);
+            self.vy.push(velocities[i].y);
+        }
+        for column in &mut self.near {
+            column.resize(self.x.len() + CHUNK, 0.0);
+        }
+    }
+
+    /// Packs every agent k in `runs` (ascending, disjoint ranges of columns), k ≠ `skip`,
+    /// closer to `pa` than √`range_sq`, and returns how many. Branch-free: each candidate is
+    /// written, and the count advances only past those that act.
+    #[inline(always)]
+    fn pack(&mut self, pa: Vec2, runs: &[(usize, usize)], skip: usize, range_sq: Real) -> usize {
+        let mut m = 0;
+        let [nx, ny, nvx, nvy] = &mut self.near;
+        for &(lo, hi) in runs {
+            for k in lo..hi {
+                let (x, y) = (self.x[k], self.y[k]);
+                nx[m] = x;
+                ny[m] = y;
+                nvx[m] = self.vx[k];
+                nvy[m] = self.vy[k];
+                let (dx, dy) = (x - pa.x, y - pa.y);
+                m += usize::from((k != skip) & (dx * dx + dy * dy < range_sq));
+            }
+        }
+        m
+    }
+
+    /// The social force on (pa, va) of the `m` packed neighbours, as partial sums.
+    #[inline(always)]
+    fn social(&self, pa: Vec2, va: Vec2, m: usize, p: &SocialForceParams) -> Partial {
+        let mut acc = Partial::ZERO;
+        let (mut fx, mut fy) = ([0.0; CHUNK], [0.0; CHUNK]);
+        let [nx, ny, nvx, nvy] = &self.near;
+        for start in (0..m).step_by(CHUNK) {
+            // Whole blocks, so that the loop has no scalar remainder; the items past the
+            // packed ones are left-overs, zeroed below.
+            let len = (m - start).min(CHUNK);
+            let whole = len.div_ceil(LANES) * LANES;
+            let columns = nx[start..start + whole]
+                .iter()
+                .zip(&ny[start..start + whole])
+                .zip(&nvx[start..start + whole])
+                .zip(&nvy[start..start + whole]);
+            for ((fx, fy), (((&x, &y), &vx), &vy)) in fx.iter_mut().zip(fy.iter_mut()).zip(columns)
+            {
+                let f = social_force_pair(pa, va, vec2(x, y), vec2(vx, vy), p);
+                *fx = f.x;
+                *fy = f.y;
+            }
+            fx[len..whole].fill(0.0);
+            fy[len..whole].fill(0.0);
+            accumulate(&mut acc, &fx[..whole], &fy[..whole]);
+        }
+        acc
+    }
 }
 
 /// Wall points as PySocialForce samples them: `int(length · resolution)` points from start to
-/// end inclusive, per obstacle line. Optionally indexed by a grid ([`indexed`](Self::indexed))
-/// so that the obstacle force visits only nearby points; the result is bit-identical to the
-/// full scan (same points, same order).
+/// end inclusive, per obstacle line. Optionally indexed ([`indexed`](Self::indexed)) so that
+/// the obstacle force visits only nearby points; the result is bit-identical to the full scan.
 #[derive(Debug, Clone, Default)]
 pub struct ObstaclePoints {
     points: Vec<Vec2>,
-    /// Cell side and grid, when indexed.
-    grid: Option<(Real, PointGrid)>,
+    /// The points as columns padded with NaN to whole blocks of `LANES`.
+    xs: Vec<Real>,
+    ys: Vec<Real>,
+    index: Option<WallIndex>,
 }
 
 impl PartialEq for ObstaclePoints {
     fn eq(&self, other: &Self) -> bool {
         self.points == other.points
+    }
+}
+
+/// For each cell of a square grid, the blocks of `LANES` points that hold every point within
+/// `reach` of the cell, as ascending, disjoint runs of block numbers.
+#[derive(Debug, Clone)]
+struct WallIndex {
+    reach: Real,
+    cell: Real,
+    min: Vec2,
+    cols: usize,
+    rows: usize,
+    /// `starts[c]..starts[c + 1]` indexes `runs` for cell c.
+    starts: Vec<u32>,
+    runs: Vec<(u32, u32)>,
+}
+
+impl WallIndex {
+    /// Cell side (m): smaller cells visit fewer points that do not act but take more memory.
+    const CELL: Real = 1.0;
+
+    fn build(points: &[Vec2], reach: Real) -> Self {
+        // A little slack so that rounding in a body's distance test cannot drop a point.
+        let slack = 1e-9 * (1.0 + reach);
+        let cell = Self::CELL;
+        let (mut min, mut max) = (vec2(0.0, 0.0), vec2(0.0, 0.0));
+        if let Some(first) = points.first() {
+            (min, max) = (*first, *first);
+            for p in points {
+                min = min.inf(p);
+                max = max.sup(p);
+            }
+        }
+        let margin = vec2(reach + cell, reach + cell);
+        min -= margin;
+        max += margin;
+        let cols = ((max.x - min.x) / cell) as usize + 1;
+        let rows = ((max.y - min.y) / cell) as usize + 1;
+        // Per cell, the blocks (ascending, since points are visited in order).
+        let mut blocks: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
+        for (i, p) in points.iter().enumerate() {
+            let block = (i / LANES) as u32;
+            let lo = ((p - min).add_scalar(-reach - slack) / cell).map(|v| v.floor().max(0.0));
+            let hi = ((p - min).add_scalar(reach + slack) / cell).map(|v| v.floor());
+            for cy in lo.y as usize..=(hi.y as usize).min(rows - 1) {
+                for cx in lo.x as usize..=(hi.x as usize).min(cols - 1) {
+                    // Distance from p to the cell's square.
+                    let corner = min + vec2(cx as Real, cy as Real) * cell;
+                    let dx = (corner.x - p.x).max(p.x - (corner.x + cell)).max(0.0);
+                    let dy = (corner.y - p.y).max(p.y - (corner.y + cell)).max(0.0);
+                    let list = &mut blocks[cy * cols + cx];
+                    if dx * dx + dy * dy <= (reach + slack) * (reach + slack)
+                        && list.last() != Some(&block)
+                    {
+                        list.push(block);
+                    }
+                }
+            }
+        }
+        let mut starts = Vec::with_capacity(blocks.len() + 1);
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        for list in &blocks {
+            starts.push(runs.len() as u32);
+            let first_run = runs.len();
+            for &b in list {
+                match runs[first_run..].last_mut() {
+                    Some(run) if run.1 == b => run.1 = b + 1,
+                    _ => runs.push((b, b + 1)),
+                }
+            }
+        }
+        starts.push(runs.len() as u32);
+        Self {
+            reach,
+            cell,
+            min,
+            cols,
+            rows,
+            starts,
+            runs,
+        }
+    }
+
+    /// The runs of blocks for a body at `pos`; empty when no point is within `reach`.
+    #[inline(always)]
+    fn runs_at(&self, pos: Vec2) -> &[(u32, u32)] {
+        let fx = ((pos.x - self.min.x) / self.cell).floor();
+        let fy = ((pos.y - self.min.y) / self.cell).floor();
+        // Outside the grid (which extends `reach` beyond every point) nothing acts; NaN too.
+        if !(fx >= 0.0 && fy >= 0.0 && fx < self.cols as Real && fy < self.rows as Real) {
+            return &[];
+        }
+        let c = fy as usize * self.cols + fx as usize;
+        &self.runs[self.starts[c] as usize..self.starts[c + 1] as usize]
     }
 }
 
@@ -234,22 +490,31 @@ impl ObstaclePoints {
                 ),
             }
         }
-        Self { points, grid: None }
+        Self::from_points(points)
     }
 
     /// Points given directly (tests, hand-made scenes).
     pub fn from_points(points: Vec<Vec2>) -> Self {
-        Self { points, grid: None }
+        let padded = points.len().div_ceil(LANES) * LANES;
+        let column = |axis: usize| {
+            let mut c: Vec<Real> = points.iter().map(|p| p[axis]).collect();
+            c.resize(padded, Real::NAN);
+            c
+        };
+        Self {
+            xs: column(0),
+            ys: column(1),
+            points,
+            index: None,
+        }
     }
 
-    /// Indexes the points in a grid of cell side `reach`: forces on bodies for which a point
-    /// acts only within `reach` of their centre (PySocialForce's test is
-    /// `‖pos − o‖ − r < threshold + r`, so that is `threshold + 2r`) then visit only the 3 × 3
-    /// cells around the body instead of every point of the map.
+    /// Indexes the points by a grid for bodies on which a point acts only within `reach` of
+    /// their centre (PySocialForce's test is `‖pos − o‖ − r < threshold + r`, so that is
+    /// `threshold + 2r`): each cell lists the blocks of points within `reach` of it, and a body
+    /// visits only those of its cell instead of every point of the map.
     pub fn indexed(mut self, reach: Real) -> Self {
-        let mut grid = PointGrid::default();
-        grid.build(&self.points, reach);
-        self.grid = Some((reach, grid));
+        self.index = Some(WallIndex::build(&self.points, reach));
         self
     }
 
@@ -262,14 +527,45 @@ impl ObstaclePoints {
     pub fn points(&self) -> &[Vec2] {
         &self.points
     }
-}
 
-thread_local! {
-    /// Candidate wall points of one obstacle-force query, reused between queries.
-    static NEAR: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// Adds to `acc` the pushes of the points in blocks `blocks.0..blocks.1`.
+    #[inline(always)]
+    fn add_pushes(
+        &self,
+        acc: &mut Partial,
+        pos: Vec2,
+        radius: Real,
+        threshold: Real,
+        sigma: Real,
+        blocks: (u32, u32),
+    ) {
+        let (mut fx, mut fy) = ([0.0; CHUNK], [0.0; CHUNK]);
+        let inv_sigma = 1.0 / sigma;
+        let (first, end) = (blocks.0 as usize * LANES, blocks.1 as usize * LANES);
+        for start in (first..end).step_by(CHUNK) {
+            let len = (end - start).min(CHUNK);
+            let points = self.xs[start..start + len]
+                .iter()
+                .zip(&self.ys[start..start + len]);
+            for ((fx, fy), (&x, &y)) in fx.iter_mut().zip(fy.iter_mut()).zip(points) {
+                let (dx, dy) = (pos.x - x, pos.y - y);
+                let norm = (dx * dx + dy * dy).sqrt();
+                let dist = norm - radius;
+                // (d / ‖d‖) · e^(−dist/σ) with one division: the divisions, not the
+                // exponential, bound this loop.
+                let push = fastmath::exp(-dist * inv_sigma) / norm;
+                // normalize(): a point at the body's centre has no direction and adds nothing.
+                let acts = (dist < threshold) & (norm != 0.0);
+                *fx = if acts { dx * push } else { 0.0 };
+                *fy = if acts { dy * push } else { 0.0 };
+            }
+            accumulate(acc, &fx[..len], &fy[..len]);
+        }
+    }
 }
 
 /// `ObstacleForce` on a body at `pos`.
+#[inline(always)]
 pub fn obstacle_force(
     pos: Vec2,
     obstacles: &ObstaclePoints,
@@ -277,30 +573,19 @@ pub fn obstacle_force(
     p: &ObstacleForceParams,
 ) -> Vec2 {
     let threshold = p.threshold + radius;
-    let points = &obstacles.points;
-    let mut force = vec2(0.0, 0.0);
-    let mut add = |o: &Vec2| {
-        let (direction, norm) = normalize(pos - o);
-        let dist = norm - radius;
-        if dist < threshold {
-            force += direction * (-dist / p.sigma).exp();
-        }
+    let mut acc = Partial::ZERO;
+    let all = [(0, (obstacles.xs.len() / LANES) as u32)];
+    let runs = match &obstacles.index {
+        // Every point that acts (centre distance < threshold + radius) is in the blocks listed
+        // for the body's cell; the rest add exact zeros to the same partial sums as in the
+        // full scan.
+        Some(index) if threshold + radius <= index.reach => index.runs_at(pos),
+        _ => &all,
     };
-    match &obstacles.grid {
-        // Every point that acts (centre distance < threshold + radius) lies in the 3 × 3 cells
-        // around `pos`; visiting those candidates in index order adds exactly what the full
-        // scan adds, in its order.
-        Some((reach, grid)) if threshold + radius <= *reach => NEAR.with_borrow_mut(|near| {
-            near.clear();
-            grid.for_each_near(pos, |i| near.push(i as u32));
-            near.sort_unstable();
-            for &i in near.iter() {
-                add(&points[i as usize]);
-            }
-        }),
-        _ => points.iter().for_each(add),
+    for &run in runs {
+        obstacles.add_pushes(&mut acc, pos, radius, threshold, p.sigma, run);
     }
-    force * p.factor
+    acc.total() * p.factor
 }
 
 /// `PedState.capped_velocity` for one agent.
@@ -311,6 +596,69 @@ pub fn capped_velocity(desired: Vec2, max_speed: Real) -> Vec2 {
         return vec2(0.0, 0.0);
     }
     desired * (max_speed / speed).min(1.0)
+}
+
+thread_local! {
+    /// The crowd's columns, reused between steps.
+    static COLUMNS: std::cell::RefCell<Columns> = std::cell::RefCell::new(Columns::default());
+}
+
+/// Every force on every agent but the group forces: [`Crowd::forces_with_externals`] as one
+/// operation that `pulp` compiles once per instruction set (everything it calls is inlined).
+struct IndividualForces<'a> {
+    crowd: &'a Crowd,
+    obstacles: &'a ObstaclePoints,
+    p: &'a SfParams,
+    externals: &'a [(Vec2, Vec2)],
+    columns: &'a mut Columns,
+    out: &'a mut [Vec2],
+}
+
+impl pulp::WithSimd for IndividualForces<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        let Self {
+            crowd,
+            obstacles,
+            p,
+            externals,
+            columns,
+            out,
+        } = self;
+        let n = crowd.len();
+        match p.interaction_range {
+            // PySocialForce: every pair.
+            None => {
+                columns.gather(&crowd.positions, &crowd.velocities, 0..n);
+                for (a, force) in out.iter_mut().enumerate() {
+                    let m = columns.pack(crowd.positions[a], &[(0, n)], a, Real::INFINITY);
+                    *force = crowd.force_on(a, columns, m, obstacles, p, externals);
+                }
+            }
+            // Pairs closer than the range: the agents sorted by grid cell, so that the 3 × 3
+            // cells around an agent are three runs of consecutive columns.
+            Some(range) => {
+                let mut grid = PointGrid::default();
+                grid.build(&crowd.positions, range);
+                let order = grid.items();
+                columns.gather(
+                    &crowd.positions,
+                    &crowd.velocities,
+                    order.iter().map(|&i| i as usize),
+                );
+                let mut runs = Vec::with_capacity(3);
+                for (k, &a) in order.iter().enumerate() {
+                    let a = a as usize;
+                    runs.clear();
+                    grid.runs_near(crowd.positions[a], |lo, hi| runs.push((lo, hi)));
+                    let m = columns.pack(crowd.positions[a], &runs, k, range * range);
+                    out[a] = crowd.force_on(a, columns, m, obstacles, p, externals);
+                }
+            }
+        }
+    }
 }
 
 /// A crowd simulated exactly as PySocialForce's `Simulator` does.
@@ -375,43 +723,49 @@ impl Crowd {
         externals: &[(Vec2, Vec2)],
         out: &mut Vec<Vec2>,
     ) {
-        let n = self.len();
         out.clear();
-        out.resize(n, vec2(0.0, 0.0));
-        let mut grid = PointGrid::default();
-        if let Some(range) = p.interaction_range {
-            grid.build(&self.positions, range);
-        }
-        for (a, force) in out.iter_mut().enumerate() {
-            let (pa, va) = (self.positions[a], self.velocities[a]);
-            let mut social = vec2(0.0, 0.0);
-            let mut add = |pb: Vec2, vb: Vec2| {
-                if p.interaction_range
-                    .is_none_or(|r| (pb - pa).norm_squared() < r * r)
-                {
-                    social += social_force_pair(pa, va, pb, vb, &p.social);
-                }
-            };
-            match p.interaction_range {
-                None => (0..n)
-                    .filter(|&b| b != a)
-                    .for_each(|b| add(self.positions[b], self.velocities[b])),
-                Some(_) => grid.for_each_near(pa, |b| {
-                    if b != a {
-                        add(self.positions[b], self.velocities[b]);
-                    }
-                }),
-            }
-            for (pb, vb) in externals {
-                add(*pb, *vb);
-            }
-            *force = desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
-                + social * p.social.factor
-                + obstacle_force(pa, obstacles, p.agent_radius, &p.obstacle);
-        }
+        out.resize(self.len(), vec2(0.0, 0.0));
+        // Compiled for the best vector instructions this CPU has (AVX-512, AVX2 or SSE2),
+        // chosen at run time; the arithmetic is IEEE throughout, so every choice gives the
+        // same bits.
+        COLUMNS.with_borrow_mut(|columns| {
+            pulp::Arch::new().dispatch(IndividualForces {
+                crowd: self,
+                obstacles,
+                p,
+                externals,
+                columns,
+                out,
+            })
+        });
         if p.enable_group {
             self.add_group_forces(p, out);
         }
+    }
+
+    /// The force on agent `a` whose `m` neighbours are packed in `columns`.
+    #[inline(always)]
+    fn force_on(
+        &self,
+        a: usize,
+        columns: &Columns,
+        m: usize,
+        obstacles: &ObstaclePoints,
+        p: &SfParams,
+        externals: &[(Vec2, Vec2)],
+    ) -> Vec2 {
+        let (pa, va) = (self.positions[a], self.velocities[a]);
+        let mut social = columns.social(pa, va, m, &p.social).total();
+        for &(pb, vb) in externals {
+            if p.interaction_range
+                .is_none_or(|r| (pb - pa).norm_squared() < r * r)
+            {
+                social += social_force_pair(pa, va, pb, vb, &p.social);
+            }
+        }
+        desired_force(pa, va, self.goals[a], self.max_speeds[a], &p.desired)
+            + social * p.social.factor
+            + obstacle_force(pa, obstacles, p.agent_radius, &p.obstacle)
     }
 
     fn add_group_forces(&self, p: &SfParams, out: &mut [Vec2]) {

@@ -148,3 +148,46 @@ fn capped_velocity_scales_down_only() {
     assert_eq!(capped_velocity(vec2(0.3, 0.4), 1.0), vec2(0.3, 0.4));
     assert_eq!(capped_velocity(vec2(0.0, 0.0), 1.0), vec2(0.0, 0.0));
 }
+
+/// θ with one `atan2` equals PySocialForce's difference of two, unwrapped jumps included.
+#[test]
+fn interaction_angle_matches_the_difference_of_two_atan2() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let reference = |e: Vec2, i: Vec2| i.y.atan2(i.x) - e.y.atan2(e.x);
+    let mut unwrapped = 0;
+    let mut check = |e: Vec2, i: Vec2| {
+        let (ours, theirs) = (pysf_theta(e, i), reference(e, i));
+        assert!(
+            (ours - theirs).abs() <= 4e-15,
+            "e {e:?} i {i:?}: {ours} vs {theirs}"
+        );
+        unwrapped += usize::from(theirs.abs() > std::f64::consts::PI);
+    };
+    for _ in 0..200_000 {
+        let a: Real = rng.random_range(-4.0..4.0);
+        let b: Real = rng.random_range(-4.0..4.0);
+        check(vec2(a.cos(), a.sin()), vec2(b.cos(), b.sin()));
+    }
+    // Axes, signed zeros, the zero vector and turns straddling the negative x axis.
+    let special = [
+        vec2(1.0, 0.0),
+        vec2(-1.0, 0.0),
+        vec2(-1.0, -0.0),
+        vec2(0.0, 1.0),
+        vec2(0.0, -1.0),
+        vec2(0.0, 0.0),
+        vec2(-1.0, 1e-17),
+        vec2(-1.0, -1e-17),
+        vec2(1.0, 1e-17),
+    ];
+    for e in special {
+        for i in special {
+            check(e, i);
+        }
+    }
+    assert!(
+        unwrapped > 10_000,
+        "the jumps must be exercised ({unwrapped})"
+    );
+}
