@@ -128,6 +128,16 @@ pub fn atan2(y: Real, x: Real) -> Real {
     (hi + lo).copysign(y)
 }
 
+/// Partial sums per vectorised sum, and the block size of the loops that feed them.
+pub const LANES: usize = 8;
+
+/// `LANES` partial sums (item i of a sum kept in partial sum i mod `LANES`) added in a fixed
+/// order: sums that vectorise and have the same bits at every vector width.
+#[inline(always)]
+pub fn lanes_total(acc: &[Real; LANES]) -> Real {
+    ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

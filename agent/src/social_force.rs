@@ -233,11 +233,11 @@ pub fn pysf_theta(e: Vec2, i: Vec2) -> Real {
     }
 }
 
-/// Sums over people and wall points are kept as `LANES` partial sums, item i adding to partial
-/// sum i mod `LANES`, which are added in a fixed order at the end. The loops then vectorise,
-/// give the same bits at every vector width, and give the same bits for any superset of the
-/// items that act (the others add exact zeros).
-const LANES: usize = 8;
+// Sums over people and wall points are kept as `LANES` partial sums, item i adding to partial
+// sum i mod `LANES`, which are added in a fixed order at the end. The loops then vectorise,
+// give the same bits at every vector width, and give the same bits for any superset of the
+// items that act (the others add exact zeros).
+use fastmath::LANES;
 
 /// `LANES` partial sums of 2-D forces.
 #[derive(Debug, Clone, Copy)]
@@ -254,10 +254,7 @@ impl Partial {
 
     #[inline(always)]
     fn total(&self) -> Vec2 {
-        fn tree(a: &[Real; LANES]) -> Real {
-            ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]))
-        }
-        vec2(tree(&self.x), tree(&self.y))
+        vec2(fastmath::lanes_total(&self.x), fastmath::lanes_total(&self.y))
     }
 }
 
