@@ -254,7 +254,10 @@ impl Partial {
 
     #[inline(always)]
     fn total(&self) -> Vec2 {
-        vec2(fastmath::lanes_total(&self.x), fastmath::lanes_total(&self.y))
+        vec2(
+            fastmath::lanes_total(&self.x),
+            fastmath::lanes_total(&self.y),
+        )
     }
 }
 
