@@ -6,6 +6,7 @@
 //! convexity flag), which ORCA needs. Edge `i` of the polyline is always the edge owned by
 //! vertex `i`.
 
+use crate::fastmath::LANES;
 use crate::math::{Real, Vec2, det};
 use crate::social_force::ObstaclePoints;
 use parry2d_f64::bounding_volume::Aabb;
@@ -81,8 +82,77 @@ pub struct StaticMap {
 #[derive(Debug, Clone, Default)]
 pub struct LocalMap {
     segments: Vec<(Vec2, Vec2)>,
+    /// The segments again as columns (start, direction, squared length), padded with copies
+    /// of the first to a multiple of `LANES` so that the nearest-edge search vectorises.
+    columns: SegmentColumns,
     polygons: Vec<usize>,
     scratch: Vec<u32>,
+}
+
+/// Segments a→b as columns: a, b − a and |b − a|² (1 for a point, whose direction is 0).
+#[derive(Debug, Clone, Default)]
+struct SegmentColumns {
+    ax: Vec<Real>,
+    ay: Vec<Real>,
+    abx: Vec<Real>,
+    aby: Vec<Real>,
+    len_sq: Vec<Real>,
+}
+
+impl SegmentColumns {
+    fn fill(&mut self, segments: &[(Vec2, Vec2)]) {
+        for v in [
+            &mut self.ax,
+            &mut self.ay,
+            &mut self.abx,
+            &mut self.aby,
+            &mut self.len_sq,
+        ] {
+            v.clear();
+        }
+        let padded = segments.len().next_multiple_of(LANES);
+        for (a, b) in segments
+            .iter()
+            .chain(std::iter::repeat_n(&segments[0], padded - segments.len()))
+        {
+            let ab = b - a;
+            let len_sq = ab.x * ab.x + ab.y * ab.y;
+            self.ax.push(a.x);
+            self.ay.push(a.y);
+            self.abx.push(ab.x);
+            self.aby.push(ab.y);
+            self.len_sq.push(if len_sq > 0.0 { len_sq } else { 1.0 });
+        }
+    }
+}
+
+/// The smallest squared distance from `p` to the segments of `columns`: exactly
+/// [`crate::math::dist_sq_point_segment`]'s arithmetic per segment, `LANES` segments at a time
+/// (a minimum does not depend on the order it is taken in).
+struct NearestEdge<'a> {
+    columns: &'a SegmentColumns,
+    p: Vec2,
+}
+
+impl pulp::WithSimd for NearestEdge<'_> {
+    type Output = Real;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) -> Real {
+        let Self { columns: c, p } = self;
+        let mut best = [Real::INFINITY; LANES];
+        let blocks = c.ax.chunks_exact(LANES).zip(c.ay.chunks_exact(LANES));
+        let dirs = c.abx.chunks_exact(LANES).zip(c.aby.chunks_exact(LANES));
+        for (((ax, ay), (abx, aby)), len_sq) in blocks.zip(dirs).zip(c.len_sq.chunks_exact(LANES)) {
+            for l in 0..LANES {
+                let (apx, apy) = (p.x - ax[l], p.y - ay[l]);
+                let t = ((apx * abx[l] + apy * aby[l]) / len_sq[l]).clamp(0.0, 1.0);
+                let (qx, qy) = (p.x - (ax[l] + abx[l] * t), p.y - (ay[l] + aby[l] * t));
+                best[l] = best[l].min(qx * qx + qy * qy);
+            }
+        }
+        best.iter().fold(Real::INFINITY, |m, &d| m.min(d))
+    }
 }
 
 impl LocalMap {
@@ -100,14 +170,19 @@ impl LocalMap {
     /// `Real::INFINITY` when nothing was gathered). Exact for points whose true nearest edge
     /// was gathered.
     pub fn distance(&self, map: &StaticMap, p: &Vec2) -> Real {
-        let mut best = Real::INFINITY;
-        for (a, b) in &self.segments {
-            best = best.min(crate::math::dist_sq_point_segment(a, b, p));
+        if self.segments.is_empty() {
+            return Real::INFINITY;
         }
-        if best.is_finite() && self.polygons.iter().any(|&i| inside(&map.polygons[i].1, p)) {
-            return 0.0;
-        }
-        best.sqrt()
+        let best = pulp::Arch::new().dispatch(NearestEdge {
+            columns: &self.columns,
+            p: *p,
+        });
+        let pt = point(p);
+        let in_polygon = self.polygons.iter().any(|&i| {
+            let (aabb, poly) = &map.polygons[i];
+            aabb.contains_local_point(&pt) && inside(poly, p)
+        });
+        if in_polygon { 0.0 } else { best.sqrt() }
     }
 }
 
@@ -273,6 +348,9 @@ impl StaticMap {
                 local.polygons.push(p);
             }
         }
+        if !local.segments.is_empty() {
+            local.columns.fill(&local.segments);
+        }
     }
 
     /// The Social Force model's wall points at `resolution` per metre; cached for
@@ -435,6 +513,36 @@ mod tests {
         map.edges_near_box(vec2(2.0, 0.0), vec2(3.0, 1.0), 2.5, &mut out);
         out.sort();
         assert_eq!(out, vec![0, 1, 2, 3]);
+    }
+
+    proptest::proptest! {
+        /// The vectorised nearest-edge search gives exactly the bits of the one-segment-at-a-
+        /// time minimum of `dist_sq_point_segment`, for any number of edges (padding included).
+        #[test]
+        fn local_distance_has_the_bits_of_the_scalar_scan(
+            walls in proptest::collection::vec((-20.0..20.0f64, -20.0..20.0f64, -5.0..5.0f64, -5.0..5.0f64), 1..40),
+            points in proptest::collection::vec((-25.0..25.0f64, -25.0..25.0f64), 1..20),
+        ) {
+            let mut obstacles: Vec<Obstacle> = walls
+                .iter()
+                .filter(|w| w.2.abs() + w.3.abs() > 1e-3)
+                .map(|&(x, y, dx, dy)| Obstacle::Wall(vec2(x, y), vec2(x + dx, y + dy)))
+                .collect();
+            obstacles.push(square());
+            let map = StaticMap::new(obstacles).expect("valid map");
+            let mut local = LocalMap::default();
+            map.gather(vec2(-20.0, -20.0), vec2(20.0, 20.0), 10.0, &mut local);
+            for (x, y) in points {
+                let p = vec2(x, y);
+                let scalar = local
+                    .segments()
+                    .iter()
+                    .map(|(a, b)| crate::math::dist_sq_point_segment(a, b, &p))
+                    .fold(Real::INFINITY, Real::min);
+                let expected = if map.is_inside(&p) { 0.0 } else { scalar.sqrt() };
+                proptest::prop_assert_eq!(local.distance(&map, &p).to_bits(), expected.to_bits());
+            }
+        }
     }
 
     #[test]

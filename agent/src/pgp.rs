@@ -6,6 +6,7 @@
 //! the hazard Σ_k p^coll,coop + p^coll,static + p^escape is accumulated into the survival
 //! probability (Eq. 5) that discounts the utility (Eqs. 6–8).
 
+use crate::fastmath::LANES;
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, angle_of, rotate, unit, wrap_angle};
 use crate::model::{EgoState, Neighbour, TrajectorySample};
@@ -399,6 +400,15 @@ impl Pgp {
                 t.nb_cull.push(nb_cull);
                 t.nb_var0.push(s0 * s0);
             }
+            // Whole blocks of `LANES`: the padding neighbours lie at infinity and are culled.
+            while !t.nb_x.len().is_multiple_of(LANES) {
+                t.nb_x.push(Real::INFINITY);
+                t.nb_y.push(Real::INFINITY);
+                t.nb_var.push(1.0);
+                t.nb_ratio.push(0.0);
+                t.nb_cull.push(0.0);
+                t.nb_var0.push(0.0);
+            }
         }
         t.start.push(t.nb_x.len());
     }
@@ -407,6 +417,29 @@ impl Pgp {
     /// every candidate. A candidate that starts like the previous one (same α, same first
     /// segment) reuses that one's hazards over the shared samples.
     fn evaluate_all(&mut self, geometries: &[Geometry], map: &StaticMap) -> Vec<Real> {
+        let n = self.params.steps;
+        let stride = n + 1;
+        pulp::Arch::new().dispatch(HazardPass {
+            pgp: self,
+            geometries,
+            map,
+        });
+        let s = &self.sampled;
+        self.survival.resize(geometries.len() * stride, 0.0);
+        (0..geometries.len())
+            .map(|l| {
+                let surv = &mut self.survival[l * stride..(l + 1) * stride];
+                crate::risk::survival(&self.hazards[l * n..(l + 1) * n], surv);
+                // Eqs. 7–8: Σ_i p^surv_i · u_i over the planned samples i = 1..=steps.
+                (1..=n).map(|i| surv[i] * s.utility[l * stride + i]).sum()
+            })
+            .collect()
+    }
+
+    /// Every candidate's per-step hazard (Eqs. 1–4 plus p^escape) into `self.hazards`. Runs
+    /// inside [`HazardPass`], compiled for the widest instruction set the CPU has.
+    #[inline(always)]
+    fn fill_hazards(&mut self, geometries: &[Geometry], map: &StaticMap) {
         let n = self.params.steps;
         let stride = n + 1;
         let s = &self.sampled;
@@ -459,15 +492,6 @@ impl Pgp {
                 self.hazards[l * n + j] = dynamic + p_static + self.params.p_escape;
             }
         }
-        self.survival.resize(geometries.len() * stride, 0.0);
-        (0..geometries.len())
-            .map(|l| {
-                let surv = &mut self.survival[l * stride..(l + 1) * stride];
-                crate::risk::survival(&self.hazards[l * n..(l + 1) * n], surv);
-                // Eqs. 7–8: Σ_i p^surv_i · u_i over the planned samples i = 1..=steps.
-                (1..=n).map(|i| surv[i] * s.utility[l * stride + i]).sum()
-            })
-            .collect()
     }
 
     fn trajectory(&self, l: usize) -> Vec<TrajectorySample> {
@@ -562,10 +586,93 @@ struct EgoTerms {
     cull: Real,
 }
 
-/// Σ_k p^coll,coop_{j,k} (Eq. 3) at one ego sample. Terms provably below `risk_floor` (see
-/// [`PairTables`]) are skipped.
-#[inline]
+/// PGP's hazard loop as one operation that `pulp` compiles once per instruction set.
+struct HazardPass<'a> {
+    pgp: &'a mut Pgp,
+    geometries: &'a [Geometry],
+    map: &'a StaticMap,
+}
+
+impl pulp::WithSimd for HazardPass<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _: S) {
+        self.pgp.fill_hazards(self.geometries, self.map);
+    }
+}
+
+/// Σ_k p^coll,coop_{j,k} (Eq. 3) at one ego sample, over a row of whole `LANES` blocks.
+/// Terms provably below `risk_floor` (see [`PairTables`]) count as 0.
+///
+/// Every term is computed branch-free, `LANES` neighbours at a time; then the kept ones are
+/// added one by one in neighbour order, so the result has exactly the bits of the scalar loop
+/// that skips culled terms (tested against [`dynamic_hazard_scalar`]). Padding neighbours are
+/// always culled.
+#[inline(always)]
 fn dynamic_hazard(
+    ego: &EgoTerms,
+    xs: &[Real],
+    ys: &[Real],
+    nb_var: &[Real],
+    nb_ratio: &[Real],
+    nb_cull: &[Real],
+    nb_var0: &[Real],
+) -> Real {
+    debug_assert!(xs.len().is_multiple_of(LANES));
+    let mut sum = 0.0;
+    for b in 0..xs.len() / LANES {
+        let r = b * LANES..(b + 1) * LANES;
+        let block = [
+            lanes(&xs[r.clone()]),
+            lanes(&ys[r.clone()]),
+            lanes(&nb_var[r.clone()]),
+            lanes(&nb_ratio[r.clone()]),
+            lanes(&nb_cull[r.clone()]),
+            lanes(&nb_var0[r]),
+        ];
+        let (terms, kept) = hazard_terms(ego, block);
+        // The kept terms in neighbour order; culled ones would add exact zeros.
+        let mut mask = kept;
+        while mask != 0 {
+            sum += terms[mask.trailing_zeros() as usize];
+            mask &= mask - 1;
+        }
+    }
+    sum
+}
+
+#[inline(always)]
+fn lanes(values: &[Real]) -> &[Real; LANES] {
+    values.try_into().expect("a block is LANES long")
+}
+
+/// Eq. 3's terms for `LANES` neighbours (columns x, y, σ², σ_0/σ_j, cull, σ_0²) and the mask
+/// of those not culled.
+#[inline(always)]
+fn hazard_terms(ego: &EgoTerms, block: [&[Real; LANES]; 6]) -> ([Real; LANES], u32) {
+    let [xs, ys, nb_var, nb_ratio, nb_cull, nb_var0] = block;
+    let mut out = [0.0; LANES];
+    let mut kept = [false; LANES];
+    for l in 0..LANES {
+        let (dx, dy) = (ego.pos.x - xs[l], ego.pos.y - ys[l]);
+        let d2 = dx * dx + dy * dy;
+        let var = ego.var + nb_var[l];
+        let inv = 1.0 / var;
+        // Eq. 1: exp(−‖Δμ‖² / (2σ̃_i)) · σ̃_0 / σ̃_i, times Eq. 2's τ.
+        let p = exp_neg(0.5 * d2 * inv) * (ego.var0 + nb_var0[l]) * inv * (ego.ratio * nb_ratio[l]);
+        // As the scalar loop's `if d2 >= bound { continue }`: a NaN is kept.
+        let bound = 2.0 * var * (ego.cull + nb_cull[l]);
+        kept[l] = d2 < bound || d2.is_nan() || bound.is_nan();
+        out[l] = p;
+    }
+    let mask = (0..LANES).fold(0, |m, l| m | (u32::from(kept[l]) << l));
+    (out, mask)
+}
+
+/// The one-neighbour-at-a-time form of [`dynamic_hazard`], which must give the same bits.
+#[cfg(test)]
+fn dynamic_hazard_scalar(
     ego: &EgoTerms,
     xs: &[Real],
     ys: &[Real],
@@ -649,6 +756,53 @@ mod ln_bound_tests {
                 "x = {x}: bound {b}, ln {l}"
             );
             x *= 1.37;
+        }
+    }
+}
+
+#[cfg(test)]
+mod hazard_tests {
+    use super::*;
+    use crate::math::vec2;
+
+    proptest::proptest! {
+        /// The branch-free hazard row has exactly the bits of the scalar loop that skips
+        /// culled terms, whatever the mix of culled and kept neighbours.
+        #[test]
+        fn vectorised_row_has_the_bits_of_the_scalar_loop(
+            ego in (-5.0..5.0f64, -5.0..5.0f64, 0.01..1.0f64, 0.01..1.0f64, 0.05..1.0f64),
+            row in proptest::collection::vec(
+                (-8.0..8.0f64, -8.0..8.0f64, 0.01..1.0f64, 0.05..1.0f64, 0.01..1.0f64),
+                0..70,
+            ),
+            floor in proptest::sample::select(vec![1e-9, 1e-3, 0.0]),
+        ) {
+            let (x, y, var, var0, ratio) = ego;
+            let cull = |r: Real| if floor > 0.0 { ln_upper_bound(r / floor) } else { Real::INFINITY };
+            let ego = EgoTerms { pos: vec2(x, y), var, var0, ratio, cull: cull(ratio) };
+            let xs: Vec<Real> = row.iter().map(|r| r.0).collect();
+            let ys: Vec<Real> = row.iter().map(|r| r.1).collect();
+            let nb_var: Vec<Real> = row.iter().map(|r| r.2).collect();
+            let nb_ratio: Vec<Real> = row.iter().map(|r| r.3).collect();
+            let nb_cull: Vec<Real> = row.iter().map(|r| cull(r.3)).collect();
+            let nb_var0: Vec<Real> = row.iter().map(|r| r.4).collect();
+            let scalar = dynamic_hazard_scalar(&ego, &xs, &ys, &nb_var, &nb_ratio, &nb_cull, &nb_var0);
+            // Padded to whole blocks as `build_tables` pads its rows.
+            let padded = xs.len().next_multiple_of(LANES);
+            let pad = |mut v: Vec<Real>, with: Real| {
+                v.resize(padded, with);
+                v
+            };
+            let lanes = dynamic_hazard(
+                &ego,
+                &pad(xs, Real::INFINITY),
+                &pad(ys, Real::INFINITY),
+                &pad(nb_var, 1.0),
+                &pad(nb_ratio, 0.0),
+                &pad(nb_cull, 0.0),
+                &pad(nb_var0, 0.0),
+            );
+            proptest::prop_assert_eq!(lanes.to_bits(), scalar.to_bits());
         }
     }
 }

@@ -41,7 +41,7 @@ pub struct CoordinatorConfig {
     pub stale_ticks: u64,
     /// Receives every event the moment it happens (tests, dashboards).
     pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
-    /// Observations go out in this many slices spread over the first half of each tick.
+    /// Observations go out in this many slices spread over the first 90 % of each tick.
     pub stagger: usize,
 }
 
@@ -296,6 +296,7 @@ pub async fn run_coordinator(
             () = &mut shutdown => break,
             _ = ticker.tick() => {}
         }
+        let tick_started = tokio::time::Instant::now();
         // Liveliness.
         while let Ok(Some(sample)) = alive_sub.try_recv() {
             let Some(id) = keys.parse_alive(sample.key_expr().as_str()) else {
@@ -421,38 +422,39 @@ pub async fn run_coordinator(
             }
         }
         // Observations for robots with a live agent, all of this tick's state, published in
-        // `stagger` slices spread over the first half of the tick so that agents sharing a
-        // machine do not all plan in the same instant (real robots' sensors are not in phase
-        // either). Every slice's commands still arrive before the next tick.
+        // `stagger` slices at fixed offsets over the first 90 % of the tick, so that agents
+        // sharing a machine do not all plan in the same instant (real robots' sensors are not
+        // in phase either) and the last slice's commands still arrive before the next tick.
+        // Offsets are absolute (timer rounding never accumulates), and each slice's
+        // observations are built just before it goes out (the world does not change within a
+        // tick), which spreads the perception work over the tick as well.
         let live: Vec<usize> = (0..n).filter(|&i| links[i].alive).collect();
-        let outgoing: Vec<(usize, u64, Vec<u8>)> = live
-            .into_iter()
-            .map(|i| {
+        let per_slice = live.len().div_ceil(config.stagger.max(1)).max(1);
+        let slices = live.len().div_ceil(per_slice).max(1);
+        let offset = tick_wall.mul_f64(0.9) / slices as u32;
+        let mut previous: Option<tokio::time::Instant> = None;
+        for (k, chunk) in live.chunks(per_slice).enumerate() {
+            // Never catch up after a stall by sending slices back to back: that would make
+            // their agents plan all at once. A late slice keeps its distance to the one before.
+            let due = tick_started + offset * k as u32;
+            tokio::time::sleep_until(previous.map_or(due, |p| due.max(p + offset))).await;
+            previous = Some(tokio::time::Instant::now());
+            for &i in chunk {
                 let obs = observation(&mut fleet, i, links[i].next_seq);
-                links[i].next_seq += 1;
-                (i, obs.seq, encode(&obs))
-            })
-            .collect();
-        // Gaps shorter than the timer's 1 ms resolution would stretch past half the tick.
-        let max_slices = (tick_wall.as_millis() / 2).max(1) as usize;
-        let slices = config
-            .stagger
-            .min(max_slices)
-            .clamp(1, outgoing.len().max(1));
-        let per_slice = outgoing.len().div_ceil(slices).max(1);
-        let gap = tick_wall / (2 * slices as u32);
-        for (k, (i, seq, bytes)) in outgoing.into_iter().enumerate() {
-            if k > 0 && k % per_slice == 0 {
-                tokio::time::sleep(gap).await;
-            }
-            let link = &mut links[i];
-            link.sent.push_back((seq, Instant::now(), false));
-            if link.sent.len() > 16 {
-                link.sent.pop_front();
-            }
-            status.observations += 1;
-            if let Err(e) = obs_pubs[i].put(bytes).await {
-                tracing::warn!(robot = i, "observation not sent: {e}");
+                let bytes = encode(&obs);
+                let link = &mut links[i];
+                link.next_seq += 1;
+                link.sent.push_back((obs.seq, Instant::now(), false));
+                if std::env::var_os("GAPFLEET_RTT_DUMP").is_some() {
+                    eprintln!("PUB {} {} {}", i, obs.seq, agent::runtime::dbg_now());
+                }
+                if link.sent.len() > 16 {
+                    link.sent.pop_front();
+                }
+                status.observations += 1;
+                if let Err(e) = obs_pubs[i].put(bytes).await {
+                    tracing::warn!(robot = i, "observation not sent: {e}");
+                }
             }
         }
         observer.tick(&fleet, &status, &events);
@@ -514,6 +516,15 @@ fn take_commands(
                         round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
                     }
                     round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
+                    if std::env::var_os("GAPFLEET_RTT_DUMP").is_some() {
+                        eprintln!(
+                            "RTT {} {} {} {}",
+                            cmd.robot_id,
+                            cmd.obs_seq,
+                            rtt,
+                            agent::runtime::dbg_now()
+                        );
+                    }
                 }
                 if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
                     link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));

@@ -106,11 +106,17 @@ pub fn decode<M: Message>(bytes: &[u8]) -> Result<M, DecodeError> {
             max: M::MAX_BYTES,
         });
     }
-    let probe: VersionProbe =
-        rmp_serde::from_slice(bytes).map_err(|e| DecodeError::Malformed(e.to_string()))?;
-    if probe.v != SCHEMA_VERSION {
+    let version = match leading_version(bytes) {
+        Some(v) => v,
+        None => {
+            let probe: VersionProbe =
+                rmp_serde::from_slice(bytes).map_err(|e| DecodeError::Malformed(e.to_string()))?;
+            probe.v
+        }
+    };
+    if version != SCHEMA_VERSION {
         return Err(DecodeError::Version {
-            got: probe.v,
+            got: version,
             expected: SCHEMA_VERSION,
         });
     }
@@ -118,6 +124,19 @@ pub fn decode<M: Message>(bytes: &[u8]) -> Result<M, DecodeError> {
         rmp_serde::from_slice(bytes).map_err(|e| DecodeError::Malformed(e.to_string()))?;
     message.validate()?;
     Ok(message)
+}
+
+/// The schema version when it is the map's first entry, as [`encode`] writes it: read without
+/// walking the rest of the message. Other encoders may put `v` anywhere; then this is `None`
+/// and [`decode`] probes the whole map.
+fn leading_version(bytes: &[u8]) -> Option<u16> {
+    let mut rd = bytes;
+    rmp::decode::read_map_len(&mut rd).ok()?;
+    let (key, mut rest) = rmp::decode::read_str_from_slice(rd).ok()?;
+    if key != "v" {
+        return None;
+    }
+    rmp::decode::read_int(&mut rest).ok()
 }
 
 fn finite(field: &'static str, x: f64) -> Result<(), DecodeError> {

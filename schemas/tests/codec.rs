@@ -243,6 +243,37 @@ fn other_versions_are_rejected() {
     ));
 }
 
+/// `v` after the body, as another language's encoder may write it.
+#[derive(Serialize)]
+struct VersionLast<'a, M> {
+    #[serde(flatten)]
+    body: &'a M,
+    v: u16,
+}
+
+#[test]
+fn the_version_may_come_anywhere_in_the_map() {
+    let bytes = rmp_serde::to_vec_named(&VersionLast {
+        body: &observation(),
+        v: SCHEMA_VERSION,
+    })
+    .unwrap();
+    assert_ne!(&bytes[1..3], &[0xa1, b'v'], "v is not the first key here");
+    assert_eq!(decode::<Observation>(&bytes), Ok(observation()));
+    let wrong = rmp_serde::to_vec_named(&VersionLast {
+        body: &command(),
+        v: SCHEMA_VERSION + 1,
+    })
+    .unwrap();
+    assert_eq!(
+        decode::<CommandMsg>(&wrong),
+        Err(DecodeError::Version {
+            got: SCHEMA_VERSION + 1,
+            expected: SCHEMA_VERSION
+        })
+    );
+}
+
 #[test]
 fn garbage_and_oversized_input_is_rejected() {
     for bytes in [

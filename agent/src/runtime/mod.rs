@@ -127,6 +127,8 @@ pub async fn run_agent(
             () = &mut shutdown => break,
             sample = obs_sub.recv_async() => {
                 let Ok(sample) = sample else { break };
+                let t_in = Instant::now();
+                let mut t_plan = 0u128;
                 let bytes = sample.payload().to_bytes();
                 let obs = match decode::<Observation>(&bytes) {
                     Ok(obs) if obs.robot_id == id => obs,
@@ -167,7 +169,9 @@ pub async fn run_agent(
                         }
                     }
                 }
-                let command = match (&map, obs.goal) {
+                // The command goes out first: it closes the control loop; the intent and the fan
+                // follow right after it.
+                let (command, extras) = match (&map, obs.goal) {
                     (Some((_, m)), Some(goal)) => {
                         let ego = wire::ego(&obs);
                         let neighbours = wire::neighbours(&obs);
@@ -179,31 +183,40 @@ pub async fn run_agent(
                             goal: wire::vec(goal),
                             dt: obs.dt,
                         });
+                        t_plan = started.elapsed().as_micros();
                         plan_times_us.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
                         counters.plans.fetch_add(1, Ordering::Relaxed);
                         let (cmd, intent) = wire::answer(&obs, &planner_name, &plan);
-                        if let Err(e) = intent_pub.put(encode(&intent)).await {
-                            tracing::warn!(robot = id, "intent not sent: {e}");
-                        }
-                        if let (true, Some(fan)) = (config.share_fan, &plan.fan) {
-                            let msg = wire::fan(&obs, fan);
-                            if let Err(e) = fan_pub.put(encode(&msg)).await {
-                                tracing::debug!(robot = id, "fan not sent: {e}");
-                            }
-                        }
-                        cmd
+                        let fan = plan.fan.as_ref().filter(|_| config.share_fan).map(|f| wire::fan(&obs, f));
+                        (cmd, Some((intent, fan)))
                     }
                     // Idle, or no map yet: stand still.
-                    _ => CommandMsg {
-                        robot_id: id,
-                        obs_seq: obs.seq,
-                        stamp: obs.sim_time,
-                        motion: wire::motion(Command::STOP),
-                        safe_stop: false,
-                    },
+                    _ => (
+                        CommandMsg {
+                            robot_id: id,
+                            obs_seq: obs.seq,
+                            stamp: obs.sim_time,
+                            motion: wire::motion(Command::STOP),
+                            safe_stop: false,
+                        },
+                        None,
+                    ),
                 };
                 if let Err(e) = cmd_pub.put(encode(&command)).await {
                     tracing::warn!(robot = id, "command not sent: {e}");
+                }
+                if std::env::var_os("GAPFLEET_RTT_DUMP").is_some() {
+                    eprintln!("AGT {} {} {} {} {}", id, obs.seq, t_in.elapsed().as_micros(), t_plan, dbg_now());
+                }
+                if let Some((intent, fan)) = extras {
+                    if let Err(e) = intent_pub.put(encode(&intent)).await {
+                        tracing::warn!(robot = id, "intent not sent: {e}");
+                    }
+                    if let Some(msg) = fan
+                        && let Err(e) = fan_pub.put(encode(&msg)).await
+                    {
+                        tracing::debug!(robot = id, "fan not sent: {e}");
+                    }
                 }
             }
             () = tokio::time::sleep_until(deadline), if !stopped => {
@@ -302,6 +315,11 @@ async fn fetch_map(session: &zenoh::Session, keys: &Keys) -> Result<(u32, Static
         }
     }
     Err(last_error)
+}
+
+pub fn dbg_now() -> u128 {
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_micros()
 }
 
 /// 99th percentile (nearest rank) of `values`, 0 when empty.
