@@ -517,6 +517,7 @@ fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut S
         (g.waypoints[3] - g.waypoints[2]).norm(),
     ];
     let total = seg_len[0] + seg_len[1] + seg_len[2];
+    let dirs = segment_directions(&g.waypoints, &seg_len);
     // t^turn = γ^turn / γ̇^max at 0.5·v when the first segment needs more than 30° of turn.
     let turn = wrap_angle(angle_of(&(g.waypoints[1] - g.waypoints[0])) - ego.heading).abs();
     let t_turn = if turn > p.turn_threshold {
@@ -540,7 +541,7 @@ fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut S
     let mut prev = 0.0;
     for i in 1..=n {
         let arc = travelled(i as Real * p.dt).min(total);
-        let (pos, heading) = point_on_path(&g.waypoints, &seg_len, arc);
+        let (pos, heading) = point_on_path_along(&g.waypoints, &seg_len, &dirs, arc);
         let v = (arc - prev) / p.dt;
         prev = arc;
         s.positions.push(pos);
@@ -725,13 +726,29 @@ impl Geometry {
 
 /// Position and unit direction of travel at arc length `arc` along the three-segment path.
 fn point_on_path(w: &[Vec2; 4], seg_len: &[Real; 3], arc: Real) -> (Vec2, Vec2) {
+    point_on_path_along(w, seg_len, &segment_directions(w, seg_len), arc)
+}
+
+/// The unit direction of each segment (unused for segments of length ≤ 10⁻¹²).
+fn segment_directions(w: &[Vec2; 4], seg_len: &[Real; 3]) -> [Vec2; 3] {
+    std::array::from_fn(|k| (w[k + 1] - w[k]) / seg_len[k])
+}
+
+/// [`point_on_path`] with the segment directions computed once.
+#[inline]
+fn point_on_path_along(
+    w: &[Vec2; 4],
+    seg_len: &[Real; 3],
+    dirs: &[Vec2; 3],
+    arc: Real,
+) -> (Vec2, Vec2) {
     let mut rest = arc;
     let mut last_dir = unit(0.0);
     for k in 0..3 {
         if seg_len[k] <= 1e-12 {
             continue;
         }
-        let dir = (w[k + 1] - w[k]) / seg_len[k];
+        let dir = dirs[k];
         last_dir = dir;
         if rest <= seg_len[k] {
             return (w[k] + dir * rest, dir);

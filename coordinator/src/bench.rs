@@ -5,7 +5,7 @@
 use crate::demo::{DemoOptions, run_demo};
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
 
 /// What `bench fleet` measured.
@@ -15,8 +15,10 @@ pub struct FleetBench {
     pub agents: usize,
     /// People in the world.
     pub humans: usize,
-    /// Simulated (= wall) seconds.
+    /// Simulated seconds.
     pub seconds: f64,
+    /// Wall seconds the coordinator took for them (= `seconds` when it keeps real time).
+    pub wall_seconds: f64,
     /// Observations published.
     pub observations: u64,
     /// Observations answered by a command.
@@ -27,11 +29,20 @@ pub struct FleetBench {
     pub round_trip_p50_ms: f64,
     /// 99th percentile, ms.
     pub round_trip_p99_ms: f64,
-    /// Raw Zenoh get → reply round trip with an observation-sized payload, ms.
+    /// The worst agent's planning-time p99 in its last heartbeat (µs): the planner's share.
+    pub planner_p99_us: f64,
+    /// Raw Zenoh get → reply round trip with an observation-sized payload, measured while the
+    /// fleet runs (the same process, cores and moment), ms.
     pub raw_zenoh_p50_ms: f64,
     /// 99th percentile, ms.
     pub raw_zenoh_p99_ms: f64,
-    /// Payload size used for the raw round trip (bytes).
+    /// Raw round trips timed while the fleet ran (one every 10 ms).
+    pub raw_samples: usize,
+    /// The same raw round trip on the idle machine after the run (2,000 back to back), ms.
+    pub raw_idle_p50_ms: f64,
+    /// 99th percentile, ms.
+    pub raw_idle_p99_ms: f64,
+    /// Payload size used for the raw round trips (bytes).
     pub raw_payload_bytes: usize,
 }
 
@@ -52,53 +63,125 @@ pub async fn bench_fleet(
         share_intents: true,
         sinks: dashboards::Sinks::default(),
     };
-    let report = run_demo(options, std::future::pending(), |_| {}, |_| {}).await?;
+    // The raw probe runs beside the fleet until the fleet is done.
+    let probe = RawProbe::open().await?;
+    // It times round trips only once the coordinator ticks (its first status, after about a
+    // second), not while a hundred sessions are being opened.
+    let (ticking_tx, ticking_rx) = tokio::sync::watch::channel(false);
+    let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
+    let stopper = stop_tx.clone();
+    let during = {
+        let probe = probe.clone();
+        tokio::spawn(async move {
+            probe
+                .run_paced(Duration::from_millis(10), ticking_rx, stop_rx)
+                .await
+        })
+    };
+    // It stops with the coordinator's final status, before the agents shut down.
+    let on_status = move |s: &crate::server::Status| {
+        if s.tick > 0 {
+            ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));
+        }
+        if s.sim_time >= seconds - 1e-9 {
+            stop_tx.send_if_modified(|t| !std::mem::replace(t, true));
+        }
+    };
+    let started = Instant::now();
+    let ticking_at = std::sync::Arc::new(std::sync::Mutex::new(None::<Instant>));
+    let ticking_seen = ticking_at.clone();
+    let on_status = move |s: &crate::server::Status| {
+        if let Ok(mut t) = ticking_seen.lock()
+            && t.is_none()
+        {
+            // The first status comes about a wall second after the first tick.
+            *t = Some(Instant::now() - Duration::from_secs_f64(s.sim_time));
+        }
+        on_status(s);
+    };
+    let report = run_demo(options, std::future::pending(), on_status, |_| {}).await;
+    let first_tick = ticking_at.lock().ok().and_then(|t| *t).unwrap_or(started);
+    let wall_seconds = first_tick.elapsed().as_secs_f64();
+    let _ = stopper.send(true);
+    let mut during = during.await.context("raw probe task")??;
+    let report = report?;
+    let mut idle = probe.run_back_to_back(2000).await?;
+    probe.close().await;
+    anyhow::ensure!(
+        !during.is_empty(),
+        "no raw reply came back while the fleet ran"
+    );
     let s = &report.status;
-    let (raw_p50, raw_p99, bytes) = raw_round_trip(2000).await?;
     Ok(FleetBench {
         agents,
         humans,
         seconds,
+        wall_seconds,
         observations: s.observations,
         answered: s.answered,
         lost: s.observations.saturating_sub(s.answered),
         round_trip_p50_ms: s.round_trip_ms.0,
         round_trip_p99_ms: s.round_trip_ms.1,
-        raw_zenoh_p50_ms: raw_p50,
-        raw_zenoh_p99_ms: raw_p99,
-        raw_payload_bytes: bytes,
+        planner_p99_us: s.planner_p99_us,
+        raw_samples: during.len(),
+        raw_zenoh_p50_ms: percentile(&mut during, 0.5) / 1000.0,
+        raw_zenoh_p99_ms: percentile(&mut during, 0.99) / 1000.0,
+        raw_idle_p50_ms: percentile(&mut idle, 0.5) / 1000.0,
+        raw_idle_p99_ms: percentile(&mut idle, 0.99) / 1000.0,
+        raw_payload_bytes: RAW_PAYLOAD_BYTES,
     })
 }
 
-/// `count` sequential gets from a client to a queryable on a router, on loopback, each carrying
-/// and returning a payload the size of a typical observation (1 KiB).
-async fn raw_round_trip(count: usize) -> Result<(f64, f64, usize)> {
-    let endpoint = format!("tcp/127.0.0.1:{}", free_loopback_port()?);
-    let zerr = |e: zenoh::Error| anyhow::anyhow!("raw round trip: {e}");
-    let router = open_loopback(Role::Router, &endpoint).await?;
-    let client = open_loopback(Role::Client, &endpoint).await?;
-    let payload = vec![0x5a_u8; 1024];
-    let queryable = router
-        .declare_queryable("gapfleet/bench/echo")
-        .await
-        .map_err(zerr)?;
-    let echo = tokio::spawn(async move {
-        while let Ok(query) = queryable.recv_async().await {
-            let body = query
-                .payload()
-                .map(|p| p.to_bytes().into_owned())
-                .unwrap_or_default();
-            let _ = query.reply(query.key_expr().clone(), body).await;
-        }
-    });
-    // Let the queryable's declaration reach the client.
-    tokio::time::sleep(Duration::from_millis(200)).await;
-    let mut times = Vec::with_capacity(count);
-    for _ in 0..count {
+/// Payload of the raw round trips: a typical observation's size.
+const RAW_PAYLOAD_BYTES: usize = 1024;
+
+/// Raw Zenoh request/reply on loopback: a client's get to a queryable on a router that echoes
+/// the payload; the same two hops (router ⇄ client) as an observation and its command.
+#[derive(Clone)]
+struct RawProbe {
+    router: zenoh::Session,
+    client: zenoh::Session,
+    echo: std::sync::Arc<tokio::task::JoinHandle<()>>,
+}
+
+fn zerr(e: zenoh::Error) -> anyhow::Error {
+    anyhow::anyhow!("raw round trip: {e}")
+}
+
+impl RawProbe {
+    async fn open() -> Result<Self> {
+        let endpoint = format!("tcp/127.0.0.1:{}", free_loopback_port()?);
+        let router = open_loopback(Role::Router, &endpoint).await?;
+        let client = open_loopback(Role::Client, &endpoint).await?;
+        let queryable = router
+            .declare_queryable("gapfleet/bench/echo")
+            .await
+            .map_err(zerr)?;
+        let echo = tokio::spawn(async move {
+            while let Ok(query) = queryable.recv_async().await {
+                let body = query
+                    .payload()
+                    .map(|p| p.to_bytes().into_owned())
+                    .unwrap_or_default();
+                let _ = query.reply(query.key_expr().clone(), body).await;
+            }
+        });
+        // Let the queryable's declaration reach the client.
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        Ok(Self {
+            router,
+            client,
+            echo: std::sync::Arc::new(echo),
+        })
+    }
+
+    /// One get → reply, µs (None if no reply came within 1 s).
+    async fn once(&self, payload: &[u8]) -> Result<Option<u32>> {
         let started = Instant::now();
-        let replies = client
+        let replies = self
+            .client
             .get("gapfleet/bench/echo")
-            .payload(payload.clone())
+            .payload(payload.to_vec())
             .timeout(Duration::from_secs(1))
             .await
             .map_err(zerr)?;
@@ -106,19 +189,49 @@ async fn raw_round_trip(count: usize) -> Result<(f64, f64, usize)> {
         while let Ok(reply) = replies.recv_async().await {
             got |= reply.result().is_ok();
         }
-        if got {
-            times.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
-        }
+        Ok(got.then(|| started.elapsed().as_micros().min(u32::MAX as u128) as u32))
     }
-    echo.abort();
-    let _ = client.close().await;
-    let _ = router.close().await;
-    anyhow::ensure!(!times.is_empty(), "no raw reply came back");
-    Ok((
-        percentile(&mut times, 0.5) / 1000.0,
-        percentile(&mut times, 0.99) / 1000.0,
-        payload.len(),
-    ))
+
+    /// `count` round trips back to back.
+    async fn run_back_to_back(&self, count: usize) -> Result<Vec<u32>> {
+        let payload = vec![0x5a_u8; RAW_PAYLOAD_BYTES];
+        let mut times = Vec::with_capacity(count);
+        for _ in 0..count {
+            times.extend(self.once(&payload).await?);
+        }
+        anyhow::ensure!(!times.is_empty(), "no raw reply came back");
+        Ok(times)
+    }
+
+    /// One round trip every `period` from when `start` turns true until `stop` changes.
+    async fn run_paced(
+        &self,
+        period: Duration,
+        mut start: tokio::sync::watch::Receiver<bool>,
+        mut stop: tokio::sync::watch::Receiver<bool>,
+    ) -> Result<Vec<u32>> {
+        let payload = vec![0x5a_u8; RAW_PAYLOAD_BYTES];
+        let mut times = Vec::new();
+        tokio::select! {
+            _ = stop.changed() => return Ok(times),
+            _ = start.wait_for(|s| *s) => {}
+        }
+        let mut ticker = tokio::time::interval(period);
+        ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+        loop {
+            tokio::select! {
+                _ = stop.changed() => break,
+                _ = ticker.tick() => times.extend(self.once(&payload).await?),
+            }
+        }
+        Ok(times)
+    }
+
+    async fn close(self) {
+        self.echo.abort();
+        let _ = self.client.close().await;
+        let _ = self.router.close().await;
+    }
 }
 
 /// What `bench dashboard` measured: a coordinator tick (world step, task progress and every

@@ -523,19 +523,30 @@ fn main() -> Result<()> {
                 println!("{}", serde_json::to_string(&b)?);
             } else {
                 println!(
-                    "{} agents, {} people, {} s at 10 Hz: {} observations, {} answered, {} lost; observation->command round trip p50 {:.2} ms, p99 {:.2} ms; raw Zenoh get/reply ({} B) p50 {:.3} ms, p99 {:.3} ms; p99 ratio {:.1}x",
+                    "{} agents, {} people, {} simulated s at 10 Hz in {:.1} wall s: {} observations, {} answered, {} lost\n\
+                     observation -> command round trip: p50 {:.2} ms, p99 {:.2} ms (worst agent's planning p99 {:.2} ms)\n\
+                     raw Zenoh get/reply ({} B) while the fleet ran ({} samples): p50 {:.3} ms, p99 {:.3} ms; ratio p50 {:.1}x, p99 {:.1}x\n\
+                     raw Zenoh get/reply on the idle machine afterwards: p50 {:.3} ms, p99 {:.3} ms; ratio p50 {:.1}x, p99 {:.1}x",
                     b.agents,
                     b.humans,
                     b.seconds,
+                    b.wall_seconds,
                     b.observations,
                     b.answered,
                     b.lost,
                     b.round_trip_p50_ms,
                     b.round_trip_p99_ms,
+                    b.planner_p99_us / 1000.0,
                     b.raw_payload_bytes,
+                    b.raw_samples,
                     b.raw_zenoh_p50_ms,
                     b.raw_zenoh_p99_ms,
-                    b.round_trip_p99_ms / b.raw_zenoh_p99_ms
+                    b.round_trip_p50_ms / b.raw_zenoh_p50_ms,
+                    b.round_trip_p99_ms / b.raw_zenoh_p99_ms,
+                    b.raw_idle_p50_ms,
+                    b.raw_idle_p99_ms,
+                    b.round_trip_p50_ms / b.raw_idle_p50_ms,
+                    b.round_trip_p99_ms / b.raw_idle_p99_ms,
                 );
             }
             Ok(())

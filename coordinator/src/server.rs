@@ -429,15 +429,21 @@ pub async fn run_coordinator(
         // observations are built just before it goes out (the world does not change within a
         // tick), which spreads the perception work over the tick as well.
         let live: Vec<usize> = (0..n).filter(|&i| links[i].alive).collect();
-        let per_slice = live.len().div_ceil(config.stagger.max(1)).max(1);
+        let window = tick_wall.mul_f64(0.9);
+        // Slices at least 2 ms apart: the timer wakes up to 1 ms late.
+        let max_slices = (window.as_millis() / 2).max(1) as usize;
+        let per_slice = live
+            .len()
+            .div_ceil(config.stagger.clamp(1, max_slices))
+            .max(1);
         let slices = live.len().div_ceil(per_slice).max(1);
-        let offset = tick_wall.mul_f64(0.9) / slices as u32;
+        let offset = window / slices as u32;
         let mut previous: Option<tokio::time::Instant> = None;
         for (k, chunk) in live.chunks(per_slice).enumerate() {
-            // Never catch up after a stall by sending slices back to back: that would make
-            // their agents plan all at once. A late slice keeps its distance to the one before.
+            // A slice that is late after a stall catches up at half the spacing, never back to
+            // back: slices sent at once would make their agents plan all at once.
             let due = tick_started + offset * k as u32;
-            tokio::time::sleep_until(previous.map_or(due, |p| due.max(p + offset))).await;
+            tokio::time::sleep_until(previous.map_or(due, |p| due.max(p + offset / 2))).await;
             previous = Some(tokio::time::Instant::now());
             for &i in chunk {
                 let obs = observation(&mut fleet, i, links[i].next_seq);
