@@ -80,7 +80,8 @@ impl StudyPlan {
 pub fn runs_csv(rows: &[RunRow]) -> String {
     let mut out = String::from(
         "algorithm,density,seed,success,time_to_goal_s,path_length_m,collision_rate,svr,social_force,\
-         min_human_distance_m,intimate_time_s,personal_time_s,still_time_s,force_on_people\n",
+         min_human_distance_m,intimate_time_s,personal_time_s,still_time_s,force_on_people,\
+         human_delay_s,human_extra_path_m\n",
     );
     for r in rows {
         let m = &r.metrics;
@@ -92,7 +93,7 @@ pub fn runs_csv(rows: &[RunRow]) -> String {
             }
         };
         out.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             r.algorithm,
             r.density,
             r.seed,
@@ -107,6 +108,8 @@ pub fn runs_csv(rows: &[RunRow]) -> String {
             f(m.personal_time_s),
             f(m.still_time_s),
             f(m.force_on_people),
+            f(m.human_delay_s),
+            f(m.human_extra_path_m),
         ));
     }
     out
@@ -149,8 +152,8 @@ pub fn parse_runs_csv(text: &str) -> Result<ParsedRuns, CsvError> {
             message,
         };
         let f: Vec<&str> = line.split(',').collect();
-        if f.len() != 14 {
-            return Err(err(format!("expected 14 fields, got {}", f.len())));
+        if f.len() != 16 {
+            return Err(err(format!("expected 16 fields, got {}", f.len())));
         }
         let num = |k: usize| -> Result<f64, CsvError> {
             if f[k].is_empty() {
@@ -177,6 +180,8 @@ pub fn parse_runs_csv(text: &str) -> Result<ParsedRuns, CsvError> {
             robot_near_misses: 0,
             robot_contacts: 0,
             force_on_people: num(13)?,
+            human_delay_s: num(14)?,
+            human_extra_path_m: num(15)?,
         };
         if !algorithms.contains(&algorithm) {
             algorithms.push(algorithm);

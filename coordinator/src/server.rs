@@ -292,7 +292,9 @@ pub async fn run_coordinator(
     tokio::pin!(shutdown);
 
     loop {
+        // A shutdown wins over a due tick: once asked to stop, nothing more goes out.
         tokio::select! {
+            biased;
             () = &mut shutdown => break,
             _ = ticker.tick() => {}
         }
@@ -439,11 +441,21 @@ pub async fn run_coordinator(
         let slices = live.len().div_ceil(per_slice).max(1);
         let offset = window / slices as u32;
         let mut previous: Option<tokio::time::Instant> = None;
+        let mut shut_down = false;
         for (k, chunk) in live.chunks(per_slice).enumerate() {
             // A slice that is late after a stall catches up at half the spacing, never back to
             // back: slices sent at once would make their agents plan all at once.
             let due = tick_started + offset * k as u32;
-            tokio::time::sleep_until(previous.map_or(due, |p| due.max(p + offset / 2))).await;
+            let at = previous.map_or(due, |p| due.max(p + offset / 2));
+            // A shutdown during the tick stops the remaining slices too.
+            tokio::select! {
+                biased;
+                () = &mut shutdown => {
+                    shut_down = true;
+                    break;
+                }
+                () = tokio::time::sleep_until(at) => {}
+            }
             previous = Some(tokio::time::Instant::now());
             for &i in chunk {
                 let obs = observation(&mut fleet, i, links[i].next_seq);
@@ -462,6 +474,9 @@ pub async fn run_coordinator(
                     tracing::warn!(robot = i, "observation not sent: {e}");
                 }
             }
+        }
+        if shut_down {
+            break;
         }
         observer.tick(&fleet, &status, &events);
         if status.tick.is_multiple_of(ticks_per_metrics) {

@@ -1,11 +1,16 @@
 //! One run of a scenario with planners in the loop, in-process: the unit of batch
 //! experiments. Every robot plans on what it perceives at every step.
 
+use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::world::World;
 use agent::model::Command;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+
+/// Windows of the human-impact measurement in episodes (s): short, so that few people change
+/// goal within one and drop out of it; the last, partial window is counted too.
+pub const EPISODE_IMPACT_WINDOW_S: agent::math::Real = 5.0;
 
 /// Runs a scenario with every robot using `planner` until all robots arrive or time runs
 /// out. Returns each robot's metrics.
@@ -24,6 +29,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
     let mut recorders: Vec<MetricsRecorder> = (0..world.robots.len())
         .map(|i| MetricsRecorder::new(&world, i))
         .collect();
+    let mut impact = HumanImpact::new(&world, EPISODE_IMPACT_WINDOW_S);
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let mut commands = vec![Command::STOP; world.robots.len()];
     for _ in 0..steps {
@@ -50,8 +56,18 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
         for r in &mut recorders {
             r.record(&world);
         }
+        impact.record(&world);
     }
-    recorders.iter().map(MetricsRecorder::finish).collect()
+    impact.flush(&world);
+    recorders
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let mut m = r.finish();
+            (m.human_delay_s, m.human_extra_path_m) = impact.robot_totals(i);
+            m
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -331,7 +331,11 @@ impl Fleet {
 
     /// Metrics of robot `i` so far.
     pub fn metrics(&self, i: usize) -> RobotMetrics {
-        self.recorders[i].finish()
+        let mut m = self.recorders[i].finish();
+        if let Some(impact) = &self.impact {
+            (m.human_delay_s, m.human_extra_path_m) = impact.robot_totals(i);
+        }
+        m
     }
 }
 

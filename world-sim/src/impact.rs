@@ -151,9 +151,32 @@ impl HumanImpact {
             }
         }
         self.steps += 1;
-        if self.steps < self.window_steps {
-            return;
+        if self.steps >= self.window_steps {
+            self.close_window(world);
         }
+    }
+
+    /// Closes the window under way early (the end of a run), if it has any steps.
+    pub fn flush(&mut self, world: &World) {
+        if self.steps > 0 {
+            self.close_window(world);
+        }
+    }
+
+    /// The delay and extra path attributed to robot `i` over every finished window
+    /// (person-seconds, metres).
+    pub fn robot_totals(&self, i: usize) -> (Real, Real) {
+        self.windows.iter().fold((0.0, 0.0), |(d, x), w| {
+            (
+                d + w.robot_delay_s.get(i).copied().unwrap_or(0.0),
+                x + w.robot_extra_path_m.get(i).copied().unwrap_or(0.0),
+            )
+        })
+    }
+
+    fn close_window(&mut self, world: &World) {
+        let crowd = &world.humans.crowd;
+        let shadow = &self.shadow.humans.crowd;
         let mut window = ImpactWindow {
             end_time: world.time,
             length_s: self.steps as Real * world.dt,

@@ -66,6 +66,11 @@ pub struct RobotMetrics {
     pub robot_contacts: u64,
     /// Mean Social Force the robot exerts on people (summed over people).
     pub force_on_people: Real,
+    /// Delay the robot caused people (person-seconds, `impact::HumanImpact`); 0 where the
+    /// impact is not measured.
+    pub human_delay_s: Real,
+    /// Extra path the robot caused people (m, `impact::HumanImpact`); 0 where not measured.
+    pub human_extra_path_m: Real,
 }
 
 /// Accumulates one robot's metrics step by step.
@@ -235,6 +240,8 @@ impl MetricsRecorder {
             robot_near_misses: self.near_miss_steps,
             robot_contacts: self.robot_contact_steps,
             force_on_people: per_step(self.force_on_people_sum),
+            human_delay_s: 0.0,
+            human_extra_path_m: 0.0,
         }
     }
 }
