@@ -260,12 +260,14 @@ pub struct Summary {
 type MetricColumn = (&'static str, fn(&RobotMetrics) -> f64, bool);
 
 /// Metrics compared between PGP+X and X; time and path only over pairs where both succeeded.
-const COMPARED: [MetricColumn; 5] = [
+const COMPARED: [MetricColumn; 7] = [
     ("time_to_goal_s", |m| m.time_to_goal_s, true),
     ("path_length_m", |m| m.path_length_m, true),
     ("collision_rate", |m| m.collision_rate, false),
     ("svr", |m| m.svr, false),
     ("social_force", |m| m.social_force, false),
+    ("human_delay_s", |m| m.human_delay_s, false),
+    ("human_extra_path_m", |m| m.human_extra_path_m, false),
 ];
 
 /// Group means and the paired comparisons.

@@ -46,7 +46,7 @@ fn study_smoke_is_complete_and_thread_count_independent() {
     assert_eq!(groups.len(), 8);
     assert!(groups.iter().all(|g| g["runs"] == 3));
     let comparisons = summary["comparisons"].as_array().expect("comparisons");
-    assert_eq!(comparisons.len(), 2 * 5, "two PGP+X pairs × five metrics");
+    assert_eq!(comparisons.len(), 2 * 7, "two PGP+X pairs × seven metrics");
     for c in comparisons {
         assert_eq!(c["pairs"].as_u64().map(|p| p > 0), Some(true), "{c}");
     }
