@@ -463,9 +463,6 @@ pub async fn run_coordinator(
                 let link = &mut links[i];
                 link.next_seq += 1;
                 link.sent.push_back((obs.seq, Instant::now(), false));
-                if std::env::var_os("GAPFLEET_RTT_DUMP").is_some() {
-                    eprintln!("PUB {} {} {}", i, obs.seq, agent::runtime::dbg_now());
-                }
                 if link.sent.len() > 16 {
                     link.sent.pop_front();
                 }
@@ -537,15 +534,6 @@ fn take_commands(
                         round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
                     }
                     round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
-                    if std::env::var_os("GAPFLEET_RTT_DUMP").is_some() {
-                        eprintln!(
-                            "RTT {} {} {} {}",
-                            cmd.robot_id,
-                            cmd.obs_seq,
-                            rtt,
-                            agent::runtime::dbg_now()
-                        );
-                    }
                 }
                 if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
                     link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));

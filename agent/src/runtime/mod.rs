@@ -127,8 +127,6 @@ pub async fn run_agent(
             () = &mut shutdown => break,
             sample = obs_sub.recv_async() => {
                 let Ok(sample) = sample else { break };
-                let t_in = Instant::now();
-                let mut t_plan = 0u128;
                 let bytes = sample.payload().to_bytes();
                 let obs = match decode::<Observation>(&bytes) {
                     Ok(obs) if obs.robot_id == id => obs,
@@ -183,7 +181,6 @@ pub async fn run_agent(
                             goal: wire::vec(goal),
                             dt: obs.dt,
                         });
-                        t_plan = started.elapsed().as_micros();
                         plan_times_us.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
                         counters.plans.fetch_add(1, Ordering::Relaxed);
                         let (cmd, intent) = wire::answer(&obs, &planner_name, &plan);
@@ -204,9 +201,6 @@ pub async fn run_agent(
                 };
                 if let Err(e) = cmd_pub.put(encode(&command)).await {
                     tracing::warn!(robot = id, "command not sent: {e}");
-                }
-                if std::env::var_os("GAPFLEET_RTT_DUMP").is_some() {
-                    eprintln!("AGT {} {} {} {} {}", id, obs.seq, t_in.elapsed().as_micros(), t_plan, dbg_now());
                 }
                 if let Some((intent, fan)) = extras {
                     if let Err(e) = intent_pub.put(encode(&intent)).await {
@@ -315,11 +309,6 @@ async fn fetch_map(session: &zenoh::Session, keys: &Keys) -> Result<(u32, Static
         }
     }
     Err(last_error)
-}
-
-pub fn dbg_now() -> u128 {
-    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
-    START.get_or_init(Instant::now).elapsed().as_micros()
 }
 
 /// 99th percentile (nearest rank) of `values`, 0 when empty.
