@@ -78,8 +78,13 @@ pub async fn bench_fleet(
                 .await
         })
     };
-    // It stops with the coordinator's final status, before the agents shut down.
+    // It stops with the coordinator's final status, before the agents shut down. The first
+    // status (about a wall second in) also dates the first tick, for the wall time.
+    let started = Instant::now();
+    let first_tick = std::sync::Arc::new(std::sync::OnceLock::<Instant>::new());
+    let first_tick_seen = first_tick.clone();
     let on_status = move |s: &crate::server::Status| {
+        first_tick_seen.get_or_init(|| Instant::now() - Duration::from_secs_f64(s.sim_time));
         if s.tick > 0 {
             ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));
         }
@@ -87,21 +92,8 @@ pub async fn bench_fleet(
             stop_tx.send_if_modified(|t| !std::mem::replace(t, true));
         }
     };
-    let started = Instant::now();
-    let ticking_at = std::sync::Arc::new(std::sync::Mutex::new(None::<Instant>));
-    let ticking_seen = ticking_at.clone();
-    let on_status = move |s: &crate::server::Status| {
-        if let Ok(mut t) = ticking_seen.lock()
-            && t.is_none()
-        {
-            // The first status comes about a wall second after the first tick.
-            *t = Some(Instant::now() - Duration::from_secs_f64(s.sim_time));
-        }
-        on_status(s);
-    };
     let report = run_demo(options, std::future::pending(), on_status, |_| {}).await;
-    let first_tick = ticking_at.lock().ok().and_then(|t| *t).unwrap_or(started);
-    let wall_seconds = first_tick.elapsed().as_secs_f64();
+    let wall_seconds = first_tick.get().unwrap_or(&started).elapsed().as_secs_f64();
     let _ = stopper.send(true);
     let mut during = during.await.context("raw probe task")??;
     let report = report?;
