@@ -177,12 +177,15 @@ impl LocalMap {
             columns: &self.columns,
             p: *p,
         });
-        let pt = point(p);
-        let in_polygon = self.polygons.iter().any(|&i| {
-            let (aabb, poly) = &map.polygons[i];
-            aabb.contains_local_point(&pt) && inside(poly, p)
-        });
-        if in_polygon { 0.0 } else { best.sqrt() }
+        if self
+            .polygons
+            .iter()
+            .any(|&i| in_polygon(&map.polygons[i], p))
+        {
+            0.0
+        } else {
+            best.sqrt()
+        }
     }
 }
 
@@ -295,10 +298,7 @@ impl StaticMap {
 
     /// Whether `p` is inside a polygonal obstacle.
     pub fn is_inside(&self, p: &Vec2) -> bool {
-        let pt = point(p);
-        self.polygons
-            .iter()
-            .any(|(aabb, poly)| aabb.contains_local_point(&pt) && inside(poly, p))
+        self.polygons.iter().any(|polygon| in_polygon(polygon, p))
     }
 
     /// Distance from `p` to the nearest obstacle surface; 0 inside a polygon;
@@ -423,6 +423,11 @@ fn push_ring(vertices: &mut Vec<ObstacleVertex>, ring: &[Vec2]) -> Option<()> {
 }
 
 /// Even-odd point-in-polygon test.
+/// Whether `p` lies inside a stored polygon, its bounding box checked first.
+fn in_polygon((aabb, poly): &(Aabb, Vec<Vec2>), p: &Vec2) -> bool {
+    aabb.contains_local_point(&point(p)) && inside(poly, p)
+}
+
 fn inside(poly: &[Vec2], p: &Vec2) -> bool {
     let mut result = false;
     let n = poly.len();
