@@ -12,6 +12,7 @@
 //! comes latest is taken: braking to a standstill instead froze the robot in crowds. The
 //! weights are ours: the PGP paper does not give them.
 
+use crate::fastmath::LANES;
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, unit, wrap_angle};
 use crate::model::{EgoState, Neighbour, TrajectorySample};
@@ -189,6 +190,12 @@ impl Dwa {
                     self.mover_radius.push(nb.radius);
                 }
             }
+            // Whole blocks of `LANES`: padding movers lie at infinity, out of every reach.
+            while !self.mover_x.len().is_multiple_of(LANES) {
+                self.mover_x.push(Real::INFINITY);
+                self.mover_y.push(Real::INFINITY);
+                self.mover_radius.push(0.0);
+            }
         }
         self.mover_start.push(self.mover_x.len());
         let corner = Vec2::new(reach, reach);
@@ -208,29 +215,14 @@ impl Dwa {
             }
         }
 
-        // The best admissible arc; failing that, the arc whose predicted collision comes
-        // latest (ties: the slower arc, which the loop meets first).
-        let mut best: Option<(Real, Real, Real)> = None;
-        let mut latest_hit: Option<(Real, Real, Real)> = None;
-        for iv in 0..p.v_samples {
-            let v = lerp(window.v, iv, p.v_samples);
-            for iw in 0..p.yaw_samples {
-                let w = lerp(window.yaw_rate, iw, p.yaw_samples);
-                let offsets = &self.unit_offsets[iw * steps..(iw + 1) * steps];
-                match self.score(ego, map, target, v, w, offsets) {
-                    Ok(score) => {
-                        if best.is_none_or(|b| score > b.0) {
-                            best = Some((score, v, w));
-                        }
-                    }
-                    Err(hit_time) => {
-                        if latest_hit.is_none_or(|b| hit_time > b.0) {
-                            latest_hit = Some((hit_time, v, w));
-                        }
-                    }
-                }
-            }
-        }
+        let (best, latest_hit) = pulp::Arch::new().dispatch(ArcSearch {
+            dwa: self,
+            ego,
+            map,
+            target,
+            window: &window,
+            steps,
+        });
         let admissible = best.is_some();
         let (_, speed, yaw_rate) = best
             .or(latest_hit)
@@ -245,15 +237,54 @@ impl Dwa {
         }
     }
 
-    /// G(v, ω), or, for an arc that is not admissible, the time of its first predicted
-    /// collision (clearance below the safety margin).
-    fn score(
+    /// The best admissible arc (G, v, ω); and the arc whose predicted collision comes latest
+    /// (hit time, v, ω; ties: the slower arc, which the loop meets first). Runs inside
+    /// [`ArcSearch`], compiled for the widest instruction set the CPU has.
+    #[inline(always)]
+    fn search<S: pulp::Simd>(
         &self,
+        simd: S,
         ego: &EgoState,
         map: &StaticMap,
         target: Vec2,
-        v: Real,
-        w: Real,
+        window: &Window,
+        steps: usize,
+    ) -> (Pick, Pick) {
+        let p = &self.params;
+        let mut best: Pick = None;
+        let mut latest_hit: Pick = None;
+        for iv in 0..p.v_samples {
+            let v = lerp(window.v, iv, p.v_samples);
+            for iw in 0..p.yaw_samples {
+                let w = lerp(window.yaw_rate, iw, p.yaw_samples);
+                let offsets = &self.unit_offsets[iw * steps..(iw + 1) * steps];
+                match self.score(simd, ego, map, target, (v, w), offsets) {
+                    Ok(score) => {
+                        if best.is_none_or(|b| score > b.0) {
+                            best = Some((score, v, w));
+                        }
+                    }
+                    Err(hit_time) => {
+                        if latest_hit.is_none_or(|b| hit_time > b.0) {
+                            latest_hit = Some((hit_time, v, w));
+                        }
+                    }
+                }
+            }
+        }
+        (best, latest_hit)
+    }
+
+    /// G(v, ω), or, for an arc that is not admissible, the time of its first predicted
+    /// collision (clearance below the safety margin).
+    #[inline(always)]
+    fn score<S: pulp::Simd>(
+        &self,
+        simd: S,
+        ego: &EgoState,
+        map: &StaticMap,
+        target: Vec2,
+        (v, w): (Real, Real),
         unit_offsets: &[Vec2],
     ) -> Result<Real, Real> {
         let p = &self.params;
@@ -270,18 +301,15 @@ impl Dwa {
                 self.local.distance(map, &pos) - ego.radius
             };
             let row = self.mover_start[i - 1]..self.mover_start[i];
-            let movers = self.mover_x[row.clone()]
-                .iter()
-                .zip(&self.mover_y[row.clone()])
-                .zip(&self.mover_radius[row]);
-            for ((&x, &y), &r) in movers {
-                let (dx, dy) = (pos.x - x, pos.y - y);
-                let reach = ego.radius + r + p.clearance_cap;
-                // Beyond the clearance cap the exact distance does not matter.
-                if dx * dx + dy * dy < reach * reach {
-                    clearance = clearance.min((dx * dx + dy * dy).sqrt() - ego.radius - r);
-                }
-            }
+            clearance = clearance.min(mover_clearance(
+                simd,
+                pos,
+                ego.radius,
+                p.clearance_cap,
+                &self.mover_x[row.clone()],
+                &self.mover_y[row.clone()],
+                &self.mover_radius[row],
+            ));
             if clearance <= p.safety_margin {
                 return Err(t);
             }
@@ -319,6 +347,69 @@ impl Dwa {
     }
 }
 
+/// An arc picked by the search: (its G or hit time, v, ω).
+type Pick = Option<(Real, Real, Real)>;
+
+/// DWA's search over the window as one operation that `pulp` compiles once per instruction
+/// set.
+struct ArcSearch<'a> {
+    dwa: &'a Dwa,
+    ego: &'a EgoState,
+    map: &'a StaticMap,
+    target: Vec2,
+    window: &'a Window,
+    steps: usize,
+}
+
+impl pulp::WithSimd for ArcSearch<'_> {
+    type Output = (Pick, Pick);
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, simd: S) -> Self::Output {
+        self.dwa.search(
+            simd,
+            self.ego,
+            self.map,
+            self.target,
+            self.window,
+            self.steps,
+        )
+    }
+}
+
+/// The smallest clearance (distance between bodies) of a body at `pos` to the movers given as
+/// columns of whole `LANES` blocks, counting only movers within `cap` of touching (beyond the
+/// clearance cap the exact distance does not matter); ∞ if there are none. Branch-free, a
+/// vector of movers at a time: the minimum of the same numbers as a loop that skips the far
+/// ones (a minimum does not depend on order).
+#[inline(always)]
+fn mover_clearance<S: pulp::Simd>(
+    simd: S,
+    pos: Vec2,
+    radius: Real,
+    cap: Real,
+    xs: &[Real],
+    ys: &[Real],
+    radii: &[Real],
+) -> Real {
+    let (xs, _) = S::as_simd_f64s(xs);
+    let (ys, _) = S::as_simd_f64s(ys);
+    let (radii, _) = S::as_simd_f64s(radii);
+    let (px, py) = (simd.splat_f64s(pos.x), simd.splat_f64s(pos.y));
+    let (radius, cap) = (simd.splat_f64s(radius), simd.splat_f64s(cap));
+    let infinity = simd.splat_f64s(Real::INFINITY);
+    let mut nearest = infinity;
+    for ((&x, &y), &r) in xs.iter().zip(ys).zip(radii) {
+        let (dx, dy) = (simd.sub_f64s(px, x), simd.sub_f64s(py, y));
+        let d2 = simd.add_f64s(simd.mul_f64s(dx, dx), simd.mul_f64s(dy, dy));
+        let reach = simd.add_f64s(simd.add_f64s(radius, r), cap);
+        let near = simd.less_than_f64s(d2, simd.mul_f64s(reach, reach));
+        let clearance = simd.sub_f64s(simd.sub_f64s(simd.sqrt_f64s(d2), radius), r);
+        nearest = simd.min_f64s(nearest, simd.select_f64s(near, clearance, infinity));
+    }
+    simd.reduce_min_f64s(nearest)
+}
+
 /// The i-th of n evenly spaced values over `[lo, hi]` (both ends included).
 fn lerp((lo, hi): (Real, Real), i: usize, n: usize) -> Real {
     if n <= 1 {
@@ -334,6 +425,56 @@ mod tests {
     use crate::math::vec2;
     use crate::model::AgentKind;
     use proptest::prelude::*;
+
+    /// [`mover_clearance`] as the CPU's widest instruction set runs it.
+    struct Clearance<'a> {
+        pos: Vec2,
+        columns: [&'a [Real]; 3],
+    }
+
+    impl pulp::WithSimd for Clearance<'_> {
+        type Output = Real;
+
+        fn with_simd<S: pulp::Simd>(self, simd: S) -> Real {
+            let [xs, ys, radii] = self.columns;
+            mover_clearance(simd, self.pos, 0.3, 1.0, xs, ys, radii)
+        }
+    }
+
+    proptest! {
+        /// The vectorised mover check finds the same clearance as the loop that skips movers
+        /// beyond the cap, padded as `plan` pads its rows, at every vector width.
+        #[test]
+        fn vectorised_clearance_is_the_skipping_loops(
+            pos in (-3.0..3.0f64, -3.0..3.0f64),
+            movers in proptest::collection::vec((-4.0..4.0f64, -4.0..4.0f64, 0.1..0.5f64), 0..40),
+        ) {
+            let pos = vec2(pos.0, pos.1);
+            let mut expected = Real::INFINITY;
+            for &(x, y, r) in &movers {
+                let (dx, dy) = (pos.x - x, pos.y - y);
+                let reach = 0.3 + r + 1.0;
+                if dx * dx + dy * dy < reach * reach {
+                    expected = expected.min((dx * dx + dy * dy).sqrt() - 0.3 - r);
+                }
+            }
+            let padded = movers.len().next_multiple_of(LANES);
+            let column = |f: fn(&(Real, Real, Real)) -> Real, pad: Real| {
+                let mut c: Vec<Real> = movers.iter().map(f).collect();
+                c.resize(padded, pad);
+                c
+            };
+            let (xs, ys, radii) = (
+                column(|m| m.0, Real::INFINITY),
+                column(|m| m.1, Real::INFINITY),
+                column(|m| m.2, 0.0),
+            );
+            let widest = pulp::Arch::new().dispatch(Clearance { pos, columns: [&xs, &ys, &radii] });
+            let scalar = mover_clearance(pulp::Scalar::new(), pos, 0.3, 1.0, &xs, &ys, &radii);
+            prop_assert_eq!(widest, expected);
+            prop_assert_eq!(scalar, expected);
+        }
+    }
 
     fn ego(v: Real, w: Real) -> EgoState {
         EgoState {

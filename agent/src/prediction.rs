@@ -46,6 +46,18 @@ impl SigmaModel {
         std::iter::successors(Some(self.sigma0), move |s| Some(cap.min(s + growth))).skip(1)
     }
 
+    /// Fills `sigma` with σ_0 = σ0 and [`constant_speed`](Self::constant_speed)'s σ_1, σ_2, …
+    /// (the same numbers, without an iterator's per-item bookkeeping).
+    pub fn fill_constant_speed(&self, speed: Real, sigma: &mut [Real]) {
+        let cap = self.sigma_max(speed);
+        let growth = self.delta * speed;
+        let mut s = self.sigma0;
+        for slot in sigma {
+            *slot = s;
+            s = cap.min(s + growth);
+        }
+    }
+
     /// Fills `sigma[0..=n]` for the speeds `speeds[1..=n]` (`speeds[0]` is ignored):
     /// σ_0 = σ0, σ_i = min(σ_max, σ_{i-1} + δ·v_i).
     pub fn fill(&self, speeds: &[Real], sigma: &mut [Real]) {
@@ -95,9 +107,8 @@ pub fn extrapolate_ctrv(
             *slot = neighbour.position + ctrv_offset(speed, heading, omega, i as Real * dt);
         }
     }
-    track.sigma.clear();
-    track.sigma.push(model.sigma0);
-    track.sigma.extend(model.constant_speed(speed).take(n));
+    track.sigma.resize(n + 1, 0.0);
+    model.fill_constant_speed(speed, &mut track.sigma);
 }
 
 /// Displacement after time `t` driving at `speed` from `heading` while turning at `omega`.
@@ -197,6 +208,19 @@ mod tests {
     use super::*;
     use crate::math::vec2;
     use crate::model::{AgentKind, TrajectorySample};
+
+    #[test]
+    fn filled_constant_speed_sigma_is_the_iterators() {
+        let m = SigmaModel::default();
+        for speed in [0.0, 0.3, 1.0, 1.7, 40.0] {
+            let mut filled = vec![0.0; 33];
+            m.fill_constant_speed(speed, &mut filled);
+            let iterated: Vec<Real> = std::iter::once(m.sigma0)
+                .chain(m.constant_speed(speed).take(32))
+                .collect();
+            assert_eq!(filled, iterated, "speed {speed}");
+        }
+    }
 
     #[test]
     fn sigma_grows_by_delta_v_and_caps_at_three_sigma0() {

@@ -607,9 +607,10 @@ fn main() -> Result<()> {
             let summary = write_outputs(&out, &plan, &rows)
                 .with_context(|| format!("writing {}", out.display()))?;
             eprintln!(
-                "{} runs on {threads} threads in {:.1} s; wrote {0}/runs.csv and summary.json",
+                "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv and summary.json",
                 rows.len(),
                 started.elapsed().as_secs_f64(),
+                out.display(),
             );
             for c in summary.comparisons.iter().filter(|c| c.metric == "svr") {
                 eprintln!(
