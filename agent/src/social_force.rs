@@ -317,13 +317,19 @@ impl Columns {
     fn pack(&mut self, pa: Vec2, runs: &[(usize, usize)], skip: usize, range_sq: Real) -> usize {
         let mut m = 0;
         let [nx, ny, nvx, nvy] = &mut self.near;
+        // Plain slices, so that the loop keeps their bounds in registers.
+        let (nx, ny, nvx, nvy) = (&mut nx[..], &mut ny[..], &mut nvx[..], &mut nvy[..]);
         for &(lo, hi) in runs {
-            for k in lo..hi {
-                let (x, y) = (self.x[k], self.y[k]);
+            let candidates = self.x[lo..hi]
+                .iter()
+                .zip(&self.y[lo..hi])
+                .zip(&self.vx[lo..hi])
+                .zip(&self.vy[lo..hi]);
+            for (k, (((&x, &y), &vx), &vy)) in (lo..hi).zip(candidates) {
                 nx[m] = x;
                 ny[m] = y;
-                nvx[m] = self.vx[k];
-                nvy[m] = self.vy[k];
+                nvx[m] = vx;
+                nvy[m] = vy;
                 let (dx, dy) = (x - pa.x, y - pa.y);
                 m += usize::from((k != skip) & (dx * dx + dy * dy < range_sq));
             }
