@@ -152,14 +152,18 @@ struct PairTables {
     nb_var0: Vec<Real>,
 }
 
+/// Neighbours per pass of `build_tables`' vectorised loop.
+const TABLE_CHUNK: usize = 64;
+
 /// The Probabilistic Gap Planner with its reusable buffers.
 #[derive(Debug, Clone, Default)]
 pub struct Pgp {
     params: PgpParams,
     tracks: Vec<Track>,
-    /// Neighbour positions flattened step-major (index j·K + k).
+    /// Neighbour positions and σ flattened step-major (index j·K + k).
     nb_x: Vec<Real>,
     nb_y: Vec<Real>,
+    nb_sigma: Vec<Real>,
     local: LocalMap,
     sampled: Sampled,
     /// Distinct ego σ profiles, each `steps + 1` long.
@@ -213,8 +217,7 @@ impl Pgp {
         let geometries = self.candidate_geometries(p0, dir, pgp_goal);
         self.sample_all(ego, &geometries, pgp_goal);
         self.predict(neighbours, map, p0, &geometries);
-        self.build_tables(neighbours.len());
-        let expected = self.evaluate_all(&geometries, map);
+        let expected = self.evaluate_all(&geometries, map, neighbours.len());
 
         // The first best wins ties, so the result does not depend on float noise order.
         let mut best = 0;
@@ -315,12 +318,16 @@ impl Pgp {
         for (nb, track) in neighbours.iter().zip(&mut self.tracks) {
             predict(nb, p.dt, n, &p.sigma, track);
         }
-        self.nb_x.clear();
-        self.nb_y.clear();
-        for j in 0..=n {
-            for track in &self.tracks[..neighbours.len()] {
-                self.nb_x.push(track.positions[j].x);
-                self.nb_y.push(track.positions[j].y);
+        let k_count = neighbours.len();
+        for column in [&mut self.nb_x, &mut self.nb_y, &mut self.nb_sigma] {
+            column.resize((n + 1) * k_count, 0.0);
+        }
+        for (k, track) in self.tracks[..k_count].iter().enumerate() {
+            debug_assert!(track.positions.len() == n + 1 && track.sigma.len() == n + 1);
+            for (j, (q, &sigma)) in track.positions.iter().zip(&track.sigma).enumerate() {
+                self.nb_x[j * k_count + k] = q.x;
+                self.nb_y[j * k_count + k] = q.y;
+                self.nb_sigma[j * k_count + k] = sigma;
             }
         }
         let (mut min, mut max) = (p0, p0);
@@ -336,16 +343,20 @@ impl Pgp {
 
     /// Everything of Eqs. 1–3 that does not depend on where the candidate is, and per step
     /// the neighbours that can matter.
+    #[inline(always)]
     fn build_tables(&mut self, k_count: usize) {
         let n = self.params.steps;
         let stride = n + 1;
         let candidates = self.sampled.profile.len();
         let floor = self.params.risk_floor;
         let t = &mut self.tables;
-        for v in [
-            &mut t.ego_var,
-            &mut t.ego_ratio,
-            &mut t.ego_cull,
+        for v in [&mut t.ego_var, &mut t.ego_ratio, &mut t.ego_cull] {
+            v.clear();
+        }
+        t.start.clear();
+        // The neighbour columns are written in place and never shrunk (rows are read only
+        // through `start`); a row holds at most every neighbour plus padding.
+        for column in [
             &mut t.nb_x,
             &mut t.nb_y,
             &mut t.nb_var,
@@ -353,9 +364,11 @@ impl Pgp {
             &mut t.nb_cull,
             &mut t.nb_var0,
         ] {
-            v.clear();
+            if column.len() < n * (k_count + LANES) {
+                column.resize(n * (k_count + LANES), 0.0);
+            }
         }
-        t.start.clear();
+        let mut row = 0;
         for profile in &self.profiles {
             for &se in &profile[..n] {
                 let ratio = profile[0] / se;
@@ -370,7 +383,7 @@ impl Pgp {
         }
         let profiles = self.profiles.len();
         for j in 0..n {
-            t.start.push(t.nb_x.len());
+            t.start.push(row);
             // Bounding box of every candidate's sample j, and the largest ego terms at j.
             let (mut min, mut max) = (self.sampled.positions[j], self.sampled.positions[j]);
             for l in 1..candidates {
@@ -384,45 +397,75 @@ impl Pgp {
             let ego_cull = (0..profiles)
                 .map(|g| t.ego_cull[g * n + j])
                 .fold(Real::NEG_INFINITY, Real::max);
-            for (k, track) in self.tracks[..k_count].iter().enumerate() {
-                let (s0, sj) = (track.sigma[0], track.sigma[j]);
-                let nb_cull = ln_upper_bound(s0 / sj);
-                let (x, y) = (self.nb_x[j * k_count + k], self.nb_y[j * k_count + k]);
-                let dx = (min.x - x).max(x - max.x).max(0.0);
-                let dy = (min.y - y).max(y - max.y).max(0.0);
-                if dx * dx + dy * dy >= 2.0 * (ego_var + sj * sj) * (ego_cull + nb_cull) {
-                    continue;
+            // Per chunk of neighbours, straight-line loops into local columns (they
+            // vectorise), then the neighbours that can matter appended in order, branch-free.
+            let step = j * k_count..(j + 1) * k_count;
+            let (xs, ys) = (&self.nb_x[step.clone()], &self.nb_y[step.clone()]);
+            let sigma = &self.nb_sigma[step];
+            let sigma0 = &self.nb_sigma[..k_count];
+            for lo in (0..k_count).step_by(TABLE_CHUNK) {
+                let hi = (lo + TABLE_CHUNK).min(k_count);
+                let mut var = [0.0; TABLE_CHUNK];
+                let mut ratio = [0.0; TABLE_CHUNK];
+                let mut cull = [0.0; TABLE_CHUNK];
+                let mut near = [false; TABLE_CHUNK];
+                let columns = xs[lo..hi]
+                    .iter()
+                    .zip(&ys[lo..hi])
+                    .zip(&sigma[lo..hi])
+                    .zip(&sigma0[lo..hi]);
+                for (c, (((&x, &y), &sj), &s0)) in columns.enumerate() {
+                    let nb_cull = ln_upper_bound(s0 / sj);
+                    let dx = (min.x - x).max(x - max.x).max(0.0);
+                    let dy = (min.y - y).max(y - max.y).max(0.0);
+                    var[c] = sj * sj;
+                    ratio[c] = s0 / sj;
+                    cull[c] = nb_cull;
+                    // As the hazard loop's test: a NaN is kept.
+                    let far = dx * dx + dy * dy >= 2.0 * (ego_var + sj * sj) * (ego_cull + nb_cull);
+                    near[c] = !far;
                 }
-                t.nb_x.push(x);
-                t.nb_y.push(y);
-                t.nb_var.push(sj * sj);
-                t.nb_ratio.push(s0 / sj);
-                t.nb_cull.push(nb_cull);
-                t.nb_var0.push(s0 * s0);
+                for c in 0..hi - lo {
+                    let k = lo + c;
+                    t.nb_x[row] = xs[k];
+                    t.nb_y[row] = ys[k];
+                    t.nb_var[row] = var[c];
+                    t.nb_ratio[row] = ratio[c];
+                    t.nb_cull[row] = cull[c];
+                    t.nb_var0[row] = sigma0[k] * sigma0[k];
+                    row += usize::from(near[c]);
+                }
             }
             // Whole blocks of `LANES`: the padding neighbours lie at infinity and are culled.
-            while !t.nb_x.len().is_multiple_of(LANES) {
-                t.nb_x.push(Real::INFINITY);
-                t.nb_y.push(Real::INFINITY);
-                t.nb_var.push(1.0);
-                t.nb_ratio.push(0.0);
-                t.nb_cull.push(0.0);
-                t.nb_var0.push(0.0);
+            while !row.is_multiple_of(LANES) {
+                t.nb_x[row] = Real::INFINITY;
+                t.nb_y[row] = Real::INFINITY;
+                t.nb_var[row] = 1.0;
+                t.nb_ratio[row] = 0.0;
+                t.nb_cull[row] = 0.0;
+                t.nb_var0[row] = 0.0;
+                row += 1;
             }
         }
-        t.start.push(t.nb_x.len());
+        t.start.push(row);
     }
 
     /// Hazards (Eqs. 1–4 plus p^escape), survival (Eq. 5) and expected utility (Eqs. 7–8) of
     /// every candidate. A candidate that starts like the previous one (same α, same first
     /// segment) reuses that one's hazards over the shared samples.
-    fn evaluate_all(&mut self, geometries: &[Geometry], map: &StaticMap) -> Vec<Real> {
+    fn evaluate_all(
+        &mut self,
+        geometries: &[Geometry],
+        map: &StaticMap,
+        k_count: usize,
+    ) -> Vec<Real> {
         let n = self.params.steps;
         let stride = n + 1;
         pulp::Arch::new().dispatch(HazardPass {
             pgp: self,
             geometries,
             map,
+            k_count,
         });
         let s = &self.sampled;
         self.survival.resize(geometries.len() * stride, 0.0);
@@ -566,12 +609,15 @@ fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut S
 
 /// An upper bound on ln(x) for normal x > 0, within 1 − ln 2 ≈ 0.31 of it: with x = m·2^e,
 /// m ∈ [1, 2), ln x = e·ln 2 + ln m ≤ e·ln 2 + (m − 1). Far cheaper than `ln`.
-#[inline]
+#[inline(always)]
 fn ln_upper_bound(x: Real) -> Real {
     let bits = x.to_bits();
-    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    // The unbiased exponent as a double, exactly and without an integer conversion (which
+    // vector units lack): 2^52 + biased exponent, from bits, minus 2^52 + 1023.
+    const TWO_52: u64 = 0x4330_0000_0000_0000;
+    let e = (Real::from_bits(TWO_52 | ((bits >> 52) & 0x7ff)) - Real::from_bits(TWO_52)) - 1023.0;
     let m = Real::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
-    e as Real * std::f64::consts::LN_2 + (m - 1.0)
+    e * std::f64::consts::LN_2 + (m - 1.0)
 }
 
 /// The ego's side of Eqs. 1–3 at one sample.
@@ -592,6 +638,7 @@ struct HazardPass<'a> {
     pgp: &'a mut Pgp,
     geometries: &'a [Geometry],
     map: &'a StaticMap,
+    k_count: usize,
 }
 
 impl pulp::WithSimd for HazardPass<'_> {
@@ -599,6 +646,7 @@ impl pulp::WithSimd for HazardPass<'_> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _: S) {
+        self.pgp.build_tables(self.k_count);
         self.pgp.fill_hazards(self.geometries, self.map);
     }
 }
