@@ -459,17 +459,23 @@ impl Pgp {
         map: &StaticMap,
         k_count: usize,
     ) -> Vec<Real> {
-        let n = self.params.steps;
-        let stride = n + 1;
         pulp::Arch::new().dispatch(HazardPass {
             pgp: self,
             geometries,
             map,
             k_count,
-        });
+        })
+    }
+
+    /// Survival (Eq. 5) and expected utility (Eqs. 7–8) of `count` candidates from their
+    /// hazards. Runs inside [`HazardPass`].
+    #[inline(always)]
+    fn expected_utilities(&mut self, count: usize) -> Vec<Real> {
+        let n = self.params.steps;
+        let stride = n + 1;
         let s = &self.sampled;
-        self.survival.resize(geometries.len() * stride, 0.0);
-        (0..geometries.len())
+        self.survival.resize(count * stride, 0.0);
+        (0..count)
             .map(|l| {
                 let surv = &mut self.survival[l * stride..(l + 1) * stride];
                 crate::risk::survival(&self.hazards[l * n..(l + 1) * n], surv);
@@ -633,7 +639,8 @@ struct EgoTerms {
     cull: Real,
 }
 
-/// PGP's hazard loop as one operation that `pulp` compiles once per instruction set.
+/// PGP's tables, hazards and expected utilities as one operation that `pulp` compiles once
+/// per instruction set.
 struct HazardPass<'a> {
     pgp: &'a mut Pgp,
     geometries: &'a [Geometry],
@@ -642,12 +649,13 @@ struct HazardPass<'a> {
 }
 
 impl pulp::WithSimd for HazardPass<'_> {
-    type Output = ();
+    type Output = Vec<Real>;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _: S) {
+    fn with_simd<S: pulp::Simd>(self, _: S) -> Vec<Real> {
         self.pgp.build_tables(self.k_count);
         self.pgp.fill_hazards(self.geometries, self.map);
+        self.pgp.expected_utilities(self.geometries.len())
     }
 }
 

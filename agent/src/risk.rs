@@ -63,17 +63,32 @@ pub fn static_collision_probability(d: Real, sigma: Real) -> Real {
 /// Eq. 5: survival probabilities from per-step hazards. `hazards[j]` is
 /// Σ_k p^coll,coop_{j,k} + p^coll,static_j + p^escape; writes
 /// `survival[i] = Π_{j<i} exp(−hazards[j])` for i = 0..=hazards.len().
+///
+/// The cumulative hazards are summed first, in order; their exponentials are then taken in a
+/// straight-line loop that vectorises, and the rare sums beyond `exp_neg`'s range redone
+/// with `exp`.
+#[inline(always)]
 pub fn survival(hazards: &[Real], survival: &mut [Real]) {
     debug_assert_eq!(survival.len(), hazards.len() + 1);
     let mut acc = 0.0;
     survival[0] = 1.0;
-    for (j, h) in hazards.iter().enumerate() {
+    for (s, h) in survival[1..].iter_mut().zip(hazards) {
         acc += h;
-        survival[j + 1] = if acc <= EXP_NEG_MAX {
-            exp_neg(acc)
-        } else {
-            (-acc).exp()
-        };
+        *s = acc;
+    }
+    let mut beyond = false;
+    for s in &mut survival[1..] {
+        beyond |= *s > EXP_NEG_MAX;
+        *s = exp_neg(*s);
+    }
+    if beyond {
+        let mut acc = 0.0;
+        for (s, h) in survival[1..].iter_mut().zip(hazards) {
+            acc += h;
+            if acc > EXP_NEG_MAX {
+                *s = (-acc).exp();
+            }
+        }
     }
 }
 
