@@ -392,7 +392,9 @@ fn mover_clearance<S: pulp::Simd>(
     ys: &[Real],
     radii: &[Real],
 ) -> Real {
-    let (xs, _) = S::as_simd_f64s(xs);
+    // Whole `LANES` blocks split into whole vectors at every width pulp offers (1–8 lanes).
+    let (xs, tail) = S::as_simd_f64s(xs);
+    debug_assert!(tail.is_empty(), "mover rows are whole blocks");
     let (ys, _) = S::as_simd_f64s(ys);
     let (radii, _) = S::as_simd_f64s(radii);
     let (px, py) = (simd.splat_f64s(pos.x), simd.splat_f64s(pos.y));

@@ -131,8 +131,8 @@ struct Sampled {
 
 /// What Eqs. 1–3 need besides positions, split so that tables stay small: per profile and
 /// step (index g·steps + j) the ego's σ², σ_0/σ_j and cull term; per step, for the neighbours
-/// that can matter at that step (entries `start[j]..start[j + 1]`), the neighbour's position,
-/// σ², σ_0/σ_j, cull term and σ_0².
+/// that can matter at that step (entries `start[j]..start[j + 1]`; the columns run longer, as
+/// they are never shrunk), the neighbour's position, σ², σ_0/σ_j, cull term and σ_0².
 ///
 /// A term factor · exp(−d²/(2σ̃)) with factor = (σ̃_0/σ̃)·τ ≤ (σ_0,ego/σ_j,ego)·(σ_0,k/σ_j,k)
 /// is below `risk_floor` once d² ≥ 2σ̃·(ego_cull + nb_cull), where ego_cull and nb_cull are
@@ -415,11 +415,12 @@ impl Pgp {
                     .zip(&sigma[lo..hi])
                     .zip(&sigma0[lo..hi]);
                 for (c, (((&x, &y), &sj), &s0)) in columns.enumerate() {
-                    let nb_cull = ln_upper_bound(s0 / sj);
+                    let nb_ratio = s0 / sj;
+                    let nb_cull = ln_upper_bound(nb_ratio);
                     let dx = (min.x - x).max(x - max.x).max(0.0);
                     let dy = (min.y - y).max(y - max.y).max(0.0);
                     var[c] = sj * sj;
-                    ratio[c] = s0 / sj;
+                    ratio[c] = nb_ratio;
                     cull[c] = nb_cull;
                     // As the hazard loop's test: a NaN is kept.
                     let far = dx * dx + dy * dy >= 2.0 * (ego_var + sj * sj) * (ego_cull + nb_cull);
@@ -450,9 +451,10 @@ impl Pgp {
         t.start.push(row);
     }
 
-    /// Hazards (Eqs. 1–4 plus p^escape), survival (Eq. 5) and expected utility (Eqs. 7–8) of
-    /// every candidate. A candidate that starts like the previous one (same α, same first
-    /// segment) reuses that one's hazards over the shared samples.
+    /// The per-step tables, then hazards (Eqs. 1–4 plus p^escape), survival (Eq. 5) and
+    /// expected utility (Eqs. 7–8) of every candidate, all in one vector dispatch. A candidate
+    /// that starts like the previous one (same α, same first segment) reuses that one's hazards
+    /// over the shared samples.
     fn evaluate_all(
         &mut self,
         geometries: &[Geometry],
@@ -618,8 +620,8 @@ fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut S
 #[inline(always)]
 fn ln_upper_bound(x: Real) -> Real {
     let bits = x.to_bits();
-    // The unbiased exponent as a double, exactly and without an integer conversion (which
-    // vector units lack): 2^52 + biased exponent, from bits, minus 2^52 + 1023.
+    // The unbiased exponent as a double, exactly and without an integer conversion (AVX2 has
+    // none for 64-bit integers): 2^52 + biased exponent, from bits, minus 2^52 + 1023.
     const TWO_52: u64 = 0x4330_0000_0000_0000;
     let e = (Real::from_bits(TWO_52 | ((bits >> 52) & 0x7ff)) - Real::from_bits(TWO_52)) - 1023.0;
     let m = Real::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
