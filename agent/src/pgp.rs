@@ -664,10 +664,10 @@ impl pulp::WithSimd for HazardPass<'_> {
 /// Σ_k p^coll,coop_{j,k} (Eq. 3) at one ego sample, over a row of whole `LANES` blocks.
 /// Terms provably below `risk_floor` (see [`PairTables`]) count as 0.
 ///
-/// Every term is computed branch-free, `LANES` neighbours at a time; then the kept ones are
-/// added one by one in neighbour order, so the result has exactly the bits of the scalar loop
-/// that skips culled terms (tested against [`dynamic_hazard_scalar`]). Padding neighbours are
-/// always culled.
+/// Every term is computed branch-free, `LANES` neighbours at a time, culled ones as +0; then
+/// all are added one by one in neighbour order. The terms are never negative, so the zeros
+/// change no bit: the result has exactly the bits of the scalar loop that skips culled terms
+/// (tested against [`dynamic_hazard_scalar`]). Padding neighbours are always culled.
 #[inline(always)]
 fn dynamic_hazard(
     ego: &EgoTerms,
@@ -690,12 +690,10 @@ fn dynamic_hazard(
             lanes(&nb_cull[r.clone()]),
             lanes(&nb_var0[r]),
         ];
-        let (terms, kept) = hazard_terms(ego, block);
-        // The kept terms in neighbour order; culled ones would add exact zeros.
-        let mut mask = kept;
-        while mask != 0 {
-            sum += terms[mask.trailing_zeros() as usize];
-            mask &= mask - 1;
+        // In neighbour order, the culled terms as zeros: adding +0 to a sum of non-negative
+        // terms (never −0) changes no bit, and there is no branch to mispredict.
+        for term in hazard_terms(ego, block) {
+            sum += term;
         }
     }
     sum
@@ -706,13 +704,12 @@ fn lanes(values: &[Real]) -> &[Real; LANES] {
     values.try_into().expect("a block is LANES long")
 }
 
-/// Eq. 3's terms for `LANES` neighbours (columns x, y, σ², σ_0/σ_j, cull, σ_0²) and the mask
-/// of those not culled.
+/// Eq. 3's terms for `LANES` neighbours (columns x, y, σ², σ_0/σ_j, cull, σ_0²), culled ones
+/// as +0.
 #[inline(always)]
-fn hazard_terms(ego: &EgoTerms, block: [&[Real; LANES]; 6]) -> ([Real; LANES], u32) {
+fn hazard_terms(ego: &EgoTerms, block: [&[Real; LANES]; 6]) -> [Real; LANES] {
     let [xs, ys, nb_var, nb_ratio, nb_cull, nb_var0] = block;
     let mut out = [0.0; LANES];
-    let mut kept = [false; LANES];
     for l in 0..LANES {
         let (dx, dy) = (ego.pos.x - xs[l], ego.pos.y - ys[l]);
         let d2 = dx * dx + dy * dy;
@@ -722,11 +719,10 @@ fn hazard_terms(ego: &EgoTerms, block: [&[Real; LANES]; 6]) -> ([Real; LANES], u
         let p = exp_neg(0.5 * d2 * inv) * (ego.var0 + nb_var0[l]) * inv * (ego.ratio * nb_ratio[l]);
         // As the scalar loop's `if d2 >= bound { continue }`: a NaN is kept.
         let bound = 2.0 * var * (ego.cull + nb_cull[l]);
-        kept[l] = d2 < bound || d2.is_nan() || bound.is_nan();
-        out[l] = p;
+        let kept = d2 < bound || d2.is_nan() || bound.is_nan();
+        out[l] = if kept { p } else { 0.0 };
     }
-    let mask = (0..LANES).fold(0, |m, l| m | (u32::from(kept[l]) << l));
-    (out, mask)
+    out
 }
 
 /// The one-neighbour-at-a-time form of [`dynamic_hazard`], which must give the same bits.
