@@ -5,57 +5,22 @@
 //!
 //!     cargo bench -p agent --bench planners
 
+mod scene;
+
 use agent::map::StaticMap;
-use agent::math::{Real, unit, vec2};
-use agent::model::{AgentKind, EgoState, Neighbour};
+use agent::math::vec2;
 use agent::pgp::{Pgp, PgpParams};
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
-
-const DENSITY: Real = 0.5;
-
-fn ego() -> EgoState {
-    EgoState {
-        position: vec2(0.0, 0.0),
-        heading: 0.0,
-        velocity: vec2(0.8, 0.0),
-        yaw_rate: 0.0,
-        radius: 0.3,
-    }
-}
-
-/// `n` people in a square centred on the robot at `DENSITY`, none within 0.8 m of it.
-fn crowd(n: usize, seed: u64) -> Vec<Neighbour> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let half = (n as Real / DENSITY).sqrt() / 2.0;
-    let mut out = Vec::with_capacity(n);
-    while out.len() < n {
-        let p = vec2(rng.random_range(-half..half), rng.random_range(-half..half));
-        if p.norm() < 0.8 {
-            continue;
-        }
-        let v = unit(rng.random_range(0.0..std::f64::consts::TAU)) * rng.random_range(0.5..1.3);
-        out.push(Neighbour::new(
-            out.len() as u64,
-            p,
-            v,
-            0.35,
-            AgentKind::Human,
-        ));
-    }
-    out
-}
 
 fn planners(c: &mut Criterion) {
     let map = StaticMap::empty();
-    let e = ego();
+    let e = scene::ego();
     let goal = vec2(20.0, 0.0);
     let mut group = c.benchmark_group("plan");
     for n in [10usize, 50, 200] {
-        let people = crowd(n, 7);
+        let people = scene::crowd(n, 7);
         for spec in PlannerSpec::STUDY {
             let mut stack = PlannerStack::new(spec);
             let input = PlanningInput {
@@ -79,7 +44,7 @@ fn planners(c: &mut Criterion) {
             });
         }
     }
-    let five = crowd(5, 11);
+    let five = scene::crowd(5, 11);
     let mut orca = PlannerStack::new("orca".parse().expect("known planner"));
     let input = PlanningInput {
         ego: &e,
