@@ -20,9 +20,11 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-/// Observations may pause this long before the agent stops its robot: 0.45 s, so that the stop
-/// command is out within 0.5 s of the last observation, delivery included.
-pub const DEFAULT_OBS_TIMEOUT: Duration = Duration::from_millis(450);
+/// Observations may pause this long before the agent stops its robot: 0.4 s, four control
+/// periods, so that the stop command is out within 0.5 s of the last observation even when a
+/// loaded machine wakes the agent's timer late (50 ms late was seen with ten debug-build agents
+/// on two cores) or one last observation was already on its way when the coordinator stopped.
+pub const DEFAULT_OBS_TIMEOUT: Duration = Duration::from_millis(400);
 
 /// How long an agent waits for the coordinator's map before trying again (1 s later).
 const MAP_QUERY_TIMEOUT: Duration = Duration::from_millis(500);
