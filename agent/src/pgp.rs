@@ -127,6 +127,9 @@ struct Sampled {
     sigma: Vec<Real>,
     /// Speed profile (index into `Pgp::profiles`) of each candidate.
     profile: Vec<usize>,
+    /// Scratch of one candidate: arc length and direction of travel at each sample.
+    arcs: Vec<Real>,
+    headings: Vec<Vec2>,
 }
 
 /// What Eqs. 1–3 need besides positions, split so that tables stay small: per profile and
@@ -160,6 +163,9 @@ const TABLE_CHUNK: usize = 64;
 pub struct Pgp {
     params: PgpParams,
     tracks: Vec<Track>,
+    /// Per neighbour, for straight-line prediction: displacement per step (x, y), σ_max and
+    /// σ growth per step.
+    straight: Vec<[Real; 4]>,
     /// Neighbour positions and σ flattened step-major (index j·K + k).
     nb_x: Vec<Real>,
     nb_y: Vec<Real>,
@@ -215,9 +221,14 @@ impl Pgp {
         let dir = to_goal / dist_goal;
         let pgp_goal = p0 + dir * self.params.d_goal.min(dist_goal);
         let geometries = self.candidate_geometries(p0, dir, pgp_goal);
-        self.sample_all(ego, &geometries, pgp_goal);
-        self.predict(neighbours, map, p0, &geometries);
-        let expected = self.evaluate_all(&geometries, map, neighbours.len());
+        let expected = pulp::Arch::new().dispatch(PlanPass {
+            pgp: self,
+            ego,
+            neighbours,
+            map,
+            geometries: &geometries,
+            pgp_goal,
+        });
 
         // The first best wins ties, so the result does not depend on float noise order.
         let mut best = 0;
@@ -281,6 +292,7 @@ impl Pgp {
     }
 
     /// Samples every candidate and groups them by ego σ profile.
+    #[inline(always)]
     fn sample_all(&mut self, ego: &EgoState, geometries: &[Geometry], pgp_goal: Vec2) {
         let n = self.params.steps;
         let s = &mut self.sampled;
@@ -305,6 +317,7 @@ impl Pgp {
     }
 
     /// Predicts the neighbours and gathers the static geometry around the fan.
+    #[inline(always)]
     fn predict(
         &mut self,
         neighbours: &[Neighbour],
@@ -314,15 +327,50 @@ impl Pgp {
     ) {
         let p = &self.params;
         let n = p.steps;
-        self.tracks.resize_with(neighbours.len(), Track::default);
-        for (nb, track) in neighbours.iter().zip(&mut self.tracks) {
-            predict(nb, p.dt, n, &p.sigma, track);
-        }
         let k_count = neighbours.len();
         for column in [&mut self.nb_x, &mut self.nb_y, &mut self.nb_sigma] {
             column.resize((n + 1) * k_count, 0.0);
         }
-        for (k, track) in self.tracks[..k_count].iter().enumerate() {
+        // Everyone as `extrapolate_ctrv` extrapolates a neighbour without intent or turn rate
+        // (every perceived person), all at once and step-major so that the loops run across
+        // neighbours and vectorise; the same bits as the per-neighbour loops.
+        for (k, nb) in neighbours.iter().enumerate() {
+            self.nb_x[k] = nb.position.x;
+            self.nb_y[k] = nb.position.y;
+            self.nb_sigma[k] = p.sigma.sigma0;
+        }
+        self.straight.clear();
+        for nb in neighbours {
+            let speed = nb.velocity.norm();
+            let step = nb.velocity * p.dt;
+            self.straight.push([
+                step.x,
+                step.y,
+                p.sigma.sigma_max(speed),
+                p.sigma.delta * speed,
+            ]);
+        }
+        for j in 1..=n {
+            let (done, rest) = self.nb_x.split_at_mut(j * k_count);
+            let (x_prev, x) = (&done[(j - 1) * k_count..], &mut rest[..k_count]);
+            let (done, rest) = self.nb_y.split_at_mut(j * k_count);
+            let (y_prev, y) = (&done[(j - 1) * k_count..], &mut rest[..k_count]);
+            let (done, rest) = self.nb_sigma.split_at_mut(j * k_count);
+            let (s_prev, s) = (&done[(j - 1) * k_count..], &mut rest[..k_count]);
+            for k in 0..k_count {
+                let [step_x, step_y, cap, growth] = self.straight[k];
+                x[k] = x_prev[k] + step_x;
+                y[k] = y_prev[k] + step_y;
+                s[k] = cap.min(s_prev[k] + growth);
+            }
+        }
+        // The rest (shared intents, turning neighbours) one by one, over the straight guess.
+        self.tracks.resize_with(k_count, Track::default);
+        for (k, (nb, track)) in neighbours.iter().zip(&mut self.tracks).enumerate() {
+            if nb.intent.is_none() && nb.yaw_rate.abs() < 1e-9 {
+                continue;
+            }
+            predict(nb, p.dt, n, &p.sigma, track);
             debug_assert!(track.positions.len() == n + 1 && track.sigma.len() == n + 1);
             for (j, (q, &sigma)) in track.positions.iter().zip(&track.sigma).enumerate() {
                 self.nb_x[j * k_count + k] = q.x;
@@ -451,44 +499,36 @@ impl Pgp {
         t.start.push(row);
     }
 
-    /// The per-step tables, then hazards (Eqs. 1–4 plus p^escape), survival (Eq. 5) and
-    /// expected utility (Eqs. 7–8) of every candidate, all in one vector dispatch. A candidate
-    /// that starts like the previous one (same α, same first segment) reuses that one's hazards
-    /// over the shared samples.
-    fn evaluate_all(
-        &mut self,
-        geometries: &[Geometry],
-        map: &StaticMap,
-        k_count: usize,
-    ) -> Vec<Real> {
-        pulp::Arch::new().dispatch(HazardPass {
-            pgp: self,
-            geometries,
-            map,
-            k_count,
-        })
-    }
-
     /// Survival (Eq. 5) and expected utility (Eqs. 7–8) of `count` candidates from their
-    /// hazards. Runs inside [`HazardPass`].
+    /// hazards. Runs inside [`PlanPass`].
     #[inline(always)]
     fn expected_utilities(&mut self, count: usize) -> Vec<Real> {
         let n = self.params.steps;
         let stride = n + 1;
         let s = &self.sampled;
         self.survival.resize(count * stride, 0.0);
-        (0..count)
-            .map(|l| {
-                let surv = &mut self.survival[l * stride..(l + 1) * stride];
-                crate::risk::survival(&self.hazards[l * n..(l + 1) * n], surv);
-                // Eqs. 7–8: Σ_i p^surv_i · u_i over the planned samples i = 1..=steps.
-                (1..=n).map(|i| surv[i] * s.utility[l * stride + i]).sum()
-            })
-            .collect()
+        // Plain loops: a closure here would be compiled outside the dispatch, without its
+        // instruction set.
+        let mut expected = Vec::with_capacity(count);
+        for l in 0..count {
+            let surv = &mut self.survival[l * stride..(l + 1) * stride];
+            crate::risk::survival(&self.hazards[l * n..(l + 1) * n], surv);
+            // Eqs. 7–8: Σ_i p^surv_i · u_i over the planned samples i = 1..=steps.
+            let mut sum = 0.0;
+            for (p, u) in surv[1..]
+                .iter()
+                .zip(&s.utility[l * stride + 1..(l + 1) * stride])
+            {
+                sum += p * u;
+            }
+            expected.push(sum);
+        }
+        expected
     }
 
-    /// Every candidate's per-step hazard (Eqs. 1–4 plus p^escape) into `self.hazards`. Runs
-    /// inside [`HazardPass`], compiled for the widest instruction set the CPU has.
+    /// Every candidate's per-step hazard (Eqs. 1–4 plus p^escape) into `self.hazards`. A
+    /// candidate that starts like the previous one (same α, same first segment) reuses that
+    /// one's hazards over the shared samples. Runs inside [`PlanPass`].
     #[inline(always)]
     fn fill_hazards(&mut self, geometries: &[Geometry], map: &StaticMap) {
         let n = self.params.steps;
@@ -560,6 +600,7 @@ impl Pgp {
 
 /// Samples one candidate at t = i·dt with the turn slow-down, and its utility (Eq. 6),
 /// appending to `s`.
+#[inline(always)]
 fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut Sampled) {
     let n = p.steps;
     let seg_len = [
@@ -585,31 +626,40 @@ fn sample(p: &PgpParams, ego: &EgoState, g: &Geometry, pgp_goal: Vec2, s: &mut S
         }
     };
 
-    let first = s.speeds.len();
+    // The points on the path (branchy), then speeds and utilities in a straight-line loop
+    // that vectorises.
+    s.arcs.clear();
+    s.headings.clear();
+    s.arcs.push(0.0);
+    s.headings.push(dirs[0]);
+    let first = s.positions.len();
     s.positions.push(g.waypoints[0]);
-    s.speeds.push(0.0);
-    s.utility.push(0.0);
-    let mut prev = 0.0;
     for i in 1..=n {
         let arc = travelled(i as Real * p.dt).min(total);
         let (pos, heading) = point_on_path_along(&g.waypoints, &seg_len, &dirs, arc);
-        let v = (arc - prev) / p.dt;
-        prev = arc;
+        s.arcs.push(arc);
+        s.headings.push(heading);
         s.positions.push(pos);
-        s.speeds.push(v);
-        let to_goal = pgp_goal - pos;
+    }
+    s.speeds.resize(first + n + 1, 0.0);
+    s.utility.resize(first + n + 1, 0.0);
+    let positions = &s.positions[first + 1..];
+    let speeds = &mut s.speeds[first + 1..];
+    let utility = &mut s.utility[first + 1..];
+    for i in 0..n {
+        let arc = s.arcs[i + 1];
+        let v = (arc - s.arcs[i]) / p.dt;
+        speeds[i] = v;
+        let to_goal = pgp_goal - positions[i];
         let d = to_goal.norm();
+        // Eq. 6: u = v / v^max · (cos β + 1) / 2.
+        let cos_beta = s.headings[i + 1].dot(&to_goal) / d;
+        let moving = v / p.v_max * (cos_beta + 1.0) / 2.0;
         // Once PGP's goal is reached the rest of the horizon is spent there; the paper does
         // not say what that earns (it places its goal a full horizon away). We give full
         // utility, so that a goal nearer than d_goal does not make detours look better.
-        let u = if arc >= total - 1e-9 || d < 1e-9 {
-            1.0
-        } else {
-            let cos_beta = heading.dot(&to_goal) / d;
-            // Eq. 6: u = v / v^max · (cos β + 1) / 2.
-            v / p.v_max * (cos_beta + 1.0) / 2.0
-        };
-        s.utility.push(u);
+        let arrived = arc >= total - 1e-9 || d < 1e-9;
+        utility[i] = if arrived { 1.0 } else { moving };
     }
     s.sigma.resize(first + n + 1, 0.0);
     p.sigma.fill(&s.speeds[first..], &mut s.sigma[first..]);
@@ -641,23 +691,31 @@ struct EgoTerms {
     cull: Real,
 }
 
-/// PGP's tables, hazards and expected utilities as one operation that `pulp` compiles once
-/// per instruction set.
-struct HazardPass<'a> {
+/// The body of a PGP step, from sampling the candidates to their expected utilities, as one
+/// operation that `pulp` compiles once per instruction set, so that its straight-line loops
+/// run at the widest vector width the CPU has.
+struct PlanPass<'a> {
     pgp: &'a mut Pgp,
-    geometries: &'a [Geometry],
+    ego: &'a EgoState,
+    neighbours: &'a [Neighbour],
     map: &'a StaticMap,
-    k_count: usize,
+    geometries: &'a [Geometry],
+    pgp_goal: Vec2,
 }
 
-impl pulp::WithSimd for HazardPass<'_> {
+impl pulp::WithSimd for PlanPass<'_> {
     type Output = Vec<Real>;
 
+    /// Samples (Eq. 6), predictions, per-step tables, hazards (Eqs. 1–4 plus p^escape),
+    /// survival (Eq. 5) and expected utility (Eqs. 7–8) of every candidate.
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _: S) -> Vec<Real> {
-        self.pgp.build_tables(self.k_count);
-        self.pgp.fill_hazards(self.geometries, self.map);
-        self.pgp.expected_utilities(self.geometries.len())
+        let (pgp, geometries) = (self.pgp, self.geometries);
+        pgp.sample_all(self.ego, geometries, self.pgp_goal);
+        pgp.predict(self.neighbours, self.map, self.ego.position, geometries);
+        pgp.build_tables(self.neighbours.len());
+        pgp.fill_hazards(geometries, self.map);
+        pgp.expected_utilities(geometries.len())
     }
 }
 
@@ -784,12 +842,13 @@ fn point_on_path(w: &[Vec2; 4], seg_len: &[Real; 3], arc: Real) -> (Vec2, Vec2) 
 }
 
 /// The unit direction of each segment (unused for segments of length ≤ 10⁻¹²).
+#[inline(always)]
 fn segment_directions(w: &[Vec2; 4], seg_len: &[Real; 3]) -> [Vec2; 3] {
     std::array::from_fn(|k| (w[k + 1] - w[k]) / seg_len[k])
 }
 
 /// [`point_on_path`] with the segment directions computed once.
-#[inline]
+#[inline(always)]
 fn point_on_path_along(
     w: &[Vec2; 4],
     seg_len: &[Real; 3],

@@ -60,6 +60,7 @@ impl SigmaModel {
 
     /// Fills `sigma[0..=n]` for the speeds `speeds[1..=n]` (`speeds[0]` is ignored):
     /// σ_0 = σ0, σ_i = min(σ_max, σ_{i-1} + δ·v_i).
+    #[inline]
     pub fn fill(&self, speeds: &[Real], sigma: &mut [Real]) {
         debug_assert_eq!(speeds.len(), sigma.len());
         let max_speed = speeds.iter().skip(1).fold(0.0, |m: Real, &v| m.max(v));
@@ -94,7 +95,9 @@ pub fn extrapolate_ctrv(
     let omega = neighbour.yaw_rate;
     track.positions.resize(n + 1, neighbour.position);
     if omega.abs() < 1e-9 {
-        // Constant velocity: no trigonometry per sample.
+        // Constant velocity: no trigonometry per sample. Sample 0 is written too: the track
+        // may hold another neighbour's samples from an earlier plan.
+        track.positions[0] = neighbour.position;
         let step = neighbour.velocity * dt;
         let mut p = neighbour.position;
         for slot in &mut track.positions[1..] {
@@ -250,6 +253,24 @@ mod tests {
         // Quarter circle of radius 1: speed 1, ω = 1, t = π/2.
         let d = ctrv_offset(1.0, 0.0, 1.0, std::f64::consts::FRAC_PI_2);
         assert!((d - vec2(1.0, 1.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_reused_track_holds_only_the_new_neighbours_samples() {
+        let m = SigmaModel::default();
+        let mut track = Track::default();
+        for (position, omega) in [(vec2(5.0, -3.0), 0.0), (vec2(-1.0, 2.0), 0.7)] {
+            let earlier =
+                Neighbour::new(7, vec2(40.0, 40.0), vec2(0.5, 0.0), 0.3, AgentKind::Human);
+            predict(&earlier, 0.25, 8, &m, &mut track);
+            let mut n = Neighbour::new(1, position, vec2(1.0, 0.5), 0.3, AgentKind::Human);
+            n.yaw_rate = omega;
+            predict(&n, 0.25, 8, &m, &mut track);
+            let mut fresh = Track::default();
+            predict(&n, 0.25, 8, &m, &mut fresh);
+            assert_eq!(track, fresh, "ω = {omega}");
+            assert_eq!(track.positions[0], position);
+        }
     }
 
     #[test]

@@ -292,3 +292,60 @@ fn a_goal_beyond_d_goal_keeps_the_papers_fan() {
         c.positions[10]
     );
 }
+
+/// The step-major columns PGP predicts into hold, bit for bit, what `prediction::predict`
+/// gives each neighbour, for straight, turning and announcing neighbours alike, and for a
+/// planner reused with a different crowd.
+#[test]
+fn predicted_columns_are_each_neighbours_prediction() {
+    use crate::model::{SharedIntent, TrajectorySample};
+    let crowd = |shift: Real, count: u64| -> Vec<Neighbour> {
+        (0..count)
+            .map(|i| {
+                let a = i as Real * 0.7 + shift;
+                let mut nb = Neighbour::new(
+                    i,
+                    vec2(3.0 * a.cos(), 3.0 * a.sin()),
+                    vec2(0.9 * (2.0 * a).sin(), 0.4 * a.cos()),
+                    0.35,
+                    AgentKind::Human,
+                );
+                match i % 4 {
+                    1 => nb.yaw_rate = 0.3 * a.sin() + 0.05,
+                    2 => {
+                        nb.intent = Some(SharedIntent {
+                            samples: (1..=6)
+                                .map(|s| TrajectorySample {
+                                    t: s as Real * 0.5,
+                                    position: nb.position + vec2(0.0, 0.3 * s as Real),
+                                    sigma: 0.2,
+                                })
+                                .collect(),
+                        })
+                    }
+                    _ => {}
+                }
+                nb
+            })
+            .collect()
+    };
+    let mut pgp = Pgp::new(PgpParams::default());
+    let (ego, map) = (ego_at_origin(), StaticMap::empty());
+    for (shift, count) in [(0.0, 13), (1.3, 9), (2.1, 17)] {
+        let neighbours = crowd(shift, count);
+        pgp.plan(&ego, &neighbours, &map, vec2(20.0, 0.0));
+        let (p, k_count) = (pgp.params.clone(), neighbours.len());
+        for (k, nb) in neighbours.iter().enumerate() {
+            let mut track = Track::default();
+            crate::prediction::predict(nb, p.dt, p.steps, &p.sigma, &mut track);
+            for (j, (q, &sigma)) in track.positions.iter().zip(&track.sigma).enumerate() {
+                let at = j * k_count + k;
+                assert_eq!(
+                    (pgp.nb_x[at], pgp.nb_y[at], pgp.nb_sigma[at]),
+                    (q.x, q.y, sigma),
+                    "crowd {shift}, neighbour {k}, step {j}"
+                );
+            }
+        }
+    }
+}
