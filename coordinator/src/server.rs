@@ -211,6 +211,13 @@ pub async fn run_coordinator(
             }
         }
     });
+    // While this token lives, agents know the coordinator does; when it goes (shutdown, crash,
+    // lost link) they stop their robots at once instead of waiting for observations to time out.
+    let coordinator_token = session
+        .liveliness()
+        .declare_token(keys.coordinator())
+        .await
+        .map_err(zerr("coordinator liveliness token"))?;
     let alive_sub = session
         .liveliness()
         .declare_subscriber(keys.every_alive())
@@ -497,6 +504,7 @@ pub async fn run_coordinator(
     observer.status(&fleet, &status);
     map_server.abort();
     drop(cmd_sub);
+    drop(coordinator_token);
     Ok(status)
 }
 

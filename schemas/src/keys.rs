@@ -118,6 +118,12 @@ impl Keys {
         format!("{}/alive/*", self.prefix)
     }
 
+    /// `gapfleet/<site>/coordinator`: the coordinator's liveliness token. Agents stop their
+    /// robots the moment it disappears.
+    pub fn coordinator(&self) -> String {
+        format!("{}/coordinator", self.prefix)
+    }
+
     /// `gapfleet/<site>/metrics`.
     pub fn metrics(&self) -> String {
         format!("{}/metrics", self.prefix)

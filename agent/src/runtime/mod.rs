@@ -5,8 +5,9 @@
 //! each one and publishes its command and intent. It fetches the static map from the
 //! coordinator's queryable whenever an observation names a map version it does not hold, and
 //! keeps the robot stopped until it has one. If observations stop for longer than
-//! [`AgentConfig::obs_timeout`] it publishes a safe-stop command; on shutdown it publishes one
-//! more and withdraws its token. Bad messages are counted and logged, never fatal.
+//! [`AgentConfig::obs_timeout`], or the coordinator's liveliness token `…/coordinator`
+//! disappears, it publishes a safe-stop command; on shutdown it publishes one more and
+//! withdraws its token. Bad messages are counted and logged, never fatal.
 
 pub mod net;
 pub mod wire;
@@ -110,6 +111,12 @@ pub async fn run_agent(
         .declare_subscriber(keys.robot(id, Channel::Obs))
         .await
         .map_err(zerr("observation subscriber"))?;
+    let coordinator_sub = session
+        .liveliness()
+        .declare_subscriber(keys.coordinator())
+        .history(true)
+        .await
+        .map_err(zerr("coordinator liveliness subscriber"))?;
 
     let planner_name = config.planner.to_string();
     let mut stack = PlannerStack::new(config.planner);
@@ -219,6 +226,20 @@ pub async fn run_agent(
                 tracing::warn!(robot = id, "observations stopped: safe stop");
                 safe_stop(&cmd_pub, id, last, &counters).await;
                 stopped = true;
+            }
+            sample = coordinator_sub.recv_async() => {
+                let Ok(sample) = sample else { break };
+                match sample.kind() {
+                    zenoh::sample::SampleKind::Put => tracing::info!(robot = id, "coordinator up"),
+                    zenoh::sample::SampleKind::Delete if stopped => {
+                        tracing::info!(robot = id, "coordinator gone");
+                    }
+                    zenoh::sample::SampleKind::Delete => {
+                        tracing::warn!(robot = id, "coordinator gone: safe stop");
+                        safe_stop(&cmd_pub, id, last, &counters).await;
+                        stopped = true;
+                    }
+                }
             }
             _ = heartbeat.tick() => {
                 let info = AgentInfo {
