@@ -739,6 +739,37 @@ fn intent_sharing(
             mean(share, "svr")
         );
     }
+    // Paired by seed: the seeds are the same world with sharing switched, so the per-seed
+    // differences carry the effect and the Wilcoxon signed-rank test asks whether it is zero.
+    println!(
+        "paired by seed (on - off): metric, mean difference, seeds higher with sharing, \
+         two-sided Wilcoxon signed-rank p (normal approximation)"
+    );
+    let value = |seed: u64, share: bool, key: &str| {
+        table
+            .iter()
+            .find(|v| v["seed"] == seed && v["sharing"] == share)
+            .and_then(|v| v[key].as_f64())
+    };
+    for key in [
+        "tasks",
+        "robot_near_miss_steps",
+        "robot_contact_steps",
+        "collision_rate",
+        "svr",
+    ] {
+        let diffs: Vec<f64> = (1..=seeds)
+            .filter_map(|seed| Some(value(seed, true, key)? - value(seed, false, key)?))
+            .collect();
+        let higher = diffs.iter().filter(|d| **d > 0.0).count();
+        let p = coordinator::stats::wilcoxon_signed_rank(&diffs)
+            .map_or_else(|| "n/a (no seed differs)".to_owned(), |p| format!("{p:.3}"));
+        println!(
+            "  {key:22} {:+12.4}  {higher:3} of {}  p = {p}",
+            diffs.iter().sum::<f64>() / diffs.len().max(1) as f64,
+            diffs.len()
+        );
+    }
     if let Some(path) = out {
         std::fs::write(&path, serde_json::to_string_pretty(&table)?)
             .with_context(|| format!("writing {}", path.display()))?;
