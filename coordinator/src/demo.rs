@@ -4,7 +4,7 @@
 //! `gapfleet-agent` process would.
 
 use crate::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
-use crate::server::{CoordinatorConfig, Status, run_coordinator};
+use crate::server::{CoordinatorConfig, Status, declare_presence, run_coordinator};
 use agent::planner::PlannerSpec;
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
@@ -102,6 +102,10 @@ pub async fn run_demo(
     let mut config = CoordinatorConfig::new(&options.site);
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
+    // The demo holds the coordinator's token itself and drops it after its agents have shut
+    // down: the end of a demo is planned, not a lost coordinator.
+    config.announce_presence = false;
+    let presence = declare_presence(&router, &options.site).await?;
     let mut final_fleet = None;
     let status_line = |status: &Status, fleet: &Fleet| {
         on_status(status);
@@ -117,6 +121,7 @@ pub async fn run_demo(
     for agent in agents {
         agent.await.context("agent task")??;
     }
+    drop(presence);
     router
         .close()
         .await

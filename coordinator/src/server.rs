@@ -43,6 +43,11 @@ pub struct CoordinatorConfig {
     pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
     /// Observations go out in this many slices spread over the first 90 % of each tick.
     pub stagger: usize,
+    /// Hold the coordinator's liveliness token `…/coordinator` while running (agents stop
+    /// their robots the moment it goes). Off when the caller holds it instead, through
+    /// [`declare_presence`], to outlive the run: the demo keeps it until its agents have
+    /// shut down, so that a planned end is not a lost coordinator to them.
+    pub announce_presence: bool,
 }
 
 impl CoordinatorConfig {
@@ -55,8 +60,23 @@ impl CoordinatorConfig {
             stale_ticks: 3,
             events: None,
             stagger: 100,
+            announce_presence: true,
         }
     }
+}
+
+/// Declares the coordinator's liveliness token of `site` on `session`: agents stop their
+/// robots the moment it is dropped.
+pub async fn declare_presence(
+    session: &zenoh::Session,
+    site: &str,
+) -> Result<zenoh::liveliness::LivelinessToken, CoordinatorError> {
+    let keys = Keys::new(site)?;
+    session
+        .liveliness()
+        .declare_token(keys.coordinator())
+        .await
+        .map_err(zerr("coordinator liveliness token"))
 }
 
 /// Something that happened, for logs and dashboards.
@@ -213,11 +233,11 @@ pub async fn run_coordinator(
     });
     // While this token lives, agents know the coordinator does; when it goes (shutdown, crash,
     // lost link) they stop their robots at once instead of waiting for observations to time out.
-    let coordinator_token = session
-        .liveliness()
-        .declare_token(keys.coordinator())
-        .await
-        .map_err(zerr("coordinator liveliness token"))?;
+    let coordinator_token = if config.announce_presence {
+        Some(declare_presence(session, &config.site).await?)
+    } else {
+        None
+    };
     let alive_sub = session
         .liveliness()
         .declare_subscriber(keys.every_alive())
