@@ -10,7 +10,7 @@ use crate::fastmath::LANES;
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, angle_of, rotate, unit, wrap_angle};
 use crate::model::{EgoState, Neighbour, TrajectorySample};
-use crate::prediction::{SigmaModel, Track, predict};
+use crate::prediction::{SigmaModel, Track, predict, predicts_straight};
 use crate::risk::{exp_neg, static_collision_probability};
 /// Edges farther than this many σ_max from every sample add less than erfc(7) ≈ 4·10⁻²³
 /// static risk, so they are not gathered.
@@ -331,9 +331,9 @@ impl Pgp {
         for column in [&mut self.nb_x, &mut self.nb_y, &mut self.nb_sigma] {
             column.resize((n + 1) * k_count, 0.0);
         }
-        // Everyone as `extrapolate_ctrv` extrapolates a neighbour without intent or turn rate
-        // (every perceived person), all at once and step-major so that the loops run across
-        // neighbours and vectorise; the same bits as the per-neighbour loops.
+        // Everyone as if `predicts_straight` (every perceived person is), all at once and
+        // step-major so that the loops run across neighbours and vectorise: the bits of
+        // `extrapolate_ctrv`'s straight line and `fill_constant_speed`.
         for (k, nb) in neighbours.iter().enumerate() {
             self.nb_x[k] = nb.position.x;
             self.nb_y[k] = nb.position.y;
@@ -341,14 +341,9 @@ impl Pgp {
         }
         self.straight.clear();
         for nb in neighbours {
-            let speed = nb.velocity.norm();
             let step = nb.velocity * p.dt;
-            self.straight.push([
-                step.x,
-                step.y,
-                p.sigma.sigma_max(speed),
-                p.sigma.delta * speed,
-            ]);
+            let (cap, growth) = p.sigma.constant_speed_growth(nb.velocity.norm());
+            self.straight.push([step.x, step.y, cap, growth]);
         }
         for j in 1..=n {
             let (done, rest) = self.nb_x.split_at_mut(j * k_count);
@@ -367,7 +362,7 @@ impl Pgp {
         // The rest (shared intents, turning neighbours) one by one, over the straight guess.
         self.tracks.resize_with(k_count, Track::default);
         for (k, (nb, track)) in neighbours.iter().zip(&mut self.tracks).enumerate() {
-            if nb.intent.is_none() && nb.yaw_rate.abs() < 1e-9 {
+            if predicts_straight(nb) {
                 continue;
             }
             predict(nb, p.dt, n, &p.sigma, track);

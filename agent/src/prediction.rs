@@ -39,18 +39,23 @@ impl SigmaModel {
         (self.beta * self.sigma0).min(self.sigma0 + self.gamma * max_speed)
     }
 
+    /// σ_max and the growth per step δ·speed of a constant speed: σ_i = min(σ_max, σ_{i-1} +
+    /// δ·speed).
+    #[inline]
+    pub fn constant_speed_growth(&self, speed: Real) -> (Real, Real) {
+        (self.sigma_max(speed), self.delta * speed)
+    }
+
     /// σ_1, σ_2, … for a constant speed: each step grows σ by δ·speed up to σ_max(speed).
     pub fn constant_speed(&self, speed: Real) -> impl Iterator<Item = Real> + use<> {
-        let cap = self.sigma_max(speed);
-        let growth = self.delta * speed;
+        let (cap, growth) = self.constant_speed_growth(speed);
         std::iter::successors(Some(self.sigma0), move |s| Some(cap.min(s + growth))).skip(1)
     }
 
     /// Fills `sigma` with σ_0 = σ0 and [`constant_speed`](Self::constant_speed)'s σ_1, σ_2, …
     /// (the same numbers, without an iterator's per-item bookkeeping).
     pub fn fill_constant_speed(&self, speed: Real, sigma: &mut [Real]) {
-        let cap = self.sigma_max(speed);
-        let growth = self.delta * speed;
+        let (cap, growth) = self.constant_speed_growth(speed);
         let mut s = self.sigma0;
         for slot in sigma {
             *slot = s;
@@ -82,6 +87,20 @@ pub struct Track {
     pub sigma: Vec<Real>,
 }
 
+/// Whether a turn rate counts as none: the motion is then a straight line.
+#[inline]
+pub fn goes_straight(yaw_rate: Real) -> bool {
+    yaw_rate.abs() < 1e-9
+}
+
+/// Whether [`predict`] extrapolates `neighbour` on a straight line at constant speed (no
+/// shared intent, no turn rate): position i·dt·velocity from its own, σ as
+/// [`SigmaModel::fill_constant_speed`] for its speed.
+#[inline]
+pub fn predicts_straight(neighbour: &Neighbour) -> bool {
+    neighbour.intent.is_none() && goes_straight(neighbour.yaw_rate)
+}
+
 /// Extrapolates a neighbour with constant speed and constant turn rate onto t = i·dt,
 /// i = 0..=n, writing into `track` (reusing its buffers).
 pub fn extrapolate_ctrv(
@@ -94,7 +113,7 @@ pub fn extrapolate_ctrv(
     let speed = neighbour.velocity.norm();
     let omega = neighbour.yaw_rate;
     track.positions.resize(n + 1, neighbour.position);
-    if omega.abs() < 1e-9 {
+    if goes_straight(omega) {
         // Constant velocity: no trigonometry per sample. Sample 0 is written too: the track
         // may hold another neighbour's samples from an earlier plan.
         track.positions[0] = neighbour.position;
@@ -117,7 +136,7 @@ pub fn extrapolate_ctrv(
 /// Displacement after time `t` driving at `speed` from `heading` while turning at `omega`.
 #[inline]
 pub fn ctrv_offset(speed: Real, heading: Real, omega: Real, t: Real) -> Vec2 {
-    if omega.abs() < 1e-9 {
+    if goes_straight(omega) {
         return unit(heading) * (speed * t);
     }
     let r = speed / omega;
