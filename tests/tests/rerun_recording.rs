@@ -148,11 +148,29 @@ fn spawn_starts_a_viewer_process_and_streams_to_it() {
         .stderr(std::fs::File::create(dir.join("demo.err")).expect("log file"))
         .status()
         .expect("gapfleet demo runs");
-    // Stop the spawned viewer with Ctrl-C.
+    // Stop the spawned viewer. It ignores Ctrl-C while it serves and saves, so it gets
+    // SIGTERM, and SIGKILL if it is still there after 5 s: a viewer left behind would hold
+    // port 9876, and the next run's demo would stream to it instead of spawning its own.
+    let viewer = saved.display().to_string();
     let _ = Command::new("pkill")
-        .args(["-INT", "-f", &saved.display().to_string()])
+        .args(["-TERM", "-f", &viewer])
         .status();
-    std::thread::sleep(std::time::Duration::from_secs(2));
+    let running = || {
+        Command::new("pgrep")
+            .args(["-f", &viewer])
+            .stdout(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    while running() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    if running() {
+        let _ = Command::new("pkill")
+            .args(["-KILL", "-f", &viewer])
+            .status();
+    }
     assert!(
         status.success(),
         "demo --spawn failed: {}",
