@@ -716,12 +716,11 @@ fn intent_sharing(
         })
         .collect();
     let mean = |share: bool, key: &str| {
-        let vals: Vec<f64> = table
+        let values = table
             .iter()
             .filter(|v| v["sharing"] == share)
-            .filter_map(|v| v[key].as_f64())
-            .collect();
-        vals.iter().sum::<f64>() / vals.len().max(1) as f64
+            .filter_map(|v| v[key].as_f64());
+        coordinator::stats::mean(values).unwrap_or(0.0)
     };
     println!(
         "{} seeds x {seconds} s, {robots} robots ({planner}), {humans} people; means per run:",
@@ -766,7 +765,7 @@ fn intent_sharing(
             .map_or_else(|| "n/a (no seed differs)".to_owned(), |p| format!("{p:.3}"));
         println!(
             "  {key:22} {:+12.4}  {higher:3} of {}  p = {p}",
-            diffs.iter().sum::<f64>() / diffs.len().max(1) as f64,
+            coordinator::stats::mean(diffs.iter().copied()).unwrap_or(0.0),
             diffs.len()
         );
     }
