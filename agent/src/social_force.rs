@@ -239,6 +239,9 @@ pub fn pysf_theta(e: Vec2, i: Vec2) -> Real {
 // items that act (the others add exact zeros).
 use fastmath::LANES;
 
+mod wall_field;
+pub use wall_field::WallField;
+
 /// `LANES` partial sums of 2-D forces.
 #[derive(Debug, Clone, Copy)]
 struct Partial {
@@ -377,6 +380,9 @@ pub struct ObstaclePoints {
     xs: Vec<Real>,
     ys: Vec<Real>,
     index: Option<WallIndex>,
+    /// The tabulated potential ([`with_field`](Self::with_field)), used instead of the points
+    /// for the radius and parameters it was built for.
+    field: Option<std::sync::Arc<WallField>>,
 }
 
 impl PartialEq for ObstaclePoints {
@@ -512,6 +518,7 @@ impl ObstaclePoints {
             ys: column(1),
             points,
             index: None,
+            field: None,
         }
     }
 
@@ -522,6 +529,22 @@ impl ObstaclePoints {
     pub fn indexed(mut self, reach: Real) -> Self {
         self.index = Some(WallIndex::build(&self.points, reach));
         self
+    }
+
+    /// Tabulates the points' potential for a body of `radius` under `params` on a grid of
+    /// `spacing` (m) ([`WallField`]): from then on [`obstacle_force`] for that radius and those
+    /// parameters interpolates the table instead of summing the points. A separately named
+    /// model (walls = "field"), not PySocialForce's arithmetic; index the points first.
+    pub fn with_field(mut self, radius: Real, params: &ObstacleForceParams, spacing: Real) -> Self {
+        self.field = Some(std::sync::Arc::new(WallField::build(
+            &self, radius, params, spacing,
+        )));
+        self
+    }
+
+    /// The tabulated potential, if [`with_field`](Self::with_field) built one.
+    pub fn field(&self) -> Option<&WallField> {
+        self.field.as_deref()
     }
 
     /// Samples every wall and polygon edge of a map.
@@ -578,6 +601,11 @@ pub fn obstacle_force(
     radius: Real,
     p: &ObstacleForceParams,
 ) -> Vec2 {
+    if let Some(field) = &obstacles.field
+        && field.serves(radius, p)
+    {
+        return field.force(pos, p.factor);
+    }
     let threshold = p.threshold + radius;
     let mut acc = Partial::ZERO;
     let all = [(0, (obstacles.xs.len() / LANES) as u32)];

@@ -182,6 +182,10 @@ enum Bench {
         /// Steps to time (after 20 warm-up steps).
         #[arg(long, default_value_t = 500)]
         steps: usize,
+        /// How walls push people: `points` (PySocialForce) or `field` (the same force read from
+        /// a table built at set-up; see world-sim/README.md). Overrides the scenario's.
+        #[arg(long, value_parser = ["points", "field"])]
+        walls: Option<String>,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -556,8 +560,9 @@ fn main() -> Result<()> {
             humans,
             density,
             steps,
+            walls,
             json,
-        }) => bench_world(&scenario, humans, density, steps, json),
+        }) => bench_world(&scenario, humans, density, steps, walls.as_deref(), json),
         Command::Experiment(Experiment::OpenSpace {
             algorithms,
             densities,
@@ -782,16 +787,34 @@ fn bench_world(
     humans: usize,
     density: f64,
     steps: usize,
+    walls: Option<&str>,
     json: bool,
 ) -> Result<()> {
+    use world_sim::scenario::WallModel;
     if humans == 0 || steps == 0 || !(density > 0.0 && density <= 3.0) {
         bail!("--humans and --steps must be positive and --density in (0, 3]");
     }
     // The open stage is sized to the density; a warehouse keeps its floor and takes the count.
-    let mut world = if scenario == "open-space" {
-        world_sim::world::World::open_space(&Scenario::sized_for(humans, density)?)
+    let mut s = if scenario == "open-space" {
+        Scenario::sized_for(humans, density)?
     } else {
-        world_sim::world::World::from_scenario(&warehouse(scenario, None, Some(humans), None)?)
+        warehouse(scenario, None, Some(humans), None)?
+    };
+    match walls {
+        Some("field") => s.humans.walls = WallModel::Field,
+        Some(_) => s.humans.walls = WallModel::Points,
+        None => {}
+    }
+    let set_up = Instant::now();
+    let mut world = if scenario == "open-space" {
+        world_sim::world::World::open_space(&s)
+    } else {
+        world_sim::world::World::from_scenario(&s)
+    };
+    let set_up = set_up.elapsed().as_secs_f64();
+    let walls = match s.humans.walls {
+        WallModel::Points => "points",
+        WallModel::Field => "field",
     };
     let park = vec![agent::model::Command::STOP; world.robots.len()];
     for _ in 0..20 {
@@ -817,13 +840,14 @@ fn bench_world(
         println!(
             "{}",
             serde_json::json!({
-                "scenario": scenario, "humans": people, "density": density, "steps": steps,
-                "median_us_per_step": median, "mean_us_per_step": mean, "steps_per_s": steps as f64 / total,
+                "scenario": scenario, "humans": people, "density": density, "walls": walls,
+                "steps": steps, "median_us_per_step": median, "mean_us_per_step": mean,
+                "steps_per_s": steps as f64 / total, "set_up_s": set_up,
             })
         );
     } else {
         println!(
-            "{scenario}: {people} people at {density:.2}/m², {steps} steps: median {median:.1} µs/step, mean {mean:.1} µs/step, {:.0} steps/s",
+            "{scenario}: {people} people at {density:.2}/m², walls = {walls}, {steps} steps: median {median:.1} µs/step, mean {mean:.1} µs/step, {:.0} steps/s (set-up {set_up:.2} s)",
             steps as f64 / total
         );
     }

@@ -4,12 +4,14 @@
 //!     cargo bench -p world-sim --bench world_step
 //!
 //! `open/N`: N people on an open stage at 0.3 people/m²; `warehouse-large/1000`: the built-in
-//! site-scale warehouse (1,000 people, 0.18 per m² of floor, 50 parked robots).
+//! site-scale warehouse (1,000 people, 0.18 per m² of floor, 50 parked robots), with
+//! PySocialForce's wall points; `warehouse-large-field/1000`: the same with
+//! `humans.walls = "field"` (the wall force read from a table built before timing).
 
 use agent::model::Command;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use world_sim::scenario::Scenario;
+use world_sim::scenario::{Scenario, WallModel};
 use world_sim::world::World;
 
 fn time_steps(c: &mut Criterion, name: &str, people: usize, mut world: World) {
@@ -28,8 +30,10 @@ fn world_step(c: &mut Criterion) {
         let s = Scenario::sized_for(people, 0.3).expect("valid scenario");
         time_steps(c, "open", people, World::open_space(&s));
     }
-    let s = Scenario::builtin("warehouse-large").expect("built-in scenario");
+    let mut s = Scenario::builtin("warehouse-large").expect("built-in scenario");
     time_steps(c, "warehouse-large", 1000, World::from_scenario(&s));
+    s.humans.walls = WallModel::Field;
+    time_steps(c, "warehouse-large-field", 1000, World::from_scenario(&s));
 }
 
 criterion_group!(benches, world_step);

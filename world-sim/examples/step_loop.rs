@@ -4,6 +4,7 @@
 //!     cargo build --release -p world-sim --example step_loop
 //!     valgrind --tool=callgrind target/release/examples/step_loop 20
 //!     target/release/examples/step_loop 500 --time
+//!     target/release/examples/step_loop 500 --time --field    # humans.walls = "field"
 //!
 //! Prints a checksum of every person's position after the loop (the bits, hashed), so that
 //! two builds can be checked to move the crowd identically.
@@ -11,7 +12,7 @@
 use agent::model::Command;
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::time::Instant;
-use world_sim::scenario::Scenario;
+use world_sim::scenario::{Scenario, WallModel};
 use world_sim::world::World;
 
 fn main() -> Result<(), String> {
@@ -24,8 +25,13 @@ fn main() -> Result<(), String> {
         return Err("steps must be at least 1".into());
     }
     let time = args.iter().any(|a| a == "--time");
-    let scenario = Scenario::builtin("warehouse-large").map_err(|e| e.to_string())?;
+    let mut scenario = Scenario::builtin("warehouse-large").map_err(|e| e.to_string())?;
+    if args.iter().any(|a| a == "--field") {
+        scenario.humans.walls = WallModel::Field;
+    }
+    let built = Instant::now();
     let mut world = World::from_scenario(&scenario);
+    let built = built.elapsed();
     let park = vec![Command::STOP; world.robots.len()];
     // As the criterion bench: 20 steps first, so that people are under way.
     for _ in 0..20 {
@@ -46,9 +52,10 @@ fn main() -> Result<(), String> {
     if time {
         micros.sort_by(f64::total_cmp);
         line += &format!(
-            ", median {:.0} µs, p10 {:.0} µs",
+            ", median {:.0} µs, p10 {:.0} µs (world built in {:.2} s)",
             micros[steps / 2],
-            micros[steps / 10]
+            micros[steps / 10],
+            built.as_secs_f64()
         );
     }
     println!("{line}, positions checksum {:016x}", hasher.finish());

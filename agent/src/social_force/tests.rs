@@ -191,3 +191,140 @@ fn interaction_angle_matches_the_difference_of_two_atan2() {
         "the jumps must be exercised ({unwrapped})"
     );
 }
+
+/// Shelves as in a warehouse: rectangles 20 × 1.2 m in rows 3.7 m apart (2.5 m aisles), with
+/// a perimeter wall.
+fn shelf_rows() -> Vec<(Vec2, Vec2)> {
+    let mut segments = vec![
+        (vec2(-3.0, -3.0), vec2(47.0, -3.0)),
+        (vec2(47.0, -3.0), vec2(47.0, 22.0)),
+        (vec2(47.0, 22.0), vec2(-3.0, 22.0)),
+        (vec2(-3.0, 22.0), vec2(-3.0, -3.0)),
+    ];
+    for row in 0..5 {
+        for block in 0..2 {
+            let (x0, y0) = (23.0 * block as Real, 3.7 * row as Real);
+            let (x1, y1) = (x0 + 20.0, y0 + 1.2);
+            segments.extend([
+                (vec2(x0, y0), vec2(x1, y0)),
+                (vec2(x1, y0), vec2(x1, y1)),
+                (vec2(x1, y1), vec2(x0, y1)),
+                (vec2(x0, y1), vec2(x0, y0)),
+            ]);
+        }
+    }
+    segments
+}
+
+/// The wall field's error against the point sum at probes on a grid over `shelf_rows()`,
+/// skipping probes closer than 0.1 m to a wall point, in bands of that clearance
+/// (0.1–0.2, 0.2–0.35, 0.35–1, > 1 m): per probe, |ΔF| over the force on a body touching a
+/// straight wall, and |ΔF| / |F|. Also the table's build time.
+fn wall_field_errors(spacing: Real, step: Real) -> (Vec<Vec<(Real, Real)>>, std::time::Duration) {
+    let p = SfParams::default().obstacle;
+    let radius = 0.35;
+    let points =
+        ObstaclePoints::from_segments(shelf_rows(), 10.0).indexed(p.threshold + 2.0 * radius);
+    let started = std::time::Instant::now();
+    let field = points.clone().with_field(radius, &p, spacing);
+    let built = started.elapsed();
+    // A body touching the perimeter wall, 25 m from its ends.
+    let touching = obstacle_force(vec2(22.0, -2.65), &points, radius, &p).norm();
+    let mut bands = vec![Vec::new(); 4];
+    let (nx, ny) = ((50.0 / step) as usize, (25.0 / step) as usize);
+    for ix in 0..nx {
+        for iy in 0..ny {
+            // Off the grid of the table and of the points.
+            let pos = vec2(-2.93 + step * ix as Real, -2.91 + step * 1.013 * iy as Real);
+            let clearance = points
+                .points()
+                .iter()
+                .map(|o| (pos - o).norm())
+                .fold(Real::INFINITY, Real::min);
+            let band = match clearance {
+                c if c < 0.1 => continue,
+                c if c < 0.2 => 0,
+                c if c < 0.35 => 1,
+                c if c < 1.0 => 2,
+                _ => 3,
+            };
+            let exact = obstacle_force(pos, &points, radius, &p);
+            let approx = obstacle_force(pos, &field, radius, &p);
+            let error = (approx - exact).norm();
+            bands[band].push((error / touching, error / exact.norm()));
+        }
+    }
+    (bands, built)
+}
+
+/// At the default 0.1 m spacing, the tabulated force differs from the point sum by less than
+/// 1 % of the force on a body touching a wall where the body's centre is 0.2–0.35 m from every
+/// wall point (measured at most 0.60 % over 1.9 million probes, `wall_field_error_survey`),
+/// and by less than 0.2 % farther out (measured 0.11 %). (Relative to the force itself the error
+/// is large only where the force nearly vanishes, as midway between two shelves.)
+#[test]
+fn wall_field_matches_the_point_sum() {
+    let (bands, _) = wall_field_errors(0.1, 0.071);
+    let max = |band: &Vec<(Real, Real)>| band.iter().map(|e| e.0).fold(0.0, Real::max);
+    for (band, bound) in bands[1..].iter().zip([1e-2, 2e-3, 2e-3]) {
+        assert!(band.len() > 500, "{} probes", band.len());
+        assert!(max(band) < bound, "{} ≥ {bound}", max(band));
+    }
+}
+
+#[test]
+fn wall_field_serves_only_its_radius_and_parameters() {
+    let p = SfParams::default().obstacle;
+    let points = ObstaclePoints::from_segments(shelf_rows(), 10.0).indexed(p.threshold + 1.0);
+    let field = points.clone().with_field(0.35, &p, 0.1);
+    let pos = vec2(10.0, 2.35);
+    // Its own radius: the table, close to but not the point sum.
+    let tabulated = obstacle_force(pos, &field, 0.35, &p);
+    let summed = obstacle_force(pos, &points, 0.35, &p);
+    assert_ne!(tabulated, summed);
+    assert!((tabulated - summed).norm() < 1e-3 * summed.norm());
+    // Another radius or σ: the point sum, bit for bit.
+    assert_eq!(
+        obstacle_force(pos, &field, 0.3, &p),
+        obstacle_force(pos, &points, 0.3, &p)
+    );
+    let wider = ObstacleForceParams { sigma: 0.3, ..p };
+    assert_eq!(
+        obstacle_force(pos, &field, 0.35, &wider),
+        obstacle_force(pos, &points, 0.35, &wider)
+    );
+    // The factor scales it.
+    let doubled = ObstacleForceParams {
+        factor: 2.0 * p.factor,
+        ..p
+    };
+    assert_eq!(obstacle_force(pos, &field, 0.35, &doubled), tabulated * 2.0);
+    // Beyond reach of every point, and for NaN: nothing, as for the point sum.
+    for far in [vec2(-20.0, 0.0), vec2(Real::NAN, 0.0)] {
+        assert_eq!(obstacle_force(far, &field, 0.35, &p), vec2(0.0, 0.0));
+    }
+}
+
+#[test]
+#[ignore = "prints the wall field's error distribution; run with --ignored --nocapture"]
+fn wall_field_error_survey() {
+    for spacing in [0.2, 0.1, 0.05] {
+        let (bands, built) = wall_field_errors(spacing, 0.025);
+        println!("spacing {spacing} m: table built in {built:?}");
+        for (name, mut errors) in ["0.1-0.2", "0.2-0.35", "0.35-1", ">1"]
+            .into_iter()
+            .zip(bands)
+        {
+            errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let n = errors.len();
+            let max_rel = errors.iter().map(|e| e.1).fold(0.0, Real::max);
+            println!(
+                "  clearance {name} m: {n} probes, |dF|/touching median {:.1e} p99 {:.1e} max {:.1e}; max |dF|/|F| {:.1e}",
+                errors[n / 2].0,
+                errors[n * 99 / 100].0,
+                errors[n - 1].0,
+                max_rel
+            );
+        }
+    }
+}
