@@ -6,14 +6,20 @@
 //! `open/N`: N people on an open stage at 0.3 people/m²; `warehouse-large/1000`: the built-in
 //! site-scale warehouse (1,000 people, 0.18 per m² of floor, 50 parked robots), with
 //! PySocialForce's wall points; `warehouse-large-field/1000`: the same with
-//! `humans.walls = "field"` (the wall force read from a table built before timing).
+//! `humans.walls = "field"` (the wall force read from a table built before timing). Every
+//! sample starts from the same crowd (see `time_steps`).
 
 use agent::model::Command;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use std::time::Instant;
 use world_sim::scenario::{Scenario, WallModel};
 use world_sim::world::World;
 
+/// Steps `world` 20 times, then times steps from that state: every sample starts from a copy
+/// of it, so that every variant is timed over the same stretch of crowd motion (a
+/// warehouse's 1,000 people jam more the longer they walk, and each step then costs more;
+/// without the reset a faster variant would be timed on a later, denser crowd).
 fn time_steps(c: &mut Criterion, name: &str, people: usize, mut world: World) {
     let park = vec![Command::STOP; world.robots.len()];
     for _ in 0..20 {
@@ -21,7 +27,14 @@ fn time_steps(c: &mut Criterion, name: &str, people: usize, mut world: World) {
     }
     c.benchmark_group("world_step")
         .bench_function(BenchmarkId::new(name, people), |b| {
-            b.iter(|| world.step(black_box(&park)))
+            b.iter_custom(|steps| {
+                let mut world = world.clone();
+                let started = Instant::now();
+                for _ in 0..steps {
+                    world.step(black_box(&park));
+                }
+                started.elapsed()
+            })
         });
 }
 
