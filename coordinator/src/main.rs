@@ -1,6 +1,7 @@
 //! `gapfleet`: the user-facing binary.
 
 use anyhow::{Context, Result, bail};
+use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand};
 use coordinator::experiment::{StudyPlan, parse_runs_csv, write_outputs, write_summary};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -184,8 +185,9 @@ enum Bench {
         steps: usize,
         /// How walls push people: `points` (PySocialForce) or `field` (the same force read from
         /// a table built at set-up; see world-sim/README.md). Overrides the scenario's.
-        #[arg(long, value_parser = ["points", "field"])]
-        walls: Option<String>,
+        #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(["points", "field"])
+            .try_map(|name| name.parse::<world_sim::scenario::WallModel>()))]
+        walls: Option<world_sim::scenario::WallModel>,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -562,7 +564,7 @@ fn main() -> Result<()> {
             steps,
             walls,
             json,
-        }) => bench_world(&scenario, humans, density, steps, walls.as_deref(), json),
+        }) => bench_world(&scenario, humans, density, steps, walls, json),
         Command::Experiment(Experiment::OpenSpace {
             algorithms,
             densities,
@@ -787,10 +789,9 @@ fn bench_world(
     humans: usize,
     density: f64,
     steps: usize,
-    walls: Option<&str>,
+    walls: Option<world_sim::scenario::WallModel>,
     json: bool,
 ) -> Result<()> {
-    use world_sim::scenario::WallModel;
     if humans == 0 || steps == 0 || !(density > 0.0 && density <= 3.0) {
         bail!("--humans and --steps must be positive and --density in (0, 3]");
     }
@@ -800,10 +801,8 @@ fn bench_world(
     } else {
         warehouse(scenario, None, Some(humans), None)?
     };
-    match walls {
-        Some("field") => s.humans.walls = WallModel::Field,
-        Some(_) => s.humans.walls = WallModel::Points,
-        None => {}
+    if let Some(walls) = walls {
+        s.humans.walls = walls;
     }
     let set_up = Instant::now();
     let mut world = if scenario == "open-space" {
@@ -812,10 +811,7 @@ fn bench_world(
         world_sim::world::World::from_scenario(&s)
     };
     let set_up = set_up.elapsed().as_secs_f64();
-    let walls = match s.humans.walls {
-        WallModel::Points => "points",
-        WallModel::Field => "field",
-    };
+    let walls = s.humans.walls.name();
     let park = vec![agent::model::Command::STOP; world.robots.len()];
     for _ in 0..20 {
         world.step(&park);

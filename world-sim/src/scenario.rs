@@ -168,6 +168,27 @@ pub enum WallModel {
     Field,
 }
 
+impl WallModel {
+    /// The name used in scenario files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Points => "points",
+            Self::Field => "field",
+        }
+    }
+}
+
+impl std::str::FromStr for WallModel {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Self, String> {
+        [Self::Points, Self::Field]
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| format!("unknown wall model {name:?} (points or field)"))
+    }
+}
+
 fn default_wall_field_spacing() -> Real {
     0.1
 }
