@@ -21,14 +21,7 @@ impl PointGrid {
     pub fn build(&mut self, points: &[Vec2], cell: Real) {
         debug_assert!(cell > 0.0);
         self.cell = cell;
-        let (mut min, mut max) = (Vec2::zeros(), Vec2::zeros());
-        if let Some(first) = points.first() {
-            (min, max) = (*first, *first);
-            for p in points {
-                min = min.inf(p);
-                max = max.sup(p);
-            }
-        }
+        let (min, max) = crate::math::bounds(points);
         self.min = min;
         self.cols = ((max.x - min.x) / cell) as usize + 1;
         self.rows = ((max.y - min.y) / cell) as usize + 1;

@@ -82,6 +82,14 @@ pub fn dist_sq_point_segment(a: &Vec2, b: &Vec2, p: &Vec2) -> Real {
     (p - (a + ab * t)).norm_squared()
 }
 
+/// The smallest axis-aligned box holding `points` (corners min, max); both zero when empty.
+pub(crate) fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+    let first = points.first().copied().unwrap_or_else(|| vec2(0.0, 0.0));
+    points
+        .iter()
+        .fold((first, first), |(min, max), p| (min.inf(p), max.sup(p)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -413,14 +413,7 @@ impl WallIndex {
         // A little slack so that rounding in a body's distance test cannot drop a point.
         let slack = 1e-9 * (1.0 + reach);
         let cell = Self::CELL;
-        let (mut min, mut max) = (vec2(0.0, 0.0), vec2(0.0, 0.0));
-        if let Some(first) = points.first() {
-            (min, max) = (*first, *first);
-            for p in points {
-                min = min.inf(p);
-                max = max.sup(p);
-            }
-        }
+        let (mut min, mut max) = crate::math::bounds(points);
         let margin = vec2(reach + cell, reach + cell);
         min -= margin;
         max += margin;

@@ -15,7 +15,7 @@
 //! sum is measured in the tests and in `world-sim/README.md`.
 
 use super::{ObstacleForceParams, ObstaclePoints};
-use crate::fastmath;
+use crate::fastmath::{self, LANES};
 use crate::math::{Real, Vec2, vec2};
 
 /// The obstacle potential of a set of wall points tabulated on a square grid, for one body
@@ -55,14 +55,7 @@ impl WallField {
             "wall field spacing must be positive, got {spacing}"
         );
         let reach = params.threshold + 2.0 * radius;
-        let (mut min, mut max) = (vec2(0.0, 0.0), vec2(0.0, 0.0));
-        if let Some(first) = points.points.first() {
-            (min, max) = (*first, *first);
-            for p in &points.points {
-                min = min.inf(p);
-                max = max.sup(p);
-            }
-        }
+        let (mut min, mut max) = crate::math::bounds(&points.points);
         let margin = reach + spacing;
         min -= vec2(margin, margin);
         max += vec2(margin, margin);
@@ -210,5 +203,3 @@ impl pulp::WithSimd for BuildCorners<'_> {
         }
     }
 }
-
-use fastmath::LANES;
