@@ -16,12 +16,26 @@ pub struct PointGrid {
     items: Vec<u32>,
 }
 
+/// A grid has at most about twice this many cells per item (and at least this floor): a
+/// cell side far below the points' spread would otherwise ask for more memory than there is.
+const CELLS_PER_ITEM: usize = 4;
+const CELLS_FLOOR: usize = 4096;
+
 impl PointGrid {
-    /// Buckets `points` into cells of side `cell` (> 0).
+    /// Buckets `points` into square cells of side `cell` (> 0), or wider where `cell` is so
+    /// small against the points' spread that the grid would have more than a few cells per
+    /// point. Wider cells only add candidates: [`runs_near`](Self::runs_near) still holds
+    /// every item within `cell`.
     pub fn build(&mut self, points: &[Vec2], cell: Real) {
         debug_assert!(cell > 0.0);
-        self.cell = cell;
         let (min, max) = crate::math::bounds(points);
+        let extent = max - min;
+        let limit = (CELLS_PER_ITEM * points.len()).max(CELLS_FLOOR) as Real;
+        // (w/c + 1)(h/c + 1) ≤ 2·limit + 1 for c ≥ √(w·h/limit) and c ≥ (w + h)/limit.
+        let cell = cell
+            .max((extent.x * extent.y / limit).sqrt())
+            .max((extent.x + extent.y) / limit);
+        self.cell = cell;
         self.min = min;
         self.cols = ((max.x - min.x) / cell) as usize + 1;
         self.rows = ((max.y - min.y) / cell) as usize + 1;
@@ -58,7 +72,8 @@ impl PointGrid {
     }
 
     /// Calls `f(lo, hi)` for each row of the 3 × 3 cells around `p`: positions `lo..hi` of
-    /// [`items`](Self::items), which together hold every item within one cell side of `p`.
+    /// [`items`](Self::items), which together hold every item within one cell side of `p`
+    /// (at least the side given to [`build`](Self::build)).
     /// The runs come in ascending order and do not overlap.
     pub fn runs_near(&self, p: Vec2, mut f: impl FnMut(usize, usize)) {
         if self.items.is_empty() {
@@ -86,7 +101,7 @@ impl PointGrid {
     }
 
     /// Calls `f` with every item in the 3 × 3 cells around `p`: a superset of the items within
-    /// one cell side of `p`.
+    /// one cell side of `p` (at least the side given to [`build`](Self::build)).
     pub fn for_each_near(&self, p: Vec2, mut f: impl FnMut(usize)) {
         if self.items.is_empty() {
             return;
@@ -123,7 +138,7 @@ mod tests {
         fn finds_every_point_within_one_cell(
             pts in proptest::collection::vec((-20.0..20.0f64, -20.0..20.0f64), 0..80),
             q in (-25.0..25.0f64, -25.0..25.0f64),
-            cell in 0.5..6.0f64,
+            cell in prop_oneof![0.5..6.0f64, 1e-6..0.5f64],
         ) {
             let points: Vec<Vec2> = pts.iter().map(|&(x, y)| vec2(x, y)).collect();
             let mut grid = PointGrid::default();
@@ -150,5 +165,24 @@ mod tests {
             in_runs.sort_unstable();
             prop_assert_eq!(in_runs, found);
         }
+    }
+
+    /// A cell far below the points' spread (a 1 mm interaction range in a 100 m warehouse
+    /// asked for 28 GB) gives a grid of bounded size that still finds the neighbours.
+    #[test]
+    fn a_tiny_cell_over_a_wide_spread_stays_small() {
+        let points: Vec<Vec2> = (0..1000)
+            .map(|i| vec2((i % 40) as Real * 2.5, (i / 40) as Real * 4.0))
+            .collect();
+        let mut grid = PointGrid::default();
+        grid.build(&points, 1e-3);
+        assert!(
+            grid.cols * grid.rows <= 2 * 4 * 1000 + 1,
+            "{} cells",
+            grid.cols * grid.rows
+        );
+        let mut found = Vec::new();
+        grid.for_each_near(points[123], |i| found.push(i));
+        assert!(found.contains(&123));
     }
 }

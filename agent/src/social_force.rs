@@ -181,25 +181,61 @@ pub fn social_force_pair(
     vel_b: Vec2,
     p: &SocialForceParams,
 ) -> Vec2 {
+    // The reaction is dead code here and is not computed.
+    mutual_social_forces(pos_a, vel_a, pos_b, vel_b, p).0
+}
+
+/// The social forces of a pair on each other: on `a` by `b`, and on `b` by `a`.
+///
+/// Exchanging a and b negates D (the normalised position difference plus λ times the velocity
+/// difference) and e (the direction between them) exactly, and keeps ‖D‖, B, and the angle w
+/// from e to D. Only θ can differ, by ±2π, where PySocialForce's unwrapped difference of two
+/// `atan2` angles jumps (see [`pysf_theta`]). So the pair shares two square roots, three
+/// divisions and the arctangent, and each side pays for its two exponentials. Where θ is the
+/// same both ways, the reaction is exactly minus the action.
+///
+/// The reaction is exactly [`social_force_pair`]`(pos_b, vel_b, pos_a, vel_a, p)` whenever
+/// the two positions differ. For coincident positions (e = 0), θ is measured from the x axis
+/// instead, which w does not give; callers recompute that case with [`social_force_pair`].
+#[inline(always)]
+fn mutual_social_forces(
+    pos_a: Vec2,
+    vel_a: Vec2,
+    pos_b: Vec2,
+    vel_b: Vec2,
+    p: &SocialForceParams,
+) -> (Vec2, Vec2) {
     let (diff_direction, diff_length) = normalize(pos_a - pos_b);
     let vel_diff = vel_b - vel_a;
     let (interaction_direction, interaction_length) =
         normalize(vel_diff * p.lambda_importance + diff_direction);
     let b = p.gamma * interaction_length;
-    let theta = pysf_theta(diff_direction, interaction_direction);
-    let velocity_amount = fastmath::exp(-diff_length / b - (p.n_prime * b * theta).powi(2));
-    let sign = if theta > 0.0 {
-        1.0
-    } else if theta < 0.0 {
-        -1.0
-    } else {
-        0.0
+    let w = pysf_angle(diff_direction, interaction_direction);
+    let decay = -diff_length / b;
+    let amounts = |theta: Real| {
+        let velocity_amount = fastmath::exp(decay - (p.n_prime * b * theta).powi(2));
+        let sign = if theta > 0.0 {
+            1.0
+        } else if theta < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        let angle_amount = -sign * fastmath::exp(decay - (p.n * b * theta).powi(2));
+        (velocity_amount, angle_amount)
     };
-    let angle_amount = -sign * fastmath::exp(-diff_length / b - (p.n * b * theta).powi(2));
-    let f = interaction_direction * velocity_amount
-        + left_normal(&interaction_direction) * angle_amount;
+    let normal = left_normal(&interaction_direction);
+    let (velocity_on_a, angle_on_a) = amounts(pysf_wrap(w, diff_direction, interaction_direction));
+    let (velocity_on_b, angle_on_b) =
+        amounts(pysf_wrap(w, -diff_direction, -interaction_direction));
+    let on_a = interaction_direction * velocity_on_a + normal * angle_on_a;
+    let on_b = -(interaction_direction * velocity_on_b + normal * angle_on_b);
     // PySocialForce divides by B = 0 when ‖D‖ = 0; numpy's exp(−inf) makes the force zero.
-    if b == 0.0 { vec2(0.0, 0.0) } else { f }
+    if b == 0.0 {
+        (vec2(0.0, 0.0), vec2(0.0, 0.0))
+    } else {
+        (on_a, on_b)
+    }
 }
 
 /// θ = atan2(i) − atan2(e), not wrapped into (−π, π], as PySocialForce computes the
@@ -210,7 +246,12 @@ pub fn social_force_pair(
 /// e = 0, `atan2(e)` = 0 and θ = atan2(i); for i = 0, θ = −atan2(e).
 #[inline(always)]
 pub fn pysf_theta(e: Vec2, i: Vec2) -> Real {
-    use std::f64::consts::TAU;
+    pysf_wrap(pysf_angle(e, i), e, i)
+}
+
+/// The `atan2` of [`pysf_theta`]: the angle w from e to i, or the special cases' angles.
+#[inline(always)]
+fn pysf_angle(e: Vec2, i: Vec2) -> Real {
     let e_zero = (e.x == 0.0) & (e.y == 0.0);
     let i_zero = (i.x == 0.0) & (i.y == 0.0);
     let (y, x) = if e_zero {
@@ -220,7 +261,13 @@ pub fn pysf_theta(e: Vec2, i: Vec2) -> Real {
     } else {
         (e.x * i.y - e.y * i.x, e.x * i.x + e.y * i.y)
     };
-    let w = fastmath::atan2(y, x);
+    fastmath::atan2(y, x)
+}
+
+/// The 2π move of [`pysf_theta`], for w = [`pysf_angle`]`(e, i)`.
+#[inline(always)]
+fn pysf_wrap(w: Real, e: Vec2, i: Vec2) -> Real {
+    use std::f64::consts::TAU;
     let (e_lower, i_lower) = (e.y.is_sign_negative(), i.y.is_sign_negative());
     // Parallel vectors on the negative x axis with zeros of opposite sign: π vs −π.
     let on_the_cut = (w == 0.0) & (e.x < 0.0);
@@ -280,6 +327,10 @@ fn accumulate(acc: &mut Partial, fx: &[Real], fy: &[Real]) {
 
 /// Positions and velocities of a crowd as columns, and the neighbours of one agent gathered
 /// from them: the agents that act, packed, so that the vectorised force loop wastes no lanes.
+///
+/// Each pair is evaluated once, from its lower column: the agent at column k packs only the
+/// columns after k, and what it does to them is added to their `reactions`, which are complete
+/// by the time their own turn comes.
 #[derive(Debug, Clone, Default)]
 struct Columns {
     x: Vec<Real>,
@@ -289,6 +340,12 @@ struct Columns {
     /// The packed neighbours of the agent being summed: positions, velocities, and room to
     /// pack one more item past the last.
     near: [Vec<Real>; 4],
+    /// The packed neighbours' columns.
+    near_columns: Vec<usize>,
+    /// Whether a packed neighbour stands exactly where the agent does.
+    near_coincident: bool,
+    /// Per column, the social force of the agents at lower columns.
+    reactions: Vec<Vec2>,
 }
 
 impl Columns {
@@ -311,17 +368,22 @@ impl Columns {
         for column in &mut self.near {
             column.resize(self.x.len() + CHUNK, 0.0);
         }
+        self.near_columns.resize(self.x.len() + CHUNK, 0);
+        self.reactions.clear();
+        self.reactions.resize(self.x.len(), vec2(0.0, 0.0));
     }
 
-    /// Packs every agent k in `runs` (ascending, disjoint ranges of columns), k ≠ `skip`,
-    /// closer to `pa` than √`range_sq`, and returns how many. Branch-free: each candidate is
-    /// written, and the count advances only past those that act.
+    /// Packs every agent in `runs` (ascending, disjoint ranges of columns) closer to `pa` than
+    /// √`range_sq`, and returns how many. Branch-free: each candidate is written, and the
+    /// count advances only past those that act. Notes whether one of them is at `pa`.
     #[inline(always)]
-    fn pack(&mut self, pa: Vec2, runs: &[(usize, usize)], skip: usize, range_sq: Real) -> usize {
+    fn pack(&mut self, pa: Vec2, runs: &[(usize, usize)], range_sq: Real) -> usize {
         let mut m = 0;
         let [nx, ny, nvx, nvy] = &mut self.near;
         // Plain slices, so that the loop keeps their bounds in registers.
         let (nx, ny, nvx, nvy) = (&mut nx[..], &mut ny[..], &mut nvx[..], &mut nvy[..]);
+        let nk = &mut self.near_columns[..];
+        let mut coincident = false;
         for &(lo, hi) in runs {
             let candidates = self.x[lo..hi]
                 .iter()
@@ -333,18 +395,33 @@ impl Columns {
                 ny[m] = y;
                 nvx[m] = vx;
                 nvy[m] = vy;
+                nk[m] = k;
                 let (dx, dy) = (x - pa.x, y - pa.y);
-                m += usize::from((k != skip) & (dx * dx + dy * dy < range_sq));
+                // ‖pa − b‖², with the bits of `normalize`'s.
+                let distance_sq = dx * dx + dy * dy;
+                m += usize::from(distance_sq < range_sq);
+                coincident |= distance_sq == 0.0;
             }
         }
+        self.near_coincident = coincident;
         m
     }
 
-    /// The social force on (pa, va) of the `m` packed neighbours, as partial sums.
+    /// The social force of the crowd on the agent at `column`, (pa, va), whose `m` neighbours
+    /// at later columns are packed: theirs, as partial sums, plus the reactions of the earlier
+    /// ones. Each packed neighbour's reaction is added to its entry of `reactions`.
     #[inline(always)]
-    fn social(&self, pa: Vec2, va: Vec2, m: usize, p: &SocialForceParams) -> Partial {
+    fn social(
+        &mut self,
+        column: usize,
+        pa: Vec2,
+        va: Vec2,
+        m: usize,
+        p: &SocialForceParams,
+    ) -> Vec2 {
         let mut acc = Partial::ZERO;
         let (mut fx, mut fy) = ([0.0; CHUNK], [0.0; CHUNK]);
+        let (mut gx, mut gy) = ([0.0; CHUNK], [0.0; CHUNK]);
         let [nx, ny, nvx, nvy] = &self.near;
         for start in (0..m).step_by(CHUNK) {
             // Whole blocks, so that the loop has no scalar remainder; the items past the
@@ -356,17 +433,42 @@ impl Columns {
                 .zip(&ny[start..start + whole])
                 .zip(&nvx[start..start + whole])
                 .zip(&nvy[start..start + whole]);
-            for ((fx, fy), (((&x, &y), &vx), &vy)) in fx.iter_mut().zip(fy.iter_mut()).zip(columns)
-            {
-                let f = social_force_pair(pa, va, vec2(x, y), vec2(vx, vy), p);
-                *fx = f.x;
-                *fy = f.y;
+            let forces = fx
+                .iter_mut()
+                .zip(fy.iter_mut())
+                .zip(gx.iter_mut().zip(&mut gy));
+            for (((fx, fy), (gx, gy)), (((&x, &y), &vx), &vy)) in forces.zip(columns) {
+                let (on_a, on_b) = mutual_social_forces(pa, va, vec2(x, y), vec2(vx, vy), p);
+                *fx = on_a.x;
+                *fy = on_a.y;
+                *gx = on_b.x;
+                *gy = on_b.y;
             }
             fx[len..whole].fill(0.0);
             fy[len..whole].fill(0.0);
             accumulate(&mut acc, &fx[..whole], &fy[..whole]);
+            if self.near_coincident {
+                // e = 0 (as `normalize` finds it): θ of the reaction is not the shared angle.
+                for t in 0..len {
+                    let (pb, vb) = (
+                        vec2(nx[start + t], ny[start + t]),
+                        vec2(nvx[start + t], nvy[start + t]),
+                    );
+                    if (pa - pb).norm_squared() == 0.0 {
+                        let reaction = social_force_pair(pb, vb, pa, va, p);
+                        (gx[t], gy[t]) = (reaction.x, reaction.y);
+                    }
+                }
+            }
+            let reactions = gx
+                .iter()
+                .zip(&gy)
+                .zip(&self.near_columns[start..start + len]);
+            for ((&x, &y), &column) in reactions {
+                self.reactions[column] += vec2(x, y);
+            }
         }
-        acc
+        acc.total() + self.reactions[column]
     }
 }
 
@@ -660,8 +762,10 @@ impl pulp::WithSimd for IndividualForces<'_> {
             None => {
                 columns.gather(&crowd.positions, &crowd.velocities, 0..n);
                 for (a, force) in out.iter_mut().enumerate() {
-                    let m = columns.pack(crowd.positions[a], &[(0, n)], a, Real::INFINITY);
-                    *force = crowd.force_on(a, columns, m, obstacles, p, externals);
+                    let (pa, va) = (crowd.positions[a], crowd.velocities[a]);
+                    let m = columns.pack(pa, &[(a + 1, n)], Real::INFINITY);
+                    let social = columns.social(a, pa, va, m, &p.social);
+                    *force = crowd.force_on(a, social, obstacles, p, externals);
                 }
             }
             // Pairs closer than the range: the agents sorted by grid cell, so that the 3 × 3
@@ -679,9 +783,16 @@ impl pulp::WithSimd for IndividualForces<'_> {
                 for (k, &a) in order.iter().enumerate() {
                     let a = a as usize;
                     runs.clear();
-                    grid.runs_near(crowd.positions[a], |lo, hi| runs.push((lo, hi)));
-                    let m = columns.pack(crowd.positions[a], &runs, k, range * range);
-                    out[a] = crowd.force_on(a, columns, m, obstacles, p, externals);
+                    // Only the columns after k: the pairs with lower ones are done.
+                    grid.runs_near(crowd.positions[a], |lo, hi| {
+                        if hi > k + 1 {
+                            runs.push((lo.max(k + 1), hi));
+                        }
+                    });
+                    let (pa, va) = (crowd.positions[a], crowd.velocities[a]);
+                    let m = columns.pack(pa, &runs, range * range);
+                    let social = columns.social(k, pa, va, m, &p.social);
+                    out[a] = crowd.force_on(a, social, obstacles, p, externals);
                 }
             }
         }
@@ -770,19 +881,17 @@ impl Crowd {
         }
     }
 
-    /// The force on agent `a` whose `m` neighbours are packed in `columns`.
+    /// The force on agent `a`, given the social force of the rest of the crowd on it.
     #[inline(always)]
     fn force_on(
         &self,
         a: usize,
-        columns: &Columns,
-        m: usize,
+        mut social: Vec2,
         obstacles: &ObstaclePoints,
         p: &SfParams,
         externals: &[(Vec2, Vec2)],
     ) -> Vec2 {
         let (pa, va) = (self.positions[a], self.velocities[a]);
-        let mut social = columns.social(pa, va, m, &p.social).total();
         for &(pb, vb) in externals {
             if p.interaction_range
                 .is_none_or(|r| (pb - pa).norm_squared() < r * r)

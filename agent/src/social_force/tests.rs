@@ -192,6 +192,80 @@ fn interaction_angle_matches_the_difference_of_two_atan2() {
     );
 }
 
+/// The pair's shared arithmetic gives both one-sided forces bit for bit, the θ jumps
+/// included, where the reaction is not minus the action.
+#[test]
+fn mutual_forces_are_the_one_sided_force_both_ways() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let p = SfParams::default().social;
+    let mut asymmetric = 0;
+    for _ in 0..100_000 {
+        let mut v = || vec2(rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
+        let (pa, va, pb, vb) = (v(), v() * 0.5, v(), v() * 0.5);
+        let (on_a, on_b) = mutual_social_forces(pa, va, pb, vb, &p);
+        assert_eq!(on_a, social_force_pair(pa, va, pb, vb, &p));
+        assert_eq!(
+            on_b,
+            social_force_pair(pb, vb, pa, va, &p),
+            "{pa} {va} {pb} {vb}"
+        );
+        asymmetric += usize::from(on_b != -on_a);
+    }
+    assert!(
+        asymmetric > 1_000,
+        "θ jumps must be exercised ({asymmetric})"
+    );
+}
+
+/// A crowd's social forces are PySocialForce's sum over ordered pairs, each pair evaluated
+/// once: with every pair and with a range, people standing on one spot included.
+#[test]
+fn crowd_social_forces_are_the_sum_over_ordered_pairs() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let mut positions: Vec<Vec2> = (0..60)
+        .map(|_| vec2(rng.random_range(0.0..12.0), rng.random_range(0.0..8.0)))
+        .collect();
+    // Two coincident pairs: PySocialForce's θ is then measured from the x axis.
+    positions[7] = positions[3];
+    positions[40] = positions[41];
+    let velocities: Vec<Vec2> = (0..60)
+        .map(|_| vec2(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)))
+        .collect();
+    let goals = vec![vec2(20.0, 4.0); 60];
+    for range in [None, Some(3.0)] {
+        let p = SfParams {
+            enable_group: false,
+            interaction_range: range,
+            ..SfParams::default()
+        };
+        let crowd = Crowd::new(
+            positions.clone(),
+            velocities.clone(),
+            goals.clone(),
+            vec![],
+            &p,
+        );
+        let mut forces = Vec::new();
+        crowd.forces(&ObstaclePoints::default(), &p, &mut forces);
+        for (a, force) in forces.iter().enumerate() {
+            let (pa, va) = (positions[a], velocities[a]);
+            let social: Vec2 = (0..60)
+                .filter(|&b| b != a)
+                .filter(|&b| range.is_none_or(|r| (positions[b] - pa).norm() < r))
+                .map(|b| social_force_pair(pa, va, positions[b], velocities[b], &p.social))
+                .sum();
+            let expected = desired_force(pa, va, goals[a], crowd.max_speeds[a], &p.desired)
+                + social * p.social.factor;
+            assert!(
+                (force - expected).norm() < EPS,
+                "{range:?}, agent {a}: {force} vs {expected}"
+            );
+        }
+    }
+}
+
 /// Shelves as in a warehouse: rectangles 20 × 1.2 m in rows 3.7 m apart (2.5 m aisles), with
 /// a perimeter wall.
 fn shelf_rows() -> Vec<(Vec2, Vec2)> {
