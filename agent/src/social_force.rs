@@ -212,22 +212,11 @@ fn mutual_social_forces(
     let b = p.gamma * interaction_length;
     let w = pysf_angle(diff_direction, interaction_direction);
     let decay = -diff_length / b;
-    let amounts = |theta: Real| {
-        let velocity_amount = fastmath::exp(decay - (p.n_prime * b * theta).powi(2));
-        let sign = if theta > 0.0 {
-            1.0
-        } else if theta < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
-        let angle_amount = -sign * fastmath::exp(decay - (p.n * b * theta).powi(2));
-        (velocity_amount, angle_amount)
-    };
     let normal = left_normal(&interaction_direction);
-    let (velocity_on_a, angle_on_a) = amounts(pysf_wrap(w, diff_direction, interaction_direction));
-    let (velocity_on_b, angle_on_b) =
-        amounts(pysf_wrap(w, -diff_direction, -interaction_direction));
+    let theta_a = pysf_wrap(w, diff_direction, interaction_direction);
+    let (velocity_on_a, angle_on_a) = force_amounts(decay, b, theta_a, p);
+    let theta_b = pysf_wrap(w, -diff_direction, -interaction_direction);
+    let (velocity_on_b, angle_on_b) = force_amounts(decay, b, theta_b, p);
     let on_a = interaction_direction * velocity_on_a + normal * angle_on_a;
     let on_b = -(interaction_direction * velocity_on_b + normal * angle_on_b);
     // PySocialForce divides by B = 0 when ‖D‖ = 0; numpy's exp(−inf) makes the force zero.
@@ -236,6 +225,22 @@ fn mutual_social_forces(
     } else {
         (on_a, on_b)
     }
+}
+
+/// The deceleration and sideways amounts of the social force for e^(−d/B) = e^`decay`, B and
+/// θ (a plain function, not a closure, so that it is compiled into the vectorised loops).
+#[inline(always)]
+fn force_amounts(decay: Real, b: Real, theta: Real, p: &SocialForceParams) -> (Real, Real) {
+    let velocity_amount = fastmath::exp(decay - (p.n_prime * b * theta).powi(2));
+    let sign = if theta > 0.0 {
+        1.0
+    } else if theta < 0.0 {
+        -1.0
+    } else {
+        0.0
+    };
+    let angle_amount = -sign * fastmath::exp(decay - (p.n * b * theta).powi(2));
+    (velocity_amount, angle_amount)
 }
 
 /// θ = atan2(i) − atan2(e), not wrapped into (−π, π], as PySocialForce computes the
