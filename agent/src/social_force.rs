@@ -785,6 +785,14 @@ impl pulp::WithSimd for IndividualForces<'_> {
                     order.iter().map(|&i| i as usize),
                 );
                 let mut runs = Vec::with_capacity(3);
+                // The external agents in reach of a person, from a grid of their own, in index
+                // order as the full scan adds them (so the bits stay the scan's).
+                let external_positions: Vec<Vec2> = externals.iter().map(|e| e.0).collect();
+                let mut external_grid = PointGrid::default();
+                if !externals.is_empty() {
+                    external_grid.build(&external_positions, range);
+                }
+                let (mut near_indices, mut near_externals) = (Vec::new(), Vec::new());
                 for (k, &a) in order.iter().enumerate() {
                     let a = a as usize;
                     runs.clear();
@@ -797,7 +805,16 @@ impl pulp::WithSimd for IndividualForces<'_> {
                     let (pa, va) = (crowd.positions[a], crowd.velocities[a]);
                     let m = columns.pack(pa, &runs, range * range);
                     let social = columns.social(k, pa, va, m, &p.social);
-                    out[a] = crowd.force_on(a, social, obstacles, p, externals);
+                    near_indices.clear();
+                    external_grid.runs_near(pa, |lo, hi| {
+                        near_indices.extend_from_slice(&external_grid.items()[lo..hi]);
+                    });
+                    near_indices.sort_unstable();
+                    near_externals.clear();
+                    for &i in &near_indices {
+                        near_externals.push(externals[i as usize]);
+                    }
+                    out[a] = crowd.force_on(a, social, obstacles, p, &near_externals);
                 }
             }
         }

@@ -219,7 +219,8 @@ fn mutual_forces_are_the_one_sided_force_both_ways() {
 }
 
 /// A crowd's social forces are PySocialForce's sum over ordered pairs, each pair evaluated
-/// once: with every pair and with a range, people standing on one spot included.
+/// once: with every pair and with a range, people standing on one spot included, and external
+/// agents (robots, found through their own grid when there is a range) pushing too.
 #[test]
 fn crowd_social_forces_are_the_sum_over_ordered_pairs() {
     use rand::{Rng, SeedableRng};
@@ -234,6 +235,12 @@ fn crowd_social_forces_are_the_sum_over_ordered_pairs() {
         .map(|_| vec2(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)))
         .collect();
     let goals = vec![vec2(20.0, 4.0); 60];
+    let externals: Vec<(Vec2, Vec2)> = (0..12)
+        .map(|_| {
+            let p = vec2(rng.random_range(-2.0..14.0), rng.random_range(-2.0..10.0));
+            (p, vec2(rng.random_range(-0.5..0.5), 0.0))
+        })
+        .collect();
     for range in [None, Some(3.0)] {
         let p = SfParams {
             enable_group: false,
@@ -248,14 +255,20 @@ fn crowd_social_forces_are_the_sum_over_ordered_pairs() {
             &p,
         );
         let mut forces = Vec::new();
-        crowd.forces(&ObstaclePoints::default(), &p, &mut forces);
+        crowd.forces_with_externals(&ObstaclePoints::default(), &p, &externals, &mut forces);
         for (a, force) in forces.iter().enumerate() {
             let (pa, va) = (positions[a], velocities[a]);
-            let social: Vec2 = (0..60)
-                .filter(|&b| b != a)
-                .filter(|&b| range.is_none_or(|r| (positions[b] - pa).norm() < r))
+            let in_range = |b: Vec2| range.is_none_or(|r| (b - pa).norm() < r);
+            let people: Vec2 = (0..60)
+                .filter(|&b| b != a && in_range(positions[b]))
                 .map(|b| social_force_pair(pa, va, positions[b], velocities[b], &p.social))
                 .sum();
+            let robots: Vec2 = externals
+                .iter()
+                .filter(|(b, _)| in_range(*b))
+                .map(|&(b, vb)| social_force_pair(pa, va, b, vb, &p.social))
+                .sum();
+            let social = people + robots;
             let expected = desired_force(pa, va, goals[a], crowd.max_speeds[a], &p.desired)
                 + social * p.social.factor;
             assert!(
