@@ -74,7 +74,9 @@ impl PointGrid {
     /// Calls `f(lo, hi)` for each row of the 3 × 3 cells around `p`: positions `lo..hi` of
     /// [`items`](Self::items), which together hold every item within one cell side of `p`
     /// (at least the side given to [`build`](Self::build)).
-    /// The runs come in ascending order and do not overlap.
+    /// The runs come in ascending order and do not overlap. Inlined, so that the crowd's
+    /// vectorised force pass compiles it (and its `floor`) for its own instruction set.
+    #[inline(always)]
     pub fn runs_near(&self, p: Vec2, mut f: impl FnMut(usize, usize)) {
         if self.items.is_empty() {
             return;

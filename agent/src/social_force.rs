@@ -347,8 +347,6 @@ struct Columns {
     near: [Vec<Real>; 4],
     /// The packed neighbours' columns.
     near_columns: Vec<usize>,
-    /// Whether a packed neighbour stands exactly where the agent does.
-    near_coincident: bool,
     /// Per column, the social force of the agents at lower columns.
     reactions: Vec<Vec2>,
 }
@@ -380,7 +378,7 @@ impl Columns {
 
     /// Packs every agent in `runs` (ascending, disjoint ranges of columns) closer to `pa` than
     /// √`range_sq`, and returns how many. Branch-free: each candidate is written, and the
-    /// count advances only past those that act. Notes whether one of them is at `pa`.
+    /// count advances only past those that act.
     #[inline(always)]
     fn pack(&mut self, pa: Vec2, runs: &[(usize, usize)], range_sq: Real) -> usize {
         let mut m = 0;
@@ -388,7 +386,6 @@ impl Columns {
         // Plain slices, so that the loop keeps their bounds in registers.
         let (nx, ny, nvx, nvy) = (&mut nx[..], &mut ny[..], &mut nvx[..], &mut nvy[..]);
         let nk = &mut self.near_columns[..];
-        let mut coincident = false;
         for &(lo, hi) in runs {
             let candidates = self.x[lo..hi]
                 .iter()
@@ -402,13 +399,9 @@ impl Columns {
                 nvy[m] = vy;
                 nk[m] = k;
                 let (dx, dy) = (x - pa.x, y - pa.y);
-                // ‖pa − b‖², with the bits of `normalize`'s.
-                let distance_sq = dx * dx + dy * dy;
-                m += usize::from(distance_sq < range_sq);
-                coincident |= distance_sq == 0.0;
+                m += usize::from(dx * dx + dy * dy < range_sq);
             }
         }
-        self.near_coincident = coincident;
         m
     }
 
@@ -442,7 +435,11 @@ impl Columns {
                 .iter_mut()
                 .zip(fy.iter_mut())
                 .zip(gx.iter_mut().zip(&mut gy));
+            // Whether some item stands exactly at pa (e = 0 as `normalize` finds it; the
+            // left-overs may raise it needlessly, which only costs the check below).
+            let mut coincident = false;
             for (((fx, fy), (gx, gy)), (((&x, &y), &vx), &vy)) in forces.zip(columns) {
+                coincident |= (pa - vec2(x, y)).norm_squared() == 0.0;
                 let (on_a, on_b) = mutual_social_forces(pa, va, vec2(x, y), vec2(vx, vy), p);
                 *fx = on_a.x;
                 *fy = on_a.y;
@@ -452,7 +449,7 @@ impl Columns {
             fx[len..whole].fill(0.0);
             fy[len..whole].fill(0.0);
             accumulate(&mut acc, &fx[..whole], &fy[..whole]);
-            if self.near_coincident {
+            if coincident {
                 // e = 0 (as `normalize` finds it): θ of the reaction is not the shared angle.
                 for t in 0..len {
                     let (pb, vb) = (
