@@ -729,9 +729,25 @@ pub fn capped_velocity(desired: Vec2, max_speed: Real) -> Vec2 {
     desired * (max_speed / speed).min(1.0)
 }
 
+/// The grids and lists of a force pass with an interaction range.
+#[derive(Debug, Clone, Default)]
+struct Lookups {
+    /// The people, by cell.
+    people: PointGrid,
+    /// The runs of columns around one person.
+    runs: Vec<(usize, usize)>,
+    /// The external agents' positions, and the agents by cell.
+    external_positions: Vec<Vec2>,
+    externals: PointGrid,
+    /// The external agents in reach of one person: indices, then the agents.
+    near_indices: Vec<u32>,
+    near_externals: Vec<(Vec2, Vec2)>,
+}
+
 thread_local! {
-    /// The crowd's columns, reused between steps.
-    static COLUMNS: std::cell::RefCell<Columns> = std::cell::RefCell::new(Columns::default());
+    /// The crowd's columns and look-ups, reused between steps.
+    static SCRATCH: std::cell::RefCell<(Columns, Lookups)> =
+        std::cell::RefCell::new(Default::default());
 }
 
 /// Every force on every agent but the group forces: [`Crowd::forces_with_externals`] as one
@@ -742,6 +758,7 @@ struct IndividualForces<'a> {
     p: &'a SfParams,
     externals: &'a [(Vec2, Vec2)],
     columns: &'a mut Columns,
+    lookups: &'a mut Lookups,
     out: &'a mut [Vec2],
 }
 
@@ -756,6 +773,7 @@ impl pulp::WithSimd for IndividualForces<'_> {
             p,
             externals,
             columns,
+            lookups,
             out,
         } = self;
         let n = crowd.len();
@@ -773,34 +791,37 @@ impl pulp::WithSimd for IndividualForces<'_> {
             // Pairs closer than the range: the agents sorted by grid cell, so that the 3 × 3
             // cells around an agent are three runs of consecutive columns.
             Some(range) => {
-                let mut grid = PointGrid::default();
-                grid.build(&crowd.positions, range);
-                let order = grid.items();
+                let Lookups {
+                    people,
+                    runs,
+                    external_positions,
+                    externals: external_grid,
+                    near_indices,
+                    near_externals,
+                } = lookups;
+                people.build(&crowd.positions, range);
+                let order = people.items();
                 columns.gather(
                     &crowd.positions,
                     &crowd.velocities,
                     order.iter().map(|&i| i as usize),
                 );
-                let mut runs = Vec::with_capacity(3);
                 // The external agents in reach of a person, from a grid of their own, in index
                 // order as the full scan adds them (so the bits stay the scan's).
-                let external_positions: Vec<Vec2> = externals.iter().map(|e| e.0).collect();
-                let mut external_grid = PointGrid::default();
-                if !externals.is_empty() {
-                    external_grid.build(&external_positions, range);
-                }
-                let (mut near_indices, mut near_externals) = (Vec::new(), Vec::new());
+                external_positions.clear();
+                external_positions.extend(externals.iter().map(|e| e.0));
+                external_grid.build(external_positions, range);
                 for (k, &a) in order.iter().enumerate() {
                     let a = a as usize;
                     runs.clear();
                     // Only the columns after k: the pairs with lower ones are done.
-                    grid.runs_near(crowd.positions[a], |lo, hi| {
+                    people.runs_near(crowd.positions[a], |lo, hi| {
                         if hi > k + 1 {
                             runs.push((lo.max(k + 1), hi));
                         }
                     });
                     let (pa, va) = (crowd.positions[a], crowd.velocities[a]);
-                    let m = columns.pack(pa, &runs, range * range);
+                    let m = columns.pack(pa, runs, range * range);
                     let social = columns.social(k, pa, va, m, &p.social);
                     near_indices.clear();
                     external_grid.runs_near(pa, |lo, hi| {
@@ -808,10 +829,10 @@ impl pulp::WithSimd for IndividualForces<'_> {
                     });
                     near_indices.sort_unstable();
                     near_externals.clear();
-                    for &i in &near_indices {
+                    for &i in near_indices.iter() {
                         near_externals.push(externals[i as usize]);
                     }
-                    out[a] = crowd.force_on(a, social, obstacles, p, &near_externals);
+                    out[a] = crowd.force_on(a, social, obstacles, p, near_externals);
                 }
             }
         }
@@ -885,13 +906,14 @@ impl Crowd {
         // Compiled for the best vector instructions this CPU has (AVX-512, AVX2 or SSE2),
         // chosen at run time; the arithmetic is IEEE throughout, so every choice gives the
         // same bits.
-        COLUMNS.with_borrow_mut(|columns| {
+        SCRATCH.with_borrow_mut(|(columns, lookups)| {
             pulp::Arch::new().dispatch(IndividualForces {
                 crowd: self,
                 obstacles,
                 p,
                 externals,
                 columns,
+                lookups,
                 out,
             })
         });
