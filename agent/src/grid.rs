@@ -14,6 +14,8 @@ pub struct PointGrid {
     /// `starts[c]..starts[c + 1]` indexes `items` for cell c.
     starts: Vec<u32>,
     items: Vec<u32>,
+    /// Where the next item of each cell goes while building (kept to reuse its memory).
+    fill: Vec<u32>,
 }
 
 /// A grid has at most about twice this many cells per item (and at least this floor): a
@@ -51,11 +53,11 @@ impl PointGrid {
         }
         self.items.clear();
         self.items.resize(points.len(), 0);
-        let mut fill = self.starts.clone();
+        self.fill.clone_from(&self.starts);
         for (i, p) in points.iter().enumerate() {
             let c = self.cell_of(p);
-            self.items[fill[c] as usize] = i as u32;
-            fill[c] += 1;
+            self.items[self.fill[c] as usize] = i as u32;
+            self.fill[c] += 1;
         }
     }
 
