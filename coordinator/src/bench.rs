@@ -3,6 +3,7 @@
 //! same run for comparison.
 
 use crate::demo::{DemoOptions, run_demo};
+use crate::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes};
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
 use anyhow::{Context, Result};
@@ -44,6 +45,16 @@ pub struct FleetBench {
     pub raw_idle_p99_ms: f64,
     /// Payload size used for the raw round trips (bytes).
     pub raw_payload_bytes: usize,
+    /// While the fleet ran: the share of the machine's CPU time (all cores) that this process
+    /// used, % (Linux `/proc`; None elsewhere).
+    pub process_cpu_percent: Option<f64>,
+    /// While the fleet ran: the share of the machine's CPU time that the hypervisor reported
+    /// stealing, %.
+    pub steal_percent: Option<f64>,
+    /// While the fleet ran: how fast the CPU itself ran (a fixed job timed every 5 ms in its
+    /// own thread's CPU time; see [`crate::machine`]). On a shared VM the host slows the CPU
+    /// down at times without the steal counter showing it, and round-trip tails follow.
+    pub cpu_speed: Option<CpuSpeed>,
 }
 
 /// Runs the fleet for `seconds` in real time with `agents` agents, then the raw round trip.
@@ -65,6 +76,8 @@ pub async fn bench_fleet(
     };
     // The raw probe runs beside the fleet until the fleet is done.
     let probe = RawProbe::open().await?;
+    let speed = std::sync::Arc::new(CpuSpeedProbe::start().context("CPU-speed probe thread")?);
+    let speed_seen = speed.clone();
     // It times round trips only once the coordinator ticks (its first status, after about a
     // second), not while a hundred sessions are being opened.
     let (ticking_tx, ticking_rx) = tokio::sync::watch::channel(false);
@@ -83,13 +96,23 @@ pub async fn bench_fleet(
     let started = Instant::now();
     let first_tick = std::sync::Arc::new(std::sync::OnceLock::<Instant>::new());
     let first_tick_seen = first_tick.clone();
+    // CPU time counters from the first status to the last (the part of the run timed).
+    let cpu = std::sync::Arc::new(std::sync::Mutex::new((None, None)));
+    let cpu_seen = cpu.clone();
     let on_status = move |s: &crate::server::Status| {
         first_tick_seen.get_or_init(|| Instant::now() - Duration::from_secs_f64(s.sim_time));
         if s.tick > 0 {
             ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));
+            speed_seen.sample();
+        }
+        if let Ok(mut c) = cpu_seen.lock() {
+            let now = CpuTimes::now();
+            c.0 = c.0.or(now);
+            c.1 = now;
         }
         if s.sim_time >= seconds - 1e-9 {
             stop_tx.send_if_modified(|t| !std::mem::replace(t, true));
+            speed_seen.stop();
         }
     };
     let report = run_demo(options, std::future::pending(), on_status, |_| {}).await;
@@ -103,7 +126,15 @@ pub async fn bench_fleet(
         !during.is_empty(),
         "no raw reply came back while the fleet ran"
     );
+    let cpu_speed = std::sync::Arc::into_inner(speed).and_then(CpuSpeedProbe::finish);
     let s = &report.status;
+    let shares = match *cpu
+        .lock()
+        .map_err(|_| anyhow::anyhow!("CPU counters poisoned"))?
+    {
+        (Some(first), Some(last)) => first.shares(last),
+        _ => None,
+    };
     Ok(FleetBench {
         agents,
         humans,
@@ -121,6 +152,9 @@ pub async fn bench_fleet(
         raw_idle_p50_ms: percentile(&mut idle, 0.5) / 1000.0,
         raw_idle_p99_ms: percentile(&mut idle, 0.99) / 1000.0,
         raw_payload_bytes: RAW_PAYLOAD_BYTES,
+        process_cpu_percent: shares.map(|s| s.0),
+        steal_percent: shares.map(|s| s.1),
+        cpu_speed,
     })
 }
 

@@ -5,6 +5,7 @@ pub mod bench;
 pub mod dashboard;
 pub mod demo;
 pub mod experiment;
+pub mod machine;
 pub mod plots;
 pub mod replay_study;
 pub mod server;

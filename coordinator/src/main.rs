@@ -134,6 +134,17 @@ struct CoordinatorArgs {
 
 #[derive(Subcommand)]
 enum Bench {
+    /// How steadily this machine's CPU runs, with nothing else of gapfleet's running: a fixed
+    /// job timed every 5 ms in its own thread CPU time. On a shared VM the host slows the CPU
+    /// down at times (often unseen by the steal counter), and latency tails follow.
+    Cpu {
+        /// Seconds to sample.
+        #[arg(long, default_value_t = 20.0)]
+        seconds: f64,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// A coordinator tick with and without the Rerun dashboard (recording to an .rrd file).
     Dashboard {
         /// Robots (parked).
@@ -553,6 +564,60 @@ fn main() -> Result<()> {
                     b.raw_idle_p99_ms,
                     b.round_trip_p50_ms / b.raw_idle_p50_ms,
                     b.round_trip_p99_ms / b.raw_idle_p99_ms,
+                );
+                if let (Some(process), Some(steal)) = (b.process_cpu_percent, b.steal_percent) {
+                    println!(
+                        "the machine's CPU time (all cores) while the fleet ran: this process {process:.1}%, \
+                         steal reported by the hypervisor {steal:.1}%"
+                    );
+                }
+                if let Some(c) = b.cpu_speed {
+                    println!(
+                        "CPU-speed probe ({} jobs of {:.0} us, timed in thread CPU time): {:.1}% took \
+                         over twice as long, the slowest {:.1}x",
+                        c.samples, c.nominal_us, c.slow_percent, c.worst_slowdown
+                    );
+                    if c.slow_percent >= 1.0 {
+                        println!(
+                            "note: the CPU itself ran at under half speed in {:.1}% of the probe's \
+                             jobs; round trips in those moments measure the host, and a p99 with \
+                             more than 1% of them does too (coordinator/README.md)",
+                            c.slow_percent
+                        );
+                    }
+                }
+            }
+            Ok(())
+        }
+        Command::Bench(Bench::Cpu { seconds, json }) => {
+            if !(seconds.is_finite() && seconds > 0.0) {
+                bail!("--seconds must be positive");
+            }
+            let probe = coordinator::machine::CpuSpeedProbe::start()?;
+            let before = coordinator::machine::CpuTimes::now();
+            probe.sample();
+            std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
+            let steal = before
+                .zip(coordinator::machine::CpuTimes::now())
+                .and_then(|(a, b)| a.shares(b))
+                .map(|s| s.1);
+            let Some(c) = probe.finish() else {
+                bail!("the probe timed no job in {seconds} s");
+            };
+            if json {
+                println!(
+                    "{}",
+                    serde_json::json!({ "cpu_speed": c, "steal_percent": steal })
+                );
+            } else {
+                println!(
+                    "{} jobs of {:.0} us: {:.1}% took over twice as long, the slowest {:.1}x; \
+                     steal reported by the hypervisor {}",
+                    c.samples,
+                    c.nominal_us,
+                    c.slow_percent,
+                    c.worst_slowdown,
+                    steal.map_or("unknown".to_owned(), |s| format!("{s:.1}%"))
                 );
             }
             Ok(())

@@ -1,0 +1,229 @@
+//! What the machine did while a benchmark ran, so that its figures can be read: how much CPU
+//! time this process used, how much the hypervisor reported stealing, and how fast the CPU
+//! itself ran.
+//!
+//! The last one matters on shared VMs. There the host can slow a virtual CPU down for tens of
+//! milliseconds at a time without the guest's steal counter showing it: a fixed job then takes
+//! several times longer *in its own thread CPU time*. A latency tail measured during such
+//! moments measures the host. [`CpuSpeedProbe`] counts them.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::time::Duration;
+
+/// CPU time counters in clock ticks: the whole machine's (every core, from `/proc/stat`), the
+/// part of it the hypervisor reported stealing, and this process's.
+#[derive(Debug, Clone, Copy)]
+pub struct CpuTimes {
+    machine: u64,
+    steal: u64,
+    process: u64,
+}
+
+impl CpuTimes {
+    /// Now, on Linux; None where `/proc` is missing or unreadable.
+    pub fn now() -> Option<Self> {
+        let stat = std::fs::read_to_string("/proc/stat").ok()?;
+        // `cpu  user nice system idle iowait irq softirq steal guest guest_nice`; guest time is
+        // already counted in user and nice.
+        let machine: Vec<u64> = stat
+            .lines()
+            .next()?
+            .strip_prefix("cpu ")?
+            .split_whitespace()
+            .take(8)
+            .map(|f| f.parse().ok())
+            .collect::<Option<_>>()?;
+        let own = std::fs::read_to_string("/proc/self/stat").ok()?;
+        // Fields after the command name (which may hold spaces, hence the last ')') start at
+        // field 3 of proc(5); utime and stime are fields 14 and 15.
+        let after_name = own.get(own.rfind(')')? + 2..)?;
+        let process = after_name
+            .split_whitespace()
+            .skip(11)
+            .take(2)
+            .map(|f| f.parse::<u64>().ok())
+            .sum::<Option<u64>>()?;
+        Some(Self {
+            machine: machine.iter().sum(),
+            steal: *machine.get(7)?,
+            process,
+        })
+    }
+
+    /// This process's and the hypervisor's steal shares of the machine's CPU time from `self`
+    /// to `later`, in %.
+    pub fn shares(self, later: Self) -> Option<(f64, f64)> {
+        let machine = later.machine.checked_sub(self.machine).filter(|&t| t > 0)? as f64;
+        let share = |a: u64, b: u64| 100.0 * b.saturating_sub(a) as f64 / machine;
+        Some((
+            share(self.process, later.process),
+            share(self.steal, later.steal),
+        ))
+    }
+}
+
+/// Iterations of the probe's job: about 45 µs on the 2-core VM this was written on.
+const JOB_ITERATIONS: u64 = 20_000;
+/// Time between two jobs: the probe costs about 1 % of one core.
+const PROBE_PERIOD: Duration = Duration::from_millis(5);
+/// A job slower than this multiple of the nominal time counts as slow.
+const SLOW_FACTOR: f64 = 2.0;
+
+const WAITING: u8 = 0;
+const SAMPLING: u8 = 1;
+const STOPPED: u8 = 2;
+
+/// Times a fixed job of integer arithmetic every 5 ms on a thread of its own, in that
+/// thread's CPU time. Time spent waiting for a core is not in that clock, so the benchmark's
+/// own load hardly moves it; a job that takes several times its nominal time ran on a CPU
+/// that was slowed down under it.
+#[derive(Debug)]
+pub struct CpuSpeedProbe {
+    state: Arc<AtomicU8>,
+    thread: std::thread::JoinHandle<Vec<u64>>,
+}
+
+/// What a [`CpuSpeedProbe`] measured.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CpuSpeed {
+    /// Jobs timed.
+    pub samples: usize,
+    /// The job's nominal time (the 5th percentile of its CPU times), µs.
+    pub nominal_us: f64,
+    /// Share of jobs that took more than twice the nominal time, %.
+    pub slow_percent: f64,
+    /// The slowest job as a multiple of the nominal time.
+    pub worst_slowdown: f64,
+}
+
+impl CpuSpeedProbe {
+    /// Starts the thread; it times nothing until [`CpuSpeedProbe::sample`].
+    pub fn start() -> std::io::Result<Self> {
+        let state = Arc::new(AtomicU8::new(WAITING));
+        let seen = state.clone();
+        let thread = std::thread::Builder::new()
+            .name("cpu-speed-probe".into())
+            .spawn(move || {
+                let mut times_ns = Vec::new();
+                let mut seed = 1_u64;
+                loop {
+                    std::thread::sleep(PROBE_PERIOD);
+                    match seen.load(Ordering::Acquire) {
+                        WAITING => continue,
+                        SAMPLING => {}
+                        _ => break,
+                    }
+                    let started = thread_cpu_ns();
+                    seed = std::hint::black_box(job(std::hint::black_box(seed)));
+                    times_ns.push(thread_cpu_ns().saturating_sub(started));
+                }
+                times_ns
+            })?;
+        Ok(Self { state, thread })
+    }
+
+    /// From now on, time jobs.
+    pub fn sample(&self) {
+        let _ = self
+            .state
+            .compare_exchange(WAITING, SAMPLING, Ordering::AcqRel, Ordering::Acquire);
+    }
+
+    /// Stops timing (the thread ends within one period).
+    pub fn stop(&self) {
+        self.state.store(STOPPED, Ordering::Release);
+    }
+
+    /// Stops and summarises; None if no job was timed.
+    pub fn finish(self) -> Option<CpuSpeed> {
+        self.stop();
+        let times = self.thread.join().ok()?;
+        summarise(&times)
+    }
+}
+
+/// Summary of job times (ns): None when empty.
+fn summarise(times_ns: &[u64]) -> Option<CpuSpeed> {
+    let mut sorted = times_ns.to_vec();
+    sorted.sort_unstable();
+    let nominal = *sorted.get(sorted.len() / 20)?;
+    let nominal = nominal.max(1) as f64;
+    let slow = sorted
+        .iter()
+        .filter(|&&t| t as f64 > SLOW_FACTOR * nominal)
+        .count();
+    Some(CpuSpeed {
+        samples: sorted.len(),
+        nominal_us: nominal / 1000.0,
+        slow_percent: 100.0 * slow as f64 / sorted.len() as f64,
+        worst_slowdown: *sorted.last()? as f64 / nominal,
+    })
+}
+
+/// The probe's job: a linear congruential generator with an xor-shift, in registers only, so
+/// that neither caches nor memory make its time vary.
+fn job(seed: u64) -> u64 {
+    let mut x = seed | 1;
+    for _ in 0..JOB_ITERATIONS {
+        x = x
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        x ^= x >> 29;
+    }
+    x
+}
+
+fn thread_cpu_ns() -> u64 {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+    (t.tv_sec.max(0) as u64) * 1_000_000_000 + t.tv_nsec.max(0) as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_counts_jobs_over_twice_the_nominal_time() {
+        // 95 jobs at 50 µs, 3 at 120 µs (2.4x: slow), 2 at 90 µs (1.8x: not slow).
+        let mut times = vec![50_000_u64; 95];
+        times.extend([120_000; 3]);
+        times.extend([90_000; 2]);
+        let s = summarise(&times).expect("jobs were timed");
+        assert_eq!(s.samples, 100);
+        assert_eq!(s.nominal_us, 50.0);
+        assert!((s.slow_percent - 3.0).abs() < 1e-12, "{s:?}");
+        assert!((s.worst_slowdown - 2.4).abs() < 1e-12, "{s:?}");
+        assert_eq!(summarise(&[]), None);
+    }
+
+    #[test]
+    fn probe_times_jobs_only_while_sampling() {
+        let probe = CpuSpeedProbe::start().expect("thread");
+        std::thread::sleep(Duration::from_millis(30));
+        probe.sample();
+        std::thread::sleep(Duration::from_millis(200));
+        let s = probe.finish().expect("some jobs in 200 ms");
+        // At most one job per 5 ms period since sampling began (plus the one in progress).
+        assert!(s.samples >= 1 && s.samples <= 41, "{s:?}");
+        assert!(s.nominal_us > 0.0 && s.worst_slowdown >= 1.0, "{s:?}");
+    }
+
+    #[test]
+    fn machine_counters_move_forward() {
+        let Some(first) = CpuTimes::now() else {
+            return; // not Linux
+        };
+        // Burn some CPU so that this process's share is above zero.
+        let mut x = 0_u64;
+        for _ in 0..2000 {
+            x = x.wrapping_add(std::hint::black_box(job(x)));
+        }
+        std::hint::black_box(x);
+        std::thread::sleep(Duration::from_millis(30));
+        let later = CpuTimes::now().expect("read once, readable again");
+        let (process, steal) = first.shares(later).expect("ticks passed");
+        assert!(process > 0.0 && process <= 100.0, "{process}");
+        assert!((0.0..=100.0).contains(&steal), "{steal}");
+    }
+}
