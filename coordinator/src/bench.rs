@@ -3,7 +3,7 @@
 //! same run for comparison.
 
 use crate::demo::{DemoOptions, run_demo};
-use crate::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes};
+use crate::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
 use anyhow::{Context, Result};
@@ -55,6 +55,13 @@ pub struct FleetBench {
     /// own thread's CPU time; see [`crate::machine`]). On a shared VM the host slows the CPU
     /// down at times without the steal counter showing it, and round-trip tails follow.
     pub cpu_speed: Option<CpuSpeed>,
+    /// Share of the timed run covered by stretches in which the probe found the CPU slow, %.
+    pub slow_cpu_time_percent: f64,
+    /// Round trips that overlapped such a stretch.
+    pub round_trips_in_slow_cpu: u64,
+    /// Round-trip p99 over the others, ms: what the fleet does while the CPU runs at its
+    /// speed. A diagnostic, not the result: the result is [`FleetBench::round_trip_p99_ms`].
+    pub round_trip_p99_clear_ms: Option<f64>,
 }
 
 /// Runs the fleet for `seconds` in real time with `agents` agents, then the raw round trip.
@@ -64,6 +71,7 @@ pub async fn bench_fleet(
     humans: usize,
     seconds: f64,
 ) -> Result<FleetBench> {
+    let (round_trips_tx, round_trips_rx) = std::sync::mpsc::channel();
     let options = DemoOptions {
         scenario,
         planner: "pgp+orca".parse()?,
@@ -73,6 +81,7 @@ pub async fn bench_fleet(
         listen: None,
         share_intents: true,
         sinks: dashboards::Sinks::default(),
+        round_trips: Some(round_trips_tx),
     };
     // The raw probe runs beside the fleet until the fleet is done.
     let probe = RawProbe::open().await?;
@@ -126,7 +135,33 @@ pub async fn bench_fleet(
         !during.is_empty(),
         "no raw reply came back while the fleet ran"
     );
-    let cpu_speed = std::sync::Arc::into_inner(speed).and_then(CpuSpeedProbe::finish);
+    let speed = std::sync::Arc::into_inner(speed)
+        .map(CpuSpeedProbe::finish)
+        .unwrap_or_default();
+    let cpu_speed = speed.summary();
+    // Round trips split by whether the CPU may have run slow during them.
+    let spans = speed.slow_spans();
+    let timed = speed
+        .jobs
+        .first()
+        .zip(speed.jobs.last())
+        .map_or(Duration::ZERO, |(a, b)| {
+            b.end.saturating_duration_since(a.start)
+        });
+    let slow_time: Duration = spans.iter().map(|s| s.end - s.start).sum();
+    let mut clear_us = Vec::new();
+    let mut in_slow = 0_u64;
+    for rt in round_trips_rx.try_iter() {
+        if overlaps(&spans, rt.published, rt.arrived) {
+            in_slow += 1;
+        } else {
+            let us = rt
+                .arrived
+                .saturating_duration_since(rt.published)
+                .as_micros();
+            clear_us.push(us.min(u128::from(u32::MAX)) as u32);
+        }
+    }
     let s = &report.status;
     let shares = match *cpu
         .lock()
@@ -155,6 +190,14 @@ pub async fn bench_fleet(
         process_cpu_percent: shares.map(|s| s.0),
         steal_percent: shares.map(|s| s.1),
         cpu_speed,
+        slow_cpu_time_percent: if timed.is_zero() {
+            0.0
+        } else {
+            100.0 * slow_time.as_secs_f64() / timed.as_secs_f64()
+        },
+        round_trips_in_slow_cpu: in_slow,
+        round_trip_p99_clear_ms: (!clear_us.is_empty())
+            .then(|| percentile(&mut clear_us, 0.99) / 1000.0),
     })
 }
 

@@ -34,6 +34,8 @@ pub struct DemoOptions {
     pub share_intents: bool,
     /// Rerun sinks (none: no dashboard).
     pub sinks: dashboards::Sinks,
+    /// Receives every timed round trip (benchmarks).
+    pub round_trips: Option<std::sync::mpsc::Sender<crate::server::RoundTrip>>,
 }
 
 /// What a demo run produced.
@@ -102,6 +104,7 @@ pub async fn run_demo(
     let mut config = CoordinatorConfig::new(&options.site);
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
+    config.round_trips = options.round_trips;
     // The demo holds the coordinator's token itself and drops it after its agents have shut
     // down: the end of a demo is planned, not a lost coordinator.
     config.announce_presence = false;

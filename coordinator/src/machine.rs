@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// CPU time counters in clock ticks: the whole machine's (every core, from `/proc/stat`), the
 /// part of it the hypervisor reported stealing, and this process's.
@@ -81,7 +81,25 @@ const STOPPED: u8 = 2;
 #[derive(Debug)]
 pub struct CpuSpeedProbe {
     state: Arc<AtomicU8>,
-    thread: std::thread::JoinHandle<Vec<u64>>,
+    thread: std::thread::JoinHandle<Vec<Job>>,
+}
+
+/// One timed job: when it started and ended (wall clock) and the CPU time it took.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Job {
+    /// Started.
+    pub start: Instant,
+    /// Ended.
+    pub end: Instant,
+    /// Its thread's CPU time, ns.
+    pub cpu_ns: u64,
+}
+
+/// Every job a [`CpuSpeedProbe`] timed, in order.
+#[derive(Debug, Clone, Default)]
+pub struct CpuSpeedRecord {
+    /// The jobs.
+    pub jobs: Vec<Job>,
 }
 
 /// What a [`CpuSpeedProbe`] measured.
@@ -105,7 +123,7 @@ impl CpuSpeedProbe {
         let thread = std::thread::Builder::new()
             .name("cpu-speed-probe".into())
             .spawn(move || {
-                let mut times_ns = Vec::new();
+                let mut jobs = Vec::new();
                 let mut seed = 1_u64;
                 loop {
                     std::thread::sleep(PROBE_PERIOD);
@@ -114,11 +132,17 @@ impl CpuSpeedProbe {
                         SAMPLING => {}
                         _ => break,
                     }
-                    let started = thread_cpu_ns();
+                    let start = Instant::now();
+                    let cpu = thread_cpu_ns();
                     seed = std::hint::black_box(job(std::hint::black_box(seed)));
-                    times_ns.push(thread_cpu_ns().saturating_sub(started));
+                    let cpu_ns = thread_cpu_ns().saturating_sub(cpu);
+                    jobs.push(Job {
+                        start,
+                        end: Instant::now(),
+                        cpu_ns,
+                    });
                 }
-                times_ns
+                jobs
             })?;
         Ok(Self { state, thread })
     }
@@ -135,30 +159,80 @@ impl CpuSpeedProbe {
         self.state.store(STOPPED, Ordering::Release);
     }
 
-    /// Stops and summarises; None if no job was timed.
-    pub fn finish(self) -> Option<CpuSpeed> {
+    /// Stops and hands over every job timed.
+    pub fn finish(self) -> CpuSpeedRecord {
         self.stop();
-        let times = self.thread.join().ok()?;
-        summarise(&times)
+        CpuSpeedRecord {
+            jobs: self.thread.join().unwrap_or_default(),
+        }
     }
 }
 
-/// Summary of job times (ns): None when empty.
-fn summarise(times_ns: &[u64]) -> Option<CpuSpeed> {
-    let mut sorted = times_ns.to_vec();
-    sorted.sort_unstable();
-    let nominal = *sorted.get(sorted.len() / 20)?;
-    let nominal = nominal.max(1) as f64;
-    let slow = sorted
-        .iter()
-        .filter(|&&t| t as f64 > SLOW_FACTOR * nominal)
-        .count();
-    Some(CpuSpeed {
-        samples: sorted.len(),
-        nominal_us: nominal / 1000.0,
-        slow_percent: 100.0 * slow as f64 / sorted.len() as f64,
-        worst_slowdown: *sorted.last()? as f64 / nominal,
-    })
+impl CpuSpeedRecord {
+    /// The jobs' nominal CPU time (their 5th percentile), ns; None when empty.
+    fn nominal_ns(&self) -> Option<u64> {
+        let mut sorted: Vec<u64> = self.jobs.iter().map(|j| j.cpu_ns).collect();
+        sorted.sort_unstable();
+        sorted.get(sorted.len() / 20).map(|&t| t.max(1))
+    }
+
+    fn is_slow(job: &Job, nominal_ns: u64) -> bool {
+        job.cpu_ns as f64 > SLOW_FACTOR * nominal_ns as f64
+    }
+
+    /// Summary; None if no job was timed.
+    pub fn summary(&self) -> Option<CpuSpeed> {
+        let nominal = self.nominal_ns()?;
+        let slow = self
+            .jobs
+            .iter()
+            .filter(|j| Self::is_slow(j, nominal))
+            .count();
+        let worst = self.jobs.iter().map(|j| j.cpu_ns).max()?;
+        Some(CpuSpeed {
+            samples: self.jobs.len(),
+            nominal_us: nominal as f64 / 1000.0,
+            slow_percent: 100.0 * slow as f64 / self.jobs.len() as f64,
+            worst_slowdown: worst as f64 / nominal as f64,
+        })
+    }
+
+    /// The stretches of time in which the CPU may have run slow, in order and disjoint: each
+    /// run of slow jobs, widened to the end of the fast job before it and the start of the
+    /// fast job after it (the probe cannot tell when between them the slowdown began or
+    /// ended).
+    pub fn slow_spans(&self) -> Vec<std::ops::Range<Instant>> {
+        let Some(nominal) = self.nominal_ns() else {
+            return Vec::new();
+        };
+        let jobs = &self.jobs;
+        let mut spans: Vec<std::ops::Range<Instant>> = Vec::new();
+        let mut i = 0;
+        while i < jobs.len() {
+            if !Self::is_slow(&jobs[i], nominal) {
+                i += 1;
+                continue;
+            }
+            let first = i;
+            while i < jobs.len() && Self::is_slow(&jobs[i], nominal) {
+                i += 1;
+            }
+            let start = first
+                .checked_sub(1)
+                .map_or(jobs[first].start, |before| jobs[before].end);
+            let end = jobs.get(i).map_or(jobs[i - 1].end, |after| after.start);
+            spans.push(start..end);
+        }
+        spans
+    }
+}
+
+/// Whether `from..to` overlaps one of `spans` (sorted and disjoint, as
+/// [`CpuSpeedRecord::slow_spans`] gives them).
+pub fn overlaps(spans: &[std::ops::Range<Instant>], from: Instant, to: Instant) -> bool {
+    // The last span starting before `to` is the only candidate.
+    let candidates = spans.partition_point(|s| s.start < to);
+    candidates > 0 && spans[candidates - 1].end > from
 }
 
 /// The probe's job: a linear congruential generator with an xor-shift, in registers only, so
@@ -183,18 +257,59 @@ fn thread_cpu_ns() -> u64 {
 mod tests {
     use super::*;
 
+    /// Jobs 5 ms apart taking `cpu_us` of CPU each.
+    fn record(cpu_us: &[u64]) -> (Instant, CpuSpeedRecord) {
+        let t0 = Instant::now();
+        let jobs = cpu_us
+            .iter()
+            .enumerate()
+            .map(|(i, &us)| {
+                let start = t0 + Duration::from_millis(5 * i as u64);
+                Job {
+                    start,
+                    end: start + Duration::from_micros(us),
+                    cpu_ns: us * 1000,
+                }
+            })
+            .collect();
+        (t0, CpuSpeedRecord { jobs })
+    }
+
     #[test]
     fn summary_counts_jobs_over_twice_the_nominal_time() {
         // 95 jobs at 50 µs, 3 at 120 µs (2.4x: slow), 2 at 90 µs (1.8x: not slow).
-        let mut times = vec![50_000_u64; 95];
-        times.extend([120_000; 3]);
-        times.extend([90_000; 2]);
-        let s = summarise(&times).expect("jobs were timed");
+        let mut times = vec![50_u64; 95];
+        times.extend([120; 3]);
+        times.extend([90; 2]);
+        let (_, r) = record(&times);
+        let s = r.summary().expect("jobs were timed");
         assert_eq!(s.samples, 100);
         assert_eq!(s.nominal_us, 50.0);
         assert!((s.slow_percent - 3.0).abs() < 1e-12, "{s:?}");
         assert!((s.worst_slowdown - 2.4).abs() < 1e-12, "{s:?}");
-        assert_eq!(summarise(&[]), None);
+        assert_eq!(CpuSpeedRecord::default().summary(), None);
+    }
+
+    #[test]
+    fn slow_spans_reach_from_the_fast_job_before_to_the_fast_job_after() {
+        // Jobs at 0, 5, …, 45 ms; 10 and 15 ms are slow, and so is the last one.
+        let mut cpu = vec![50_u64; 10];
+        cpu[2] = 400;
+        cpu[3] = 300;
+        cpu[9] = 200;
+        let (t0, r) = record(&cpu);
+        let ms = |m: u64| t0 + Duration::from_micros(m);
+        let spans = r.slow_spans();
+        // From the end of the job at 5 ms to the start of the job at 20 ms; from the end of
+        // the job at 40 ms to the end of the last one.
+        assert_eq!(spans, vec![ms(5_050)..ms(20_000), ms(40_050)..ms(45_200)]);
+        assert!(overlaps(&spans, ms(19_000), ms(25_000)));
+        assert!(overlaps(&spans, ms(0), ms(6_000)));
+        assert!(!overlaps(&spans, ms(20_000), ms(40_000)));
+        assert!(!overlaps(&spans, ms(0), ms(5_050)));
+        assert!(overlaps(&spans, ms(45_000), ms(50_000)));
+        assert!(!overlaps(&spans, ms(45_200), ms(50_000)));
+        assert!(CpuSpeedRecord::default().slow_spans().is_empty());
     }
 
     #[test]
@@ -203,7 +318,7 @@ mod tests {
         std::thread::sleep(Duration::from_millis(30));
         probe.sample();
         std::thread::sleep(Duration::from_millis(200));
-        let s = probe.finish().expect("some jobs in 200 ms");
+        let s = probe.finish().summary().expect("some jobs in 200 ms");
         // At most one job per 5 ms period since sampling began (plus the one in progress).
         assert!(s.samples >= 1 && s.samples <= 41, "{s:?}");
         assert!(s.nominal_us > 0.0 && s.worst_slowdown >= 1.0, "{s:?}");

@@ -384,6 +384,7 @@ fn demo(args: DemoArgs) -> Result<()> {
         listen: args.listen,
         share_intents: !args.no_intent_sharing,
         sinks: args.rerun.sinks(),
+        round_trips: None,
     };
     eprintln!(
         "gapfleet demo: {} robots ({}), {} people, {} s at {}x; Ctrl-C stops early",
@@ -567,22 +568,35 @@ fn main() -> Result<()> {
                 );
                 if let (Some(process), Some(steal)) = (b.process_cpu_percent, b.steal_percent) {
                     println!(
-                        "the machine's CPU time (all cores) while the fleet ran: this process {process:.1}%, \
-                         steal reported by the hypervisor {steal:.1}%"
+                        "the machine while the fleet ran: this process used {process:.1}% of all \
+                         cores' CPU time; steal reported by the hypervisor {steal:.1}%"
                     );
                 }
                 if let Some(c) = b.cpu_speed {
                     println!(
-                        "CPU-speed probe ({} jobs of {:.0} us, timed in thread CPU time): {:.1}% took \
-                         over twice as long, the slowest {:.1}x",
-                        c.samples, c.nominal_us, c.slow_percent, c.worst_slowdown
+                        "CPU-speed probe ({} jobs of {:.0} us, in thread CPU time, every 5 ms): \
+                         {:.1}% took over twice as long (the slowest {:.1}x); the CPU may have run \
+                         slow for {:.1}% of the run",
+                        c.samples,
+                        c.nominal_us,
+                        c.slow_percent,
+                        c.worst_slowdown,
+                        b.slow_cpu_time_percent
                     );
-                    if c.slow_percent >= 1.0 {
+                    let share = 100.0 * b.round_trips_in_slow_cpu as f64 / b.answered.max(1) as f64;
+                    println!(
+                        "round trips overlapping those stretches: {} of {} ({share:.1}%); p99 of \
+                         the other {}: {}",
+                        b.round_trips_in_slow_cpu,
+                        b.answered,
+                        b.answered.saturating_sub(b.round_trips_in_slow_cpu),
+                        b.round_trip_p99_clear_ms
+                            .map_or("-".to_owned(), |p| format!("{p:.2} ms")),
+                    );
+                    if share > 1.0 {
                         println!(
-                            "note: the CPU itself ran at under half speed in {:.1}% of the probe's \
-                             jobs; round trips in those moments measure the host, and a p99 with \
-                             more than 1% of them does too (coordinator/README.md)",
-                            c.slow_percent
+                            "note: over 1% of the round trips overlapped slow CPU, so the p99 above \
+                             measures the host as much as gapfleet (coordinator/README.md)"
                         );
                     }
                 }
@@ -601,7 +615,7 @@ fn main() -> Result<()> {
                 .zip(coordinator::machine::CpuTimes::now())
                 .and_then(|(a, b)| a.shares(b))
                 .map(|s| s.1);
-            let Some(c) = probe.finish() else {
+            let Some(c) = probe.finish().summary() else {
                 bail!("the probe timed no job in {seconds} s");
             };
             if json {

@@ -41,6 +41,8 @@ pub struct CoordinatorConfig {
     pub stale_ticks: u64,
     /// Receives every event the moment it happens (tests, dashboards).
     pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
+    /// Receives every timed round trip (benchmarks), when it is counted at the next tick.
+    pub round_trips: Option<std::sync::mpsc::Sender<RoundTrip>>,
     /// Observations go out in this many slices spread over the first 90 % of each tick.
     pub stagger: usize,
     /// Hold the coordinator's liveliness token `…/coordinator` while running (agents stop
@@ -59,6 +61,7 @@ impl CoordinatorConfig {
             seconds: None,
             stale_ticks: 3,
             events: None,
+            round_trips: None,
             stagger: 100,
             announce_presence: true,
         }
@@ -77,6 +80,17 @@ pub async fn declare_presence(
         .declare_token(keys.coordinator())
         .await
         .map_err(zerr("coordinator liveliness token"))
+}
+
+/// One observation and the command that answered it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RoundTrip {
+    /// Robot.
+    pub robot: u32,
+    /// When the observation was published.
+    pub published: Instant,
+    /// When its command reached the coordinator's session.
+    pub arrived: Instant,
 }
 
 /// Something that happened, for logs and dashboards.
@@ -363,12 +377,26 @@ pub async fn run_coordinator(
             }
         }
         // Commands: keep the newest per robot.
-        take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips_us);
+        take_commands(
+            &cmd_rx,
+            &keys,
+            &mut links,
+            &mut status,
+            &mut round_trips_us,
+            config.round_trips.as_ref(),
+        );
         status.rejected += overflow.swap(0, std::sync::atomic::Ordering::Relaxed);
         // The end comes after the last observations had a tick to be answered.
         if end_tick.is_some_and(|end| status.tick >= end) {
             tokio::time::sleep(tick_wall).await;
-            take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips_us);
+            take_commands(
+                &cmd_rx,
+                &keys,
+                &mut links,
+                &mut status,
+                &mut round_trips_us,
+                config.round_trips.as_ref(),
+            );
             break;
         }
         // Agents' heartbeats: their planning time.
@@ -543,6 +571,7 @@ fn take_commands(
     links: &mut [Link],
     status: &mut Status,
     round_trips_us: &mut Vec<u32>,
+    log: Option<&std::sync::mpsc::Sender<RoundTrip>>,
 ) {
     let n = links.len();
     while let Ok((arrived, sample)) = cmd_rx.try_recv() {
@@ -562,6 +591,13 @@ fn take_commands(
                         round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
                     }
                     round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
+                    if let Some(log) = log {
+                        let _ = log.send(RoundTrip {
+                            robot: cmd.robot_id,
+                            published: entry.1,
+                            arrived,
+                        });
+                    }
                 }
                 if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
                     link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
