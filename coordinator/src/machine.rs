@@ -335,10 +335,13 @@ mod tests {
             x = x.wrapping_add(std::hint::black_box(job(x)));
         }
         std::hint::black_box(x);
-        std::thread::sleep(Duration::from_millis(30));
+        std::thread::sleep(Duration::from_millis(300));
         let later = CpuTimes::now().expect("read once, readable again");
         let (process, steal) = first.shares(later).expect("ticks passed");
-        assert!(process > 0.0 && process <= 100.0, "{process}");
+        // The process can use at most every core, i.e. 100 %; the two counters are whole clock
+        // ticks from different sources, so over this short window either may be a tick or
+        // two off (a few % of ~80 ticks).
+        assert!(process > 0.0 && process <= 105.0, "{process}");
         assert!((0.0..=100.0).contains(&steal), "{steal}");
     }
 }
