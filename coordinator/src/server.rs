@@ -323,7 +323,10 @@ pub async fn run_coordinator(
         fans: vec![None; n],
         ..Status::default()
     };
-    let mut round_trips_us: Vec<u32> = Vec::new();
+    let mut round_trips = RoundTrips {
+        us: Vec::new(),
+        log: config.round_trips.clone(),
+    };
     let tick_wall = Duration::from_secs_f64(dt / config.speed);
     let mut ticker = tokio::time::interval(tick_wall);
     ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
@@ -377,26 +380,12 @@ pub async fn run_coordinator(
             }
         }
         // Commands: keep the newest per robot.
-        take_commands(
-            &cmd_rx,
-            &keys,
-            &mut links,
-            &mut status,
-            &mut round_trips_us,
-            config.round_trips.as_ref(),
-        );
+        take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips);
         status.rejected += overflow.swap(0, std::sync::atomic::Ordering::Relaxed);
         // The end comes after the last observations had a tick to be answered.
         if end_tick.is_some_and(|end| status.tick >= end) {
             tokio::time::sleep(tick_wall).await;
-            take_commands(
-                &cmd_rx,
-                &keys,
-                &mut links,
-                &mut status,
-                &mut round_trips_us,
-                config.round_trips.as_ref(),
-            );
+            take_commands(&cmd_rx, &keys, &mut links, &mut status, &mut round_trips);
             break;
         }
         // Agents' heartbeats: their planning time.
@@ -540,7 +529,7 @@ pub async fn run_coordinator(
         }
         if last_status.elapsed() >= Duration::from_secs(1) {
             last_status = Instant::now();
-            refresh(&mut status, &links, &round_trips_us);
+            refresh(&mut status, &links, &round_trips.us);
             observer.status(&fleet, &status);
         }
     }
@@ -548,7 +537,7 @@ pub async fn run_coordinator(
     let frame = metrics_frame(&fleet, &links, &status);
     let _ = metrics_pub.put(encode(&frame)).await;
     status.metrics = Some(frame);
-    refresh(&mut status, &links, &round_trips_us);
+    refresh(&mut status, &links, &round_trips.us);
     observer.status(&fleet, &status);
     map_server.abort();
     drop(cmd_sub);
@@ -563,6 +552,28 @@ fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
     status.events.push(event);
 }
 
+/// Round trips timed so far (µs, in arrival order) and where each one goes as it is counted.
+struct RoundTrips {
+    us: Vec<u32>,
+    log: Option<std::sync::mpsc::Sender<RoundTrip>>,
+}
+
+impl RoundTrips {
+    fn record(&mut self, trip: RoundTrip) {
+        let us = trip
+            .arrived
+            .saturating_duration_since(trip.published)
+            .as_micros();
+        if self.us.len() >= MAX_ROUND_TRIP_SAMPLES {
+            self.us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
+        }
+        self.us.push(us.min(u32::MAX as u128) as u32);
+        if let Some(log) = &self.log {
+            let _ = log.send(trip);
+        }
+    }
+}
+
 /// Takes in every command that arrived: the newest per robot is kept; answers to recent
 /// observations are counted once and timed.
 fn take_commands(
@@ -570,8 +581,7 @@ fn take_commands(
     keys: &Keys,
     links: &mut [Link],
     status: &mut Status,
-    round_trips_us: &mut Vec<u32>,
-    log: Option<&std::sync::mpsc::Sender<RoundTrip>>,
+    round_trips: &mut RoundTrips,
 ) {
     let n = links.len();
     while let Ok((arrived, sample)) = cmd_rx.try_recv() {
@@ -586,18 +596,11 @@ fn take_commands(
                 {
                     entry.2 = true;
                     status.answered += 1;
-                    let rtt = arrived.saturating_duration_since(entry.1).as_micros();
-                    if round_trips_us.len() >= MAX_ROUND_TRIP_SAMPLES {
-                        round_trips_us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
-                    }
-                    round_trips_us.push(rtt.min(u32::MAX as u128) as u32);
-                    if let Some(log) = log {
-                        let _ = log.send(RoundTrip {
-                            robot: cmd.robot_id,
-                            published: entry.1,
-                            arrived,
-                        });
-                    }
+                    round_trips.record(RoundTrip {
+                        robot: cmd.robot_id,
+                        published: entry.1,
+                        arrived,
+                    });
                 }
                 if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
                     link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
