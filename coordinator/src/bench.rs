@@ -4,6 +4,7 @@
 
 use crate::demo::{DemoOptions, run_demo};
 use crate::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
+use crate::server::RoundTrip;
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
 use anyhow::{Context, Result};
@@ -57,7 +58,8 @@ pub struct FleetBench {
     pub cpu_speed: Option<CpuSpeed>,
     /// Share of the timed run covered by stretches in which the probe found the CPU slow, %.
     pub slow_cpu_time_percent: f64,
-    /// Round trips that overlapped such a stretch.
+    /// Round trips that overlapped such a stretch (of those inside the probe's run, which
+    /// began before the first observation and ended after the last command).
     pub round_trips_in_slow_cpu: u64,
     /// Round-trip p99 over the others, ms: what the fleet does while the CPU runs at its
     /// speed. A diagnostic, not the result: the result is [`FleetBench::round_trip_p99_ms`].
@@ -85,8 +87,8 @@ pub async fn bench_fleet(
     };
     // The raw probe runs beside the fleet until the fleet is done.
     let probe = RawProbe::open().await?;
-    let speed = std::sync::Arc::new(CpuSpeedProbe::start().context("CPU-speed probe thread")?);
-    let speed_seen = speed.clone();
+    // The CPU-speed probe runs from before the first observation to after the last command.
+    let speed = CpuSpeedProbe::start().context("CPU-speed probe thread")?;
     // It times round trips only once the coordinator ticks (its first status, after about a
     // second), not while a hundred sessions are being opened.
     let (ticking_tx, ticking_rx) = tokio::sync::watch::channel(false);
@@ -112,7 +114,6 @@ pub async fn bench_fleet(
         first_tick_seen.get_or_init(|| Instant::now() - Duration::from_secs_f64(s.sim_time));
         if s.tick > 0 {
             ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));
-            speed_seen.sample();
         }
         if let Ok(mut c) = cpu_seen.lock() {
             let now = CpuTimes::now();
@@ -121,10 +122,10 @@ pub async fn bench_fleet(
         }
         if s.sim_time >= seconds - 1e-9 {
             stop_tx.send_if_modified(|t| !std::mem::replace(t, true));
-            speed_seen.stop();
         }
     };
     let report = run_demo(options, std::future::pending(), on_status, |_| {}).await;
+    let speed = speed.finish();
     let wall_seconds = first_tick.get().unwrap_or(&started).elapsed().as_secs_f64();
     let _ = stopper.send(true);
     let mut during = during.await.context("raw probe task")??;
@@ -135,23 +136,22 @@ pub async fn bench_fleet(
         !during.is_empty(),
         "no raw reply came back while the fleet ran"
     );
-    let speed = std::sync::Arc::into_inner(speed)
-        .map(CpuSpeedProbe::finish)
-        .unwrap_or_default();
     let cpu_speed = speed.summary();
     // Round trips split by whether the CPU may have run slow during them.
     let spans = speed.slow_spans();
-    let timed = speed
-        .jobs
-        .first()
-        .zip(speed.jobs.last())
-        .map_or(Duration::ZERO, |(a, b)| {
-            b.end.saturating_duration_since(a.start)
-        });
+    let window = speed.window();
+    let timed = window
+        .as_ref()
+        .map_or(Duration::ZERO, |w| w.end.saturating_duration_since(w.start));
     let slow_time: Duration = spans.iter().map(|s| s.end - s.start).sum();
     let mut clear_us = Vec::new();
     let mut in_slow = 0_u64;
-    for rt in round_trips_rx.try_iter() {
+    let probed = |rt: &RoundTrip| {
+        window
+            .as_ref()
+            .is_some_and(|w| w.start <= rt.published && rt.arrived <= w.end)
+    };
+    for rt in round_trips_rx.try_iter().filter(probed) {
         if overlaps(&spans, rt.published, rt.arrived) {
             in_slow += 1;
         } else {

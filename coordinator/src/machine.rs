@@ -8,7 +8,7 @@
 //! moments measures the host. [`CpuSpeedProbe`] counts them.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// CPU time counters in clock ticks: the whole machine's (every core, from `/proc/stat`), the
@@ -70,17 +70,13 @@ const PROBE_PERIOD: Duration = Duration::from_millis(5);
 /// A job slower than this multiple of the nominal time counts as slow.
 const SLOW_FACTOR: f64 = 2.0;
 
-const WAITING: u8 = 0;
-const SAMPLING: u8 = 1;
-const STOPPED: u8 = 2;
-
 /// Times a fixed job of integer arithmetic every 5 ms on a thread of its own, in that
 /// thread's CPU time. Time spent waiting for a core is not in that clock, so the benchmark's
 /// own load hardly moves it; a job that takes several times its nominal time ran on a CPU
 /// that was slowed down under it.
 #[derive(Debug)]
 pub struct CpuSpeedProbe {
-    state: Arc<AtomicU8>,
+    stop: Arc<AtomicBool>,
     thread: std::thread::JoinHandle<Vec<Job>>,
 }
 
@@ -116,10 +112,10 @@ pub struct CpuSpeed {
 }
 
 impl CpuSpeedProbe {
-    /// Starts the thread; it times nothing until [`CpuSpeedProbe::sample`].
+    /// Starts timing jobs, until [`CpuSpeedProbe::finish`].
     pub fn start() -> std::io::Result<Self> {
-        let state = Arc::new(AtomicU8::new(WAITING));
-        let seen = state.clone();
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopped = stop.clone();
         let thread = std::thread::Builder::new()
             .name("cpu-speed-probe".into())
             .spawn(move || {
@@ -127,10 +123,8 @@ impl CpuSpeedProbe {
                 let mut seed = 1_u64;
                 loop {
                     std::thread::sleep(PROBE_PERIOD);
-                    match seen.load(Ordering::Acquire) {
-                        WAITING => continue,
-                        SAMPLING => {}
-                        _ => break,
+                    if stopped.load(Ordering::Acquire) {
+                        break;
                     }
                     let start = Instant::now();
                     let cpu = thread_cpu_ns();
@@ -144,24 +138,12 @@ impl CpuSpeedProbe {
                 }
                 jobs
             })?;
-        Ok(Self { state, thread })
+        Ok(Self { stop, thread })
     }
 
-    /// From now on, time jobs.
-    pub fn sample(&self) {
-        let _ = self
-            .state
-            .compare_exchange(WAITING, SAMPLING, Ordering::AcqRel, Ordering::Acquire);
-    }
-
-    /// Stops timing (the thread ends within one period).
-    pub fn stop(&self) {
-        self.state.store(STOPPED, Ordering::Release);
-    }
-
-    /// Stops and hands over every job timed.
+    /// Stops (within one period) and hands over every job timed.
     pub fn finish(self) -> CpuSpeedRecord {
-        self.stop();
+        self.stop.store(true, Ordering::Release);
         CpuSpeedRecord {
             jobs: self.thread.join().unwrap_or_default(),
         }
@@ -178,6 +160,11 @@ impl CpuSpeedRecord {
 
     fn is_slow(job: &Job, nominal_ns: u64) -> bool {
         job.cpu_ns as f64 > SLOW_FACTOR * nominal_ns as f64
+    }
+
+    /// From the first job's start to the last one's end; None when empty.
+    pub fn window(&self) -> Option<std::ops::Range<Instant>> {
+        Some(self.jobs.first()?.start..self.jobs.last()?.end)
     }
 
     /// Summary; None if no job was timed.
@@ -313,14 +300,14 @@ mod tests {
     }
 
     #[test]
-    fn probe_times_jobs_only_while_sampling() {
+    fn probe_times_a_job_every_period_until_finished() {
         let probe = CpuSpeedProbe::start().expect("thread");
-        std::thread::sleep(Duration::from_millis(30));
-        probe.sample();
         std::thread::sleep(Duration::from_millis(200));
-        let s = probe.finish().summary().expect("some jobs in 200 ms");
-        // At most one job per 5 ms period since sampling began (plus the one in progress).
+        let record = probe.finish();
+        let s = record.summary().expect("some jobs in 200 ms");
+        // At most one job per 5 ms period (plus the one in progress), in order.
         assert!(s.samples >= 1 && s.samples <= 41, "{s:?}");
+        assert!(record.jobs.windows(2).all(|w| w[0].end <= w[1].start));
         assert!(s.nominal_us > 0.0 && s.worst_slowdown >= 1.0, "{s:?}");
     }
 

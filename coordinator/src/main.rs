@@ -571,6 +571,13 @@ fn main() -> Result<()> {
                         "the machine while the fleet ran: this process used {process:.1}% of all \
                          cores' CPU time; steal reported by the hypervisor {steal:.1}%"
                     );
+                    if steal >= 1.0 {
+                        println!(
+                            "note: the hypervisor gave {steal:.1}% of the CPU time to others; \
+                             latencies measured now measure the host (the probe below cannot see \
+                             stolen time)"
+                        );
+                    }
                 }
                 if let Some(c) = b.cpu_speed {
                     println!(
@@ -607,9 +614,8 @@ fn main() -> Result<()> {
             if !(seconds.is_finite() && seconds > 0.0) {
                 bail!("--seconds must be positive");
             }
-            let probe = coordinator::machine::CpuSpeedProbe::start()?;
             let before = coordinator::machine::CpuTimes::now();
-            probe.sample();
+            let probe = coordinator::machine::CpuSpeedProbe::start()?;
             std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
             let steal = before
                 .zip(coordinator::machine::CpuTimes::now())
