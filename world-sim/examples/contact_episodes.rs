@@ -1,0 +1,117 @@
+//! Every step in which two robots touch, in one seed of the intent-sharing study (the built-in
+//! `warehouse`, 12 robots, 40 people, `pgp+orca`, 300 s; `run_fleet`'s loop), with both
+//! robots' state, command, goal and PGP subgoal, and the people and robots within 3 m:
+//!
+//!     cargo run --release -p world-sim --example contact_episodes -- <seed> [on|off]
+//!
+//! Written to look at the contact episodes that decide the study's contact test (see
+//! results/intent-sharing/REPORT.md).
+use agent::model::Command;
+use agent::planner::{PlannerStack, PlanningInput};
+use world_sim::fleet::Fleet;
+use world_sim::scenario::Scenario;
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let seed: u64 = args
+        .first()
+        .map_or(Ok(53), |s| s.parse())
+        .map_err(|e| format!("{e}"))?;
+    let share = args.get(1).is_none_or(|s| s != "off");
+    let robots = 12;
+    let mut scenario = Scenario::builtin("warehouse").map_err(|e| e.to_string())?;
+    scenario.seed = seed;
+    let w = scenario.warehouse.as_mut().ok_or("no warehouse")?;
+    w.robots = robots;
+    w.humans = 40;
+    let mut fleet = Fleet::new(&scenario).map_err(|e| e.to_string())?;
+    fleet.share_intents = share;
+    let planner = "pgp+orca".parse().map_err(|e| format!("{e}"))?;
+    let mut stacks: Vec<PlannerStack> = (0..robots).map(|_| PlannerStack::new(planner)).collect();
+    let mut commands = vec![Command::STOP; robots];
+    let mut subgoals = vec![None; robots];
+    for step in 0..3000 {
+        fleet.dispatch();
+        for (i, stack) in stacks.iter_mut().enumerate() {
+            let Some(goal) = fleet.goal(i) else {
+                commands[i] = Command::STOP;
+                subgoals[i] = None;
+                continue;
+            };
+            let (ego, seen) = fleet.observe(i);
+            let plan = stack.plan(&PlanningInput {
+                ego: &ego,
+                neighbours: &seen,
+                map: &fleet.world.map,
+                goal,
+                dt: fleet.world.dt,
+            });
+            let now = fleet.world.time;
+            subgoals[i] = Some(plan.intent.subgoal);
+            fleet.set_intent(i, now, plan.intent.trajectory);
+            commands[i] = plan.command;
+        }
+        fleet.step(&commands);
+        let r = &fleet.world.robots;
+        for i in 0..r.len() {
+            for j in i + 1..r.len() {
+                let d = (r[i].state.position - r[j].state.position).norm();
+                let gap = d - r[i].state.radius - r[j].state.radius;
+                if gap < 0.0 {
+                    let s = |k: usize| {
+                        let st = &r[k].state;
+                        format!(
+                            "p=({:.2},{:.2}) v=({:.2},{:.2}) cmd={:?} goal={:?} sub={:?} job={:?} wall={:.2}",
+                            st.position.x,
+                            st.position.y,
+                            st.velocity.x,
+                            st.velocity.y,
+                            commands[k],
+                            fleet.goal(k).map(|g| (g.x * 100.0).round() / 100.0),
+                            subgoals[k].map(|g: agent::math::Vec2| (
+                                (g.x * 100.0).round() / 100.0,
+                                (g.y * 100.0).round() / 100.0
+                            )),
+                            fleet.job(k).map(|j| j.stage),
+                            fleet.world.map.distance(&st.position)
+                        )
+                    };
+                    println!(
+                        "step {step} t {:.1} pair {i}-{j} gap {gap:.3}\n   {i}: {}\n   {j}: {}",
+                        fleet.world.time,
+                        s(i),
+                        s(j)
+                    );
+                    let c = &fleet.world.humans.crowd;
+                    for h in 0..c.positions.len() {
+                        let d = (c.positions[h] - r[i].state.position).norm();
+                        if d < 3.0 {
+                            println!(
+                                "   human {h}: p=({:.2},{:.2}) v=({:.2},{:.2}) d={d:.2}",
+                                c.positions[h].x,
+                                c.positions[h].y,
+                                c.velocities[h].x,
+                                c.velocities[h].y
+                            );
+                        }
+                    }
+                    for k in 0..r.len() {
+                        if k != i && k != j {
+                            let d = (r[k].state.position - r[i].state.position).norm();
+                            if d < 3.0 {
+                                println!(
+                                    "   robot {k}: p=({:.2},{:.2}) v=({:.2},{:.2}) d={d:.2}",
+                                    r[k].state.position.x,
+                                    r[k].state.position.y,
+                                    r[k].state.velocity.x,
+                                    r[k].state.velocity.y
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
