@@ -77,7 +77,8 @@ const SLOW_FACTOR: f64 = 2.0;
 #[derive(Debug)]
 pub struct CpuSpeedProbe {
     stop: Arc<AtomicBool>,
-    thread: std::thread::JoinHandle<Vec<Job>>,
+    /// Taken by [`CpuSpeedProbe::finish`].
+    thread: Option<std::thread::JoinHandle<Vec<Job>>>,
 }
 
 /// One timed job: when it started and ended (wall clock) and the CPU time it took.
@@ -138,15 +139,29 @@ impl CpuSpeedProbe {
                 }
                 jobs
             })?;
-        Ok(Self { stop, thread })
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+        })
     }
 
     /// Stops (within one period) and hands over every job timed.
-    pub fn finish(self) -> CpuSpeedRecord {
+    pub fn finish(mut self) -> CpuSpeedRecord {
         self.stop.store(true, Ordering::Release);
         CpuSpeedRecord {
-            jobs: self.thread.join().unwrap_or_default(),
+            jobs: self
+                .thread
+                .take()
+                .and_then(|t| t.join().ok())
+                .unwrap_or_default(),
         }
+    }
+}
+
+impl Drop for CpuSpeedProbe {
+    /// A probe dropped without [`CpuSpeedProbe::finish`] (an early error) stops too.
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
     }
 }
 
