@@ -7,8 +7,8 @@
 //! Written to look at the contact episodes that decide the study's contact test (see
 //! results/intent-sharing/REPORT.md).
 use agent::model::Command;
-use agent::planner::{PlannerStack, PlanningInput};
-use world_sim::fleet::Fleet;
+use agent::planner::PlannerStack;
+use world_sim::fleet::{Fleet, plan_all};
 use world_sim::scenario::Scenario;
 
 fn main() -> Result<(), String> {
@@ -32,25 +32,16 @@ fn main() -> Result<(), String> {
     let mut subgoals = vec![None; robots];
     for step in 0..3000 {
         fleet.dispatch();
-        for (i, stack) in stacks.iter_mut().enumerate() {
-            let Some(goal) = fleet.goal(i) else {
-                commands[i] = Command::STOP;
-                subgoals[i] = None;
-                continue;
-            };
-            let (ego, seen) = fleet.observe(i);
-            let plan = stack.plan(&PlanningInput {
-                ego: &ego,
-                neighbours: &seen,
-                map: &fleet.world.map,
-                goal,
-                dt: fleet.world.dt,
-            });
-            let now = fleet.world.time;
-            subgoals[i] = Some(plan.intent.subgoal);
-            fleet.set_intent(i, now, plan.intent.trajectory);
-            commands[i] = plan.command;
+        for (i, subgoal) in subgoals.iter_mut().enumerate() {
+            if fleet.goal(i).is_none() {
+                *subgoal = None;
+            }
         }
+        plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
+            let plan = stack.plan(input);
+            subgoals[i] = Some(plan.intent.subgoal);
+            plan
+        });
         fleet.step(&commands);
         let r = &fleet.world.robots;
         for i in 0..r.len() {

@@ -9,9 +9,9 @@
 //! Defaults: 200 ticks (20 s), 3 repeats, `pgp+orca`.
 
 use agent::model::Command;
-use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::planner::{PlannerSpec, PlannerStack};
 use std::time::Instant;
-use world_sim::fleet::Fleet;
+use world_sim::fleet::{Fleet, plan_all};
 use world_sim::scenario::Scenario;
 
 /// Robots, as in `bench fleet`'s default.
@@ -97,28 +97,14 @@ fn plan_times(
     let mut times = Vec::with_capacity(ticks * fleet.robots());
     for _ in 0..ticks {
         fleet.dispatch();
-        for (i, stack) in stacks.iter_mut().enumerate() {
-            let Some(goal) = fleet.goal(i) else {
-                commands[i] = Command::STOP;
-                times.push(None);
-                continue;
-            };
-            let (ego, seen) = fleet.observe(i);
+        let mut tick = vec![None; fleet.robots()];
+        plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
             let started = Instant::now();
-            let plan = stack.plan(&PlanningInput {
-                ego: &ego,
-                neighbours: &seen,
-                map: &fleet.world.map,
-                goal,
-                dt: fleet.world.dt,
-            });
-            times.push(Some(
-                started.elapsed().as_micros().min(u32::MAX as u128) as u32
-            ));
-            let now = fleet.world.time;
-            fleet.set_intent(i, now, plan.intent.trajectory);
-            commands[i] = plan.command;
-        }
+            let plan = stack.plan(input);
+            tick[i] = Some(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
+            plan
+        });
+        times.extend(tick);
         fleet.step(&commands);
     }
     Ok(times)

@@ -14,7 +14,7 @@ use crate::scenario::Scenario;
 use crate::warehouse::{Site, StationKind};
 use crate::world::{ROBOT_ID_BIT, World};
 use agent::math::{Real, Vec2};
-use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
+use agent::model::{AgentKind, Command, EgoState, Neighbour, Plan, SharedIntent, TrajectorySample};
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -357,6 +357,40 @@ impl FleetReport {
     }
 }
 
+/// Every robot with a task plans in-process on what it perceives now, as its agent would: the
+/// plan's intent goes into the fleet's table (robots later in the order see it this tick) and
+/// its command into `commands`; a robot without a task gets [`Command::STOP`]. `plan` runs
+/// robot `i`'s planner (`|_, stack, input| stack.plan(input)`); callers wrap it to time or
+/// inspect plans.
+pub fn plan_all(
+    fleet: &mut Fleet,
+    stacks: &mut [PlannerStack],
+    commands: &mut [Command],
+    mut plan: impl FnMut(usize, &mut PlannerStack, &PlanningInput<'_>) -> Plan,
+) {
+    for (i, stack) in stacks.iter_mut().enumerate() {
+        let Some(goal) = fleet.goal(i) else {
+            commands[i] = Command::STOP;
+            continue;
+        };
+        let (ego, seen) = fleet.observe(i);
+        let planned = plan(
+            i,
+            stack,
+            &PlanningInput {
+                ego: &ego,
+                neighbours: &seen,
+                map: &fleet.world.map,
+                goal,
+                dt: fleet.world.dt,
+            },
+        );
+        let now = fleet.world.time;
+        fleet.set_intent(i, now, planned.intent.trajectory);
+        commands[i] = planned.command;
+    }
+}
+
 /// Runs a warehouse for `seconds` with every robot planning in-process with `planner`;
 /// `share_intents` switches intent sharing between robots.
 pub fn run_fleet(
@@ -378,23 +412,9 @@ pub fn run_fleet(
     let mut commands = vec![Command::STOP; fleet.robots()];
     for _ in 0..steps {
         fleet.dispatch();
-        for (i, stack) in stacks.iter_mut().enumerate() {
-            let Some(goal) = fleet.goal(i) else {
-                commands[i] = Command::STOP;
-                continue;
-            };
-            let (ego, seen) = fleet.observe(i);
-            let plan = stack.plan(&PlanningInput {
-                ego: &ego,
-                neighbours: &seen,
-                map: &fleet.world.map,
-                goal,
-                dt: fleet.world.dt,
-            });
-            let now = fleet.world.time;
-            fleet.set_intent(i, now, plan.intent.trajectory);
-            commands[i] = plan.command;
-        }
+        plan_all(&mut fleet, &mut stacks, &mut commands, |_, stack, input| {
+            stack.plan(input)
+        });
         fleet.step(&commands);
     }
     Ok(FleetReport {
