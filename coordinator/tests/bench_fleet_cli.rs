@@ -2,28 +2,21 @@
 //! says what the machine did meanwhile (CPU shares, the CPU-speed probe, and the round trips
 //! that overlapped slow CPU).
 
-use std::process::Command;
+mod common;
+
+use common::gapfleet_json;
 
 #[test]
 fn bench_fleet_accounts_for_every_observation_and_the_machine() {
-    let out = Command::new(env!("CARGO_BIN_EXE_gapfleet"))
-        .args([
-            "bench",
-            "fleet",
-            "--agents",
-            "4",
-            "--seconds",
-            "3",
-            "--json",
-        ])
-        .output()
-        .expect("gapfleet runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let report = gapfleet_json(&[
+        "bench",
+        "fleet",
+        "--agents",
+        "4",
+        "--seconds",
+        "3",
+        "--json",
+    ]);
     let int = |key: &str| {
         report[key]
             .as_u64()

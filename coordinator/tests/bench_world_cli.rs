@@ -1,31 +1,25 @@
 //! `gapfleet bench world`: the wall model is chosen on the command line and reported, with the
 //! set-up time that the field's table adds.
 
+mod common;
+
+use common::gapfleet_json;
 use std::process::Command;
 
 fn bench_world(walls: &str) -> serde_json::Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_gapfleet"))
-        .args([
-            "bench",
-            "world",
-            "--scenario",
-            "warehouse",
-            "--humans",
-            "40",
-            "--steps",
-            "20",
-            "--walls",
-            walls,
-            "--json",
-        ])
-        .output()
-        .expect("gapfleet runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
+    gapfleet_json(&[
+        "bench",
+        "world",
+        "--scenario",
+        "warehouse",
+        "--humans",
+        "40",
+        "--steps",
+        "20",
+        "--walls",
+        walls,
+        "--json",
+    ])
 }
 
 #[test]
