@@ -6,7 +6,7 @@
 //! every machine and at every vector width. Both are within 2 ulp of `f64::exp` / `f64::atan2`
 //! over the ranges documented below (tested on millions of arguments).
 
-use crate::math::Real;
+use crate::math::{Real, Vec2, vec2};
 
 /// e^x for x in [−708, 709] by Cody–Waite reduction x·log2(e) = n + r, |r·ln 2| ≤ ln2/2, a
 /// degree-13 Taylor polynomial (truncation error < 5·10⁻¹⁸ relative) and 2^n assembled from
@@ -136,6 +136,46 @@ pub const LANES: usize = 8;
 #[inline(always)]
 pub fn lanes_total(acc: &[Real; LANES]) -> Real {
     ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]))
+}
+
+/// Items per pass of the vectorised loops that feed [`LaneSums`] (a multiple of `LANES`).
+pub const CHUNK: usize = 64;
+
+/// `LANES` partial sums of 2-D vectors: item i of a sum adds to partial sum i mod `LANES`, and
+/// [`total`](Self::total) adds them in a fixed order. The loops then vectorise, give the same
+/// bits at every vector width, and give the same bits for any superset of the items that act
+/// (the others add exact zeros).
+#[derive(Debug, Clone, Copy)]
+pub struct LaneSums {
+    /// Partial sums of the x components.
+    pub x: [Real; LANES],
+    /// Partial sums of the y components.
+    pub y: [Real; LANES],
+}
+
+impl LaneSums {
+    /// All partial sums zero.
+    pub const ZERO: Self = Self {
+        x: [0.0; LANES],
+        y: [0.0; LANES],
+    };
+
+    /// The sum, in the fixed order of [`lanes_total`].
+    #[inline(always)]
+    pub fn total(&self) -> Vec2 {
+        vec2(lanes_total(&self.x), lanes_total(&self.y))
+    }
+
+    /// Adds `fx[k]`, `fy[k]` to partial sum k mod `LANES` (lengths are multiples of `LANES`).
+    #[inline(always)]
+    pub fn accumulate(&mut self, fx: &[Real], fy: &[Real]) {
+        for (x, y) in fx.chunks_exact(LANES).zip(fy.chunks_exact(LANES)) {
+            for l in 0..LANES {
+                self.x[l] += x[l];
+                self.y[l] += y[l];
+            }
+        }
+    }
 }
 
 #[cfg(test)]

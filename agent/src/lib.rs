@@ -10,11 +10,11 @@
 
 pub mod dwa;
 pub mod fastmath;
-pub mod grid;
 pub mod igp;
 pub mod map;
 pub mod math;
 pub mod model;
+pub mod obstacle_points;
 pub mod orca;
 pub mod pgp;
 pub mod planner;

@@ -8,7 +8,7 @@
 
 use crate::fastmath::LANES;
 use crate::math::{Real, Vec2, det};
-use crate::social_force::ObstaclePoints;
+use crate::obstacle_points::ObstaclePoints;
 use parry2d_f64::bounding_volume::Aabb;
 use parry2d_f64::math::{Isometry, Point, Vector};
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
@@ -358,12 +358,14 @@ impl StaticMap {
     pub fn sampled_points(&self, resolution: Real) -> std::borrow::Cow<'_, ObstaclePoints> {
         const DEFAULT_RESOLUTION: Real = 10.0;
         if resolution == DEFAULT_RESOLUTION {
-            std::borrow::Cow::Borrowed(
-                self.sampled
-                    .get_or_init(|| ObstaclePoints::from_map(self, resolution)),
-            )
+            std::borrow::Cow::Borrowed(self.sampled.get_or_init(|| {
+                ObstaclePoints::from_segments(self.boundary_segments(), resolution)
+            }))
         } else {
-            std::borrow::Cow::Owned(ObstaclePoints::from_map(self, resolution))
+            std::borrow::Cow::Owned(ObstaclePoints::from_segments(
+                self.boundary_segments(),
+                resolution,
+            ))
         }
     }
 

@@ -83,7 +83,7 @@ pub fn dist_sq_point_segment(a: &Vec2, b: &Vec2, p: &Vec2) -> Real {
 }
 
 /// The smallest axis-aligned box holding `points` (corners min, max); both zero when empty.
-pub(crate) fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+pub fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
     let first = points.first().copied().unwrap_or_else(|| vec2(0.0, 0.0));
     points
         .iter()

@@ -111,14 +111,3 @@ pub struct Intent {
     /// Planned trajectory, starting after now, with its uncertainty.
     pub trajectory: Vec<TrajectorySample>,
 }
-
-/// Output of one planning step.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Plan {
-    /// The command to execute.
-    pub command: Command,
-    /// The intent to announce to the fleet.
-    pub intent: Intent,
-    /// PGP's evaluated candidate fan, when a PGP planner ran and recording was on.
-    pub fan: Option<crate::pgp::Fan>,
-}

@@ -8,13 +8,24 @@ use crate::dwa::{Dwa, DwaParams};
 use crate::igp::{IgpParams, IgpPlanner, IgpVariant};
 use crate::map::StaticMap;
 use crate::math::{Real, Vec2, clamp_norm};
-use crate::model::{Command, EgoState, Intent, Neighbour, Plan, TrajectorySample};
+use crate::model::{Command, EgoState, Intent, Neighbour, TrajectorySample};
 use crate::orca::{Body, Orca, OrcaParams, V};
 use crate::pgp::{Pgp, PgpParams};
 use crate::prediction::SigmaModel;
 use crate::social_force::{SfAgentParams, SocialForceAgent};
 use std::fmt;
 use std::str::FromStr;
+
+/// Output of one planning step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The command to execute.
+    pub command: Command,
+    /// The intent to announce to the fleet.
+    pub intent: Intent,
+    /// PGP's evaluated candidate fan, when a PGP planner ran and recording was on.
+    pub fan: Option<crate::pgp::Fan>,
+}
 
 /// Everything a planner sees in one step.
 #[derive(Debug, Clone, Copy)]

@@ -1,12 +1,8 @@
-//! gapfleet's command line and the work behind it: batch experiments, the fleet coordinator
-//! (a warehouse world served over Zenoh) and the in-process demo.
+//! The work behind the `gapfleet` binary: the fleet coordinator (a warehouse world served to
+//! agents over Zenoh, the in-process demo, the dashboard observer), benchmarks that size a
+//! deployment, and the batch studies (behind the default-on `studies` feature).
 
 pub mod bench;
-pub mod dashboard;
-pub mod demo;
-pub mod experiment;
-pub mod machine;
-pub mod plots;
-pub mod replay_study;
-pub mod server;
-pub mod stats;
+pub mod fleet;
+#[cfg(feature = "studies")]
+pub mod study;

@@ -1,7 +1,10 @@
 //! A small version of the open-space study: the whole pipeline runs, its outputs are complete,
 //! and they do not depend on the number of threads.
 
-use coordinator::experiment::{StudyPlan, runs_csv, summarize};
+#![cfg(feature = "studies")]
+
+use coordinator::study::open_space::{StudyPlan, runs_csv};
+use coordinator::study::summary::summarize;
 use world_sim::scenario::Scenario;
 
 fn plan() -> StudyPlan {

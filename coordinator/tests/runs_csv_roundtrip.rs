@@ -1,6 +1,9 @@
 //! `runs.csv` reads back into the same rows, so summaries and figures can be rebuilt from it.
 
-use coordinator::experiment::{StudyPlan, parse_runs_csv, runs_csv, summarize};
+#![cfg(feature = "studies")]
+
+use coordinator::study::open_space::{StudyPlan, parse_runs_csv, runs_csv, runs_csv_header};
+use coordinator::study::summary::summarize;
 use world_sim::scenario::Scenario;
 
 #[test]
@@ -27,10 +30,21 @@ fn runs_csv_round_trips_and_rebuilds_the_same_summary() {
 
 #[test]
 fn malformed_runs_csv_names_the_line() {
-    let err = parse_runs_csv("algorithm,density,seed,success,x\ndwa,0.1,1,true\n")
-        .unwrap_err()
-        .to_string();
+    let header = runs_csv_header();
+    assert_eq!(runs_csv(&[]), format!("{header}\n"));
+    // A row with too few fields, and one whose number is not a number.
+    let short = format!("{header}\ndwa,0.1,1,true\n");
+    let err = parse_runs_csv(&short).unwrap_err().to_string();
     assert!(err.contains("line 2"), "{err}");
+    let fields = header.split(',').count();
+    let mut row = vec!["1"; fields];
+    row[0] = "dwa";
+    row[3] = "true";
+    row[4] = "fast";
+    let bad_number = format!("{header}\n{}\n{}\n", row.join(","), row.join(","));
+    let err = parse_runs_csv(&bad_number).unwrap_err().to_string();
+    assert!(err.contains("line 2") && err.contains("float"), "{err}");
+    // Not this study's file at all.
     let err = parse_runs_csv("hello\n").unwrap_err().to_string();
     assert!(err.contains("line 1"), "{err}");
 }

@@ -38,7 +38,7 @@ pub const PERSONAL_GAP: Real = 1.2;
 pub const NEAR_MISS_GAP: Real = 0.3;
 
 /// One robot's metrics over a run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct RobotMetrics {
     /// Reached the goal in time.
     pub success: bool,

@@ -148,7 +148,7 @@ pub struct Humans {
     pub interaction_range_m: Option<Real>,
     /// How walls and shelves push people: `"points"` (default), PySocialForce's sum over
     /// points sampled along them; `"field"`, the same force read from a table of its potential
-    /// built once per scenario (`agent::social_force::WallField`): much faster, within 0.3 % of
+    /// built once per scenario (`crowd::WallField`): much faster, within 0.3 % of
     /// the point sum a body's width from the walls, but not PySocialForce's arithmetic.
     #[serde(default)]
     pub walls: WallModel,

@@ -1,13 +1,14 @@
 //! The world: people walking in groups (PySocialForce's model), robots, and what each robot
 //! perceives. Fixed steps, one seed, no clock: the same scenario gives the same numbers.
 
+use crate::crowd::{Crowd, Walls};
 use crate::robot::RobotBody;
 use crate::scenario::{Scenario, WallModel};
 use crate::warehouse::Site;
 use agent::map::{Obstacle, StaticMap};
 use agent::math::{Real, Vec2, unit, vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
-use agent::social_force::{Crowd, ObstaclePoints, SfParams};
+use agent::social_force::SfParams;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
@@ -57,7 +58,7 @@ pub struct World {
     /// Robots.
     pub robots: Vec<RobotBody>,
     sf: SfParams,
-    obstacle_points: ObstaclePoints,
+    walls: Walls,
     stage_min: Vec2,
     stage_max: Vec2,
     goal_rule: GoalRule,
@@ -261,12 +262,11 @@ impl World {
         };
         let crowd = Crowd::new(positions, velocities, goals, groups, &sf);
         // Indexed: a warehouse has tens of thousands of wall points, and a person feels only
-        // those within the obstacle threshold (exact, see `ObstaclePoints::indexed`).
-        let mut obstacle_points = ObstaclePoints::from_map(&layout.map, sf.resolution)
+        // those within the obstacle threshold (exact, see `Walls::indexed`).
+        let mut walls = Walls::from(layout.map.sampled_points(sf.resolution).into_owned())
             .indexed(sf.obstacle.threshold + 2.0 * sf.agent_radius);
         if h.walls == WallModel::Field {
-            obstacle_points =
-                obstacle_points.with_field(sf.agent_radius, &sf.obstacle, h.wall_field_spacing_m);
+            walls = walls.with_field(sf.agent_radius, &sf.obstacle, h.wall_field_spacing_m);
         }
         World {
             time: 0.0,
@@ -281,7 +281,7 @@ impl World {
             },
             robots,
             sf,
-            obstacle_points,
+            walls,
             stage_min: min,
             stage_max: max,
             goal_rule: layout.goals,
@@ -320,7 +320,7 @@ impl World {
             robot.apply(*command, self.dt);
         }
         self.humans.crowd.step_with_externals(
-            &self.obstacle_points,
+            &self.walls,
             &self.sf,
             &self.externals,
             &mut self.scratch,

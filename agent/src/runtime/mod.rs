@@ -80,12 +80,9 @@ pub async fn run_agent(
     counters: Arc<AgentCounters>,
     shutdown: impl Future<Output = ()>,
 ) -> Result<(), AgentError> {
-    let keys = Keys::new(&config.site).map_err(|e| AgentError(e.to_string()))?;
+    let keys = Keys::new(&config.site)?;
     let id = config.robot_id;
-    let zerr = |what: &str| {
-        let what = what.to_owned();
-        move |e: zenoh::Error| AgentError(format!("{what}: {e}"))
-    };
+    let zerr = |what: &'static str| move |source: zenoh::Error| AgentError::Zenoh { what, source };
     let token = session
         .liveliness()
         .declare_token(keys.alive(id))
@@ -279,10 +276,41 @@ pub async fn shutdown_signal() {
     }
 }
 
-/// The runtime failed to set itself up (the session refused a declaration).
+/// The runtime failed to set itself up.
 #[derive(Debug, thiserror::Error)]
-#[error("agent: {0}")]
-pub struct AgentError(pub String);
+pub enum AgentError {
+    /// The session refused a declaration.
+    #[error("agent: {what}: {source}")]
+    Zenoh {
+        /// What was being declared.
+        what: &'static str,
+        /// Zenoh's error.
+        source: zenoh::Error,
+    },
+    /// The site name cannot be part of a key expression.
+    #[error("agent: {0}")]
+    Key(#[from] schemas::KeyError),
+}
+
+/// Why the static map could not be had from the coordinator (the agent retries).
+#[derive(Debug, thiserror::Error)]
+enum MapFetchError {
+    /// The query could not be sent.
+    #[error("query: {0}")]
+    Query(zenoh::Error),
+    /// Nobody answered.
+    #[error("no reply")]
+    NoReply,
+    /// The answer was not a map message.
+    #[error(transparent)]
+    Decode(#[from] schemas::DecodeError),
+    /// The coordinator answered with an error.
+    #[error("error reply: {0}")]
+    ErrorReply(String),
+    /// The map's geometry is unusable.
+    #[error(transparent)]
+    Map(#[from] crate::map::MapError),
+}
 
 fn reject(counters: &AgentCounters, id: u32, why: &str) {
     let n = counters.rejected.fetch_add(1, Ordering::Relaxed) + 1;
@@ -312,23 +340,32 @@ async fn safe_stop(
     }
 }
 
-async fn fetch_map(session: &zenoh::Session, keys: &Keys) -> Result<(u32, StaticMap), String> {
+async fn fetch_map(
+    session: &zenoh::Session,
+    keys: &Keys,
+) -> Result<(u32, StaticMap), MapFetchError> {
     let replies = session
         .get(keys.map())
         .timeout(MAP_QUERY_TIMEOUT)
         .await
-        .map_err(|e| e.to_string())?;
-    let mut last_error = "no reply".to_owned();
+        .map_err(MapFetchError::Query)?;
+    let mut last_error = MapFetchError::NoReply;
     while let Ok(reply) = replies.recv_async().await {
         match reply.result() {
             Ok(sample) => match decode::<MapMsg>(&sample.payload().to_bytes()) {
                 Ok(msg) => {
-                    let map = wire::map_from_wire(&msg).map_err(|e| e.to_string())?;
+                    let map = wire::map_from_wire(&msg)?;
                     return Ok((msg.map_version, map));
                 }
-                Err(e) => last_error = e.to_string(),
+                Err(e) => last_error = e.into(),
             },
-            Err(e) => last_error = format!("{e:?}"),
+            Err(e) => {
+                last_error = MapFetchError::ErrorReply(
+                    e.payload()
+                        .try_to_string()
+                        .map_or_else(|_| format!("{e:?}"), |s| s.into_owned()),
+                );
+            }
         }
     }
     Err(last_error)

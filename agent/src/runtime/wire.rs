@@ -3,7 +3,8 @@
 
 use crate::map::{MapError, Obstacle, StaticMap};
 use crate::math::{Vec2, vec2};
-use crate::model::{AgentKind, Command, EgoState, Neighbour, Plan, SharedIntent, TrajectorySample};
+use crate::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
+use crate::planner::Plan;
 use schemas::{
     CommandMsg, IntentMsg, Kind, MapMsg, Motion, Observation, ObstacleMsg, P2, Perceived, Sample,
 };

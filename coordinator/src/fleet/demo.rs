@@ -3,12 +3,13 @@
 //! scouting off), its own planner stack and its own tokio task, exactly as a separate
 //! `gapfleet-agent` process would.
 
-use crate::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
-use crate::server::{CoordinatorConfig, Status, declare_presence, run_coordinator};
+use super::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
+use super::{
+    CoordinatorConfig, CoordinatorError, RoundTrip, Status, declare_presence, run_coordinator,
+};
 use agent::planner::PlannerSpec;
-use agent::runtime::net::{Role, free_loopback_port, open_loopback};
-use agent::runtime::{AgentConfig, AgentCounters, run_agent};
-use anyhow::{Context, Result};
+use agent::runtime::net::{ConfigError, Role, free_loopback_port, open_loopback};
+use agent::runtime::{AgentConfig, AgentCounters, AgentError, run_agent};
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -35,7 +36,7 @@ pub struct DemoOptions {
     /// Rerun sinks (none: no dashboard).
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
-    pub round_trips: Option<std::sync::mpsc::Sender<crate::server::RoundTrip>>,
+    pub round_trips: Option<std::sync::mpsc::Sender<RoundTrip>>,
 }
 
 /// What a demo run produced.
@@ -53,6 +54,35 @@ pub struct DemoReport {
     pub dashboard: Option<dashboards::DashboardStats>,
 }
 
+/// Why a demo could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum DemoError {
+    /// The scenario has no warehouse.
+    #[error(transparent)]
+    NotAWarehouse(#[from] world_sim::fleet::NotAWarehouse),
+    /// The dashboard could not start.
+    #[error(transparent)]
+    Dashboard(#[from] dashboards::DashboardError),
+    /// No free loopback port.
+    #[error("no free loopback port: {0}")]
+    Port(#[from] std::io::Error),
+    /// A Zenoh session could not be opened.
+    #[error(transparent)]
+    Session(#[from] ConfigError),
+    /// The coordinator failed.
+    #[error(transparent)]
+    Coordinator(#[from] CoordinatorError),
+    /// An agent failed.
+    #[error(transparent)]
+    Agent(#[from] AgentError),
+    /// An agent's task panicked or was cancelled.
+    #[error("agent task: {0}")]
+    AgentTask(#[from] tokio::task::JoinError),
+    /// The coordinator's session did not close cleanly.
+    #[error("closing the coordinator session: {0}")]
+    Close(zenoh::Error),
+}
+
 /// Runs the demo; `on_status` sees the coordinator's status about once per wall second;
 /// `on_web_url` gets the served web viewer's address (with `--web`) before the fleet starts.
 pub async fn run_demo(
@@ -60,7 +90,7 @@ pub async fn run_demo(
     shutdown: impl Future<Output = ()>,
     mut on_status: impl FnMut(&Status),
     on_web_url: impl FnOnce(&str),
-) -> Result<DemoReport> {
+) -> Result<DemoReport, DemoError> {
     let mut fleet = Fleet::new(&options.scenario)?;
     fleet.share_intents = options.share_intents;
     let dashboard = if options.sinks.any() {
@@ -122,13 +152,10 @@ pub async fn run_demo(
     let dashboard = observers.1.map(DashboardObserver::finish);
     let _ = stop_tx.send(true);
     for agent in agents {
-        agent.await.context("agent task")??;
+        agent.await??;
     }
     drop(presence);
-    router
-        .close()
-        .await
-        .map_err(|e| anyhow::anyhow!("closing the coordinator session: {e}"))?;
+    router.close().await.map_err(DemoError::Close)?;
     let (fleet_metrics, tasks_done) = final_fleet.unwrap_or_default();
     Ok(DemoReport {
         status,

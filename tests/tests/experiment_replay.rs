@@ -1,5 +1,6 @@
-//! `gapfleet experiment eth` end to end, as a user runs it: a small smoke version on both
-//! recorded crowds, every output file, the table's keys, and clear errors for bad input.
+//! `gapfleet experiment replay` (alias: `eth`, its old name) end to end, as a user runs it: a
+//! small smoke version on both recorded crowds, every output file, the table's keys, and clear
+//! errors for bad input.
 
 use gapfleet_tests::binary;
 use std::path::{Path, PathBuf};
@@ -19,10 +20,14 @@ fn out_dir(name: &str) -> PathBuf {
 
 #[test]
 fn smoke_runs_on_eth_and_zara01_write_the_tables() {
-    for (set, kind) in [("ETH/seq_eth", "partial"), ("UCY/zara01", "full")] {
+    // The old name still works.
+    for (set, kind, command) in [
+        ("ETH/seq_eth", "partial", "eth"),
+        ("UCY/zara01", "full", "replay"),
+    ] {
         let out = out_dir(kind);
         let status = Command::new(binary("gapfleet"))
-            .args(["experiment", "eth", "--dataset"])
+            .args(["experiment", command, "--dataset"])
             .arg(dataset(set))
             .args(["--planners", "foigp,igp-diag,igp-lin,dwa,pgp+orca"])
             .args(["--runs", kind, "--limit", "3", "--jobs", "2", "--out"])
@@ -77,7 +82,7 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
 fn bad_input_gets_a_clear_error() {
     let run = |args: &[&str]| {
         let out = Command::new(binary("gapfleet"))
-            .args(["experiment", "eth"])
+            .args(["experiment", "replay"])
             .args(args)
             .output()
             .expect("gapfleet runs");
@@ -105,4 +110,25 @@ fn bad_input_gets_a_clear_error() {
     let err = run(&["--dataset", &eth, "--runs", "some"]);
     assert!(err.contains("partial or full"), "{err}");
     let _ = std::fs::remove_dir_all(&bad);
+}
+
+#[test]
+fn replay_has_help_under_both_names() {
+    for command in ["replay", "eth"] {
+        let out = Command::new(binary("gapfleet"))
+            .args(["experiment", command, "--help"])
+            .output()
+            .expect("gapfleet runs");
+        assert!(out.status.success(), "{command}");
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            help.contains("--dataset") && help.contains("recorded crowd"),
+            "{help}"
+        );
+    }
+    let out = Command::new(binary("gapfleet"))
+        .args(["experiment", "--help"])
+        .output()
+        .expect("gapfleet runs");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("replay"));
 }

@@ -2,14 +2,14 @@
 //! social metrics): a metric against crowd density, one colour per short-term planner, PGP+X
 //! solid and X dashed.
 
-use crate::experiment::{Group, Summary};
+use super::summary::{Group, Summary};
 use plotters::prelude::*;
 use plotters::series::DashedLineSeries;
 use std::path::Path;
 use std::sync::Once;
 
 /// DejaVu Sans (see `assets/DejaVuSans.LICENSE`), bundled so that plots need no system fonts.
-static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 /// A plot could not be drawn or written.

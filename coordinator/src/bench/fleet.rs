@@ -2,13 +2,16 @@
 //! simulation's 10 Hz, messages lost, and a raw Zenoh request/reply round trip measured in the
 //! same run for comparison.
 
-use crate::demo::{DemoOptions, run_demo};
-use crate::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
-use crate::server::RoundTrip;
+use super::BenchError;
+use super::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
+use crate::fleet::RoundTrip;
+use crate::fleet::demo::{DemoOptions, run_demo};
+use agent::planner::{LocalKind, PlannerSpec};
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
-use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
+
+type Result<T> = std::result::Result<T, BenchError>;
 
 /// What `bench fleet` measured.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -53,7 +56,7 @@ pub struct FleetBench {
     /// stealing, %.
     pub steal_percent: Option<f64>,
     /// While the fleet ran: how fast the CPU itself ran (a fixed job timed every 5 ms in its
-    /// own thread's CPU time; see [`crate::machine`]). On a shared VM the host slows the CPU
+    /// own thread's CPU time; see [`super::machine`]). On a shared VM the host slows the CPU
     /// down at times without the steal counter showing it, and round-trip tails follow.
     pub cpu_speed: Option<CpuSpeed>,
     /// Share of the timed run covered by stretches in which the probe found the CPU slow, %.
@@ -76,7 +79,10 @@ pub async fn bench_fleet(
     let (round_trips_tx, round_trips_rx) = std::sync::mpsc::channel();
     let options = DemoOptions {
         scenario,
-        planner: "pgp+orca".parse()?,
+        planner: PlannerSpec {
+            pgp: true,
+            local: LocalKind::Orca,
+        },
         seconds,
         speed: 1.0,
         site: "bench".to_owned(),
@@ -88,7 +94,7 @@ pub async fn bench_fleet(
     // The raw probe runs beside the fleet until the fleet is done.
     let probe = RawProbe::open().await?;
     // The CPU-speed probe runs from before the first observation to after the last command.
-    let speed = CpuSpeedProbe::start().context("CPU-speed probe thread")?;
+    let speed = CpuSpeedProbe::start().map_err(BenchError::Probe)?;
     // It times round trips only once the coordinator ticks (its first status, after about a
     // second), not while a hundred sessions are being opened.
     let (ticking_tx, ticking_rx) = tokio::sync::watch::channel(false);
@@ -110,7 +116,7 @@ pub async fn bench_fleet(
     // CPU time counters from the first status to the last (the part of the run timed).
     let cpu = std::sync::Arc::new(std::sync::Mutex::new((None, None)));
     let cpu_seen = cpu.clone();
-    let on_status = move |s: &crate::server::Status| {
+    let on_status = move |s: &crate::fleet::Status| {
         first_tick_seen.get_or_init(|| Instant::now() - Duration::from_secs_f64(s.sim_time));
         if s.tick > 0 {
             ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));
@@ -128,14 +134,13 @@ pub async fn bench_fleet(
     let speed = speed.finish();
     let wall_seconds = first_tick.get().unwrap_or(&started).elapsed().as_secs_f64();
     let _ = stopper.send(true);
-    let mut during = during.await.context("raw probe task")??;
+    let mut during = during.await??;
     let report = report?;
     let mut idle = probe.run_back_to_back(2000).await?;
     probe.close().await;
-    anyhow::ensure!(
-        !during.is_empty(),
-        "no raw reply came back while the fleet ran"
-    );
+    if during.is_empty() {
+        return Err(BenchError::NoReply("while the fleet ran"));
+    }
     let cpu_speed = speed.summary();
     // Round trips split by whether the CPU may have run slow during them.
     let spans = speed.slow_spans();
@@ -163,10 +168,11 @@ pub async fn bench_fleet(
         }
     }
     let s = &report.status;
-    let shares = match *cpu
+    // A poisoned lock only means a status callback panicked; its counters are still whole.
+    let counters = *cpu
         .lock()
-        .map_err(|_| anyhow::anyhow!("CPU counters poisoned"))?
-    {
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let shares = match counters {
         (Some(first), Some(last)) => first.shares(last),
         _ => None,
     };
@@ -213,19 +219,18 @@ struct RawProbe {
     echo: std::sync::Arc<tokio::task::JoinHandle<()>>,
 }
 
-fn zerr(e: zenoh::Error) -> anyhow::Error {
-    anyhow::anyhow!("raw round trip: {e}")
-}
-
 impl RawProbe {
     async fn open() -> Result<Self> {
-        let endpoint = format!("tcp/127.0.0.1:{}", free_loopback_port()?);
+        let endpoint = format!(
+            "tcp/127.0.0.1:{}",
+            free_loopback_port().map_err(BenchError::Port)?
+        );
         let router = open_loopback(Role::Router, &endpoint).await?;
         let client = open_loopback(Role::Client, &endpoint).await?;
         let queryable = router
             .declare_queryable("gapfleet/bench/echo")
             .await
-            .map_err(zerr)?;
+            .map_err(BenchError::Raw)?;
         let echo = tokio::spawn(async move {
             while let Ok(query) = queryable.recv_async().await {
                 let body = query
@@ -253,7 +258,7 @@ impl RawProbe {
             .payload(payload.to_vec())
             .timeout(Duration::from_secs(1))
             .await
-            .map_err(zerr)?;
+            .map_err(BenchError::Raw)?;
         let mut got = false;
         while let Ok(reply) = replies.recv_async().await {
             got |= reply.result().is_ok();
@@ -268,7 +273,9 @@ impl RawProbe {
         for _ in 0..count {
             times.extend(self.once(&payload).await?);
         }
-        anyhow::ensure!(!times.is_empty(), "no raw reply came back");
+        if times.is_empty() {
+            return Err(BenchError::NoReply("on the idle machine"));
+        }
         Ok(times)
     }
 
@@ -301,82 +308,4 @@ impl RawProbe {
         let _ = self.client.close().await;
         let _ = self.router.close().await;
     }
-}
-
-/// What `bench dashboard` measured: a coordinator tick (world step, task progress and every
-/// robot's observation) with and without the Rerun dashboard attached.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct DashboardBench {
-    /// Robots.
-    pub robots: usize,
-    /// People.
-    pub humans: usize,
-    /// Ticks timed per variant.
-    pub ticks: usize,
-    /// Median tick without a dashboard (µs).
-    pub without_us: f64,
-    /// Median tick with the dashboard recording to an .rrd file (µs).
-    pub with_us: f64,
-    /// (with − without) / without.
-    pub overhead: f64,
-    /// Frames the dashboard dropped (its thread fell behind).
-    pub dropped: u64,
-}
-
-/// Times `ticks` coordinator ticks of `scenario` without, then with, a dashboard writing to
-/// `rrd`. Robots are parked so both variants do identical simulation work.
-pub fn bench_dashboard(
-    scenario: &world_sim::scenario::Scenario,
-    ticks: usize,
-    rrd: &std::path::Path,
-) -> Result<DashboardBench> {
-    use crate::server::{Observer, Status, observation};
-    use world_sim::fleet::Fleet;
-    let time = |with: bool| -> Result<(f64, u64)> {
-        let mut fleet = Fleet::new(scenario)?;
-        let park = vec![agent::model::Command::STOP; fleet.robots()];
-        let mut observer = if with {
-            let sinks = dashboards::Sinks {
-                rrd: Some(rrd.to_path_buf()),
-                ..Default::default()
-            };
-            Some(crate::dashboard::DashboardObserver::start(
-                &fleet, &sinks, "parked",
-            )?)
-        } else {
-            None
-        };
-        let mut status = Status {
-            robots: fleet.robots(),
-            ..Status::default()
-        };
-        let mut times = Vec::with_capacity(ticks);
-        for tick in 0..ticks + 20 {
-            let started = Instant::now();
-            let mut events = fleet.step(&park);
-            events.extend(fleet.dispatch());
-            for i in 0..fleet.robots() {
-                std::hint::black_box(schemas::encode(&observation(&mut fleet, i, tick as u64)));
-            }
-            status.tick = tick as u64;
-            status.sim_time = fleet.world.time;
-            observer.tick(&fleet, &status, &events);
-            if tick >= 20 {
-                times.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
-            }
-        }
-        let dropped = observer.map_or(0, |o| o.finish().dropped);
-        Ok((percentile(&mut times, 0.5), dropped))
-    };
-    let (without_us, _) = time(false)?;
-    let (with_us, dropped) = time(true)?;
-    Ok(DashboardBench {
-        robots: scenario.warehouse.map_or(0, |w| w.robots),
-        humans: scenario.warehouse.map_or(0, |w| w.humans),
-        ticks,
-        without_us,
-        with_us,
-        overhead: (with_us - without_us) / without_us,
-        dropped,
-    })
 }

@@ -14,9 +14,10 @@
 //! it ripple); bodies are kept farther off by the force itself. The error against the point
 //! sum is measured in the tests and in `world-sim/README.md`.
 
-use super::{ObstacleForceParams, ObstaclePoints};
-use crate::fastmath::{self, LANES};
-use crate::math::{Real, Vec2, vec2};
+use super::walls::Walls;
+use agent::fastmath::{self, LANES};
+use agent::math::{Real, Vec2, bounds, vec2};
+use agent::social_force::ObstacleForceParams;
 
 /// The obstacle potential of a set of wall points tabulated on a square grid, for one body
 /// radius and one set of [`ObstacleForceParams`].
@@ -44,18 +45,13 @@ impl WallField {
     ///
     /// # Panics
     /// If `spacing` is not positive and finite.
-    pub fn build(
-        points: &ObstaclePoints,
-        radius: Real,
-        params: &ObstacleForceParams,
-        spacing: Real,
-    ) -> Self {
+    pub fn build(walls: &Walls, radius: Real, params: &ObstacleForceParams, spacing: Real) -> Self {
         assert!(
             spacing.is_finite() && spacing > 0.0,
             "wall field spacing must be positive, got {spacing}"
         );
         let reach = params.threshold + 2.0 * radius;
-        let (mut min, mut max) = crate::math::bounds(&points.points);
+        let (mut min, mut max) = bounds(walls.points().points());
         let margin = reach + spacing;
         min -= vec2(margin, margin);
         max += vec2(margin, margin);
@@ -63,7 +59,7 @@ impl WallField {
         let rows = ((max.y - min.y) / spacing).ceil() as usize + 1;
         let mut corners = Vec::with_capacity(cols * rows);
         pulp::Arch::new().dispatch(BuildCorners {
-            points,
+            walls,
             radius,
             params,
             spacing,
@@ -139,7 +135,7 @@ impl WallField {
 
 /// The table's corners, summed by vector code.
 struct BuildCorners<'a> {
-    points: &'a ObstaclePoints,
+    walls: &'a Walls,
     radius: Real,
     params: &'a ObstacleForceParams,
     spacing: Real,
@@ -158,19 +154,17 @@ impl pulp::WithSimd for BuildCorners<'_> {
         let reach = threshold + self.radius;
         let inv_sigma = 1.0 / self.params.sigma;
         let (sigma, r, h) = (self.params.sigma, self.radius, self.spacing);
-        let all = [(0, (self.points.xs.len() / LANES) as u32)];
+        let all = [(0, self.walls.points().blocks())];
+        let (xs, ys) = self.walls.points().columns();
         for row in 0..self.rows {
             for col in 0..self.cols {
                 let pos = self.min + vec2(col as Real, row as Real) * h;
-                let runs = match &self.points.index {
-                    Some(index) if reach <= index.reach => index.runs_at(pos),
-                    _ => &all,
-                };
+                let runs = self.walls.runs_near(pos, reach, &all);
                 let mut sums = [[0.0; LANES]; 4];
                 for &(first, end) in runs {
                     let (first, end) = (first as usize * LANES, end as usize * LANES);
-                    let xs = self.points.xs[first..end].chunks_exact(LANES);
-                    let ys = self.points.ys[first..end].chunks_exact(LANES);
+                    let xs = xs[first..end].chunks_exact(LANES);
+                    let ys = ys[first..end].chunks_exact(LANES);
                     for (xs, ys) in xs.zip(ys) {
                         for l in 0..LANES {
                             let (dx, dy) = (pos.x - xs[l], pos.y - ys[l]);

@@ -2,7 +2,7 @@
 //! visited in a fixed order (cells row by row, ascending index within a cell), so results that
 //! sum over neighbours are deterministic.
 
-use crate::math::{Real, Vec2};
+use agent::math::{Real, Vec2};
 
 /// Points bucketed into square cells.
 #[derive(Debug, Clone, Default)]
@@ -30,7 +30,7 @@ impl PointGrid {
     /// every item within `cell`.
     pub fn build(&mut self, points: &[Vec2], cell: Real) {
         debug_assert!(cell > 0.0);
-        let (min, max) = crate::math::bounds(points);
+        let (min, max) = agent::math::bounds(points);
         let extent = max - min;
         let limit = (CELLS_PER_ITEM * points.len()).max(CELLS_FLOOR) as Real;
         // (w/c + 1)(h/c + 1) ≤ 2·limit + 1 for c ≥ √(w·h/limit) and c ≥ (w + h)/limit.
@@ -134,7 +134,7 @@ impl PointGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::vec2;
+    use agent::math::vec2;
     use proptest::prelude::*;
 
     proptest! {

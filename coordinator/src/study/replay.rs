@@ -1,12 +1,14 @@
-//! `gapfleet experiment eth`: planners in recorded pedestrians' places (the foIGP paper's
+//! `gapfleet experiment replay`: planners in recorded pedestrians' places (the foIGP paper's
 //! protocol, Sec. 7; see `world_sim::replay`), run in parallel, summarised like the paper's
 //! Tables 1 and 2. Replan times are the only wall-clock figures; everything else is a function
 //! of the recording and the planners.
 
+use super::StudyError;
+use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
 use agent::map::StaticMap;
 use agent::planner::{PlannerSpec, PlannerStack};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
@@ -112,42 +114,69 @@ impl ReplayStudy {
     }
 }
 
+/// One line of `runs.csv`: a planner (or the human) on one run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct RunRecord {
+    planner: String,
+    pedestrian: u64,
+    segment: usize,
+    #[serde(with = "fixed1")]
+    t_start_s: f64,
+    #[serde(with = "fixed1")]
+    t_end_s: f64,
+    reached: bool,
+    #[serde(with = "fixed4")]
+    s_m: f64,
+    #[serde(with = "fixed4")]
+    path_m: f64,
+    #[serde(with = "fixed4")]
+    human_path_m: f64,
+    /// d_r / d_h.
+    #[serde(with = "fixed4")]
+    ratio: f64,
+    #[serde(with = "fixed1")]
+    duration_s: f64,
+    #[serde(with = "fixed4")]
+    mean_density: f64,
+    #[serde(with = "fixed4")]
+    max_density: f64,
+    replans: usize,
+    /// Wall time per replanning step (s); empty without replans.
+    #[serde(with = "fixed6_or_empty")]
+    mean_replan_s: Option<f64>,
+    closest_pedestrian: Option<u64>,
+    #[serde(with = "fixed1_or_empty")]
+    closest_t_s: Option<f64>,
+}
+
+impl From<&ReplayRow> for RunRecord {
+    fn from(r: &ReplayRow) -> Self {
+        let o = &r.outcome;
+        Self {
+            planner: r.planner.clone(),
+            pedestrian: r.run.pedestrian,
+            segment: r.run.segment,
+            t_start_s: r.run.t_start,
+            t_end_s: r.run.t_end,
+            reached: o.reached,
+            s_m: o.min_distance_m,
+            path_m: o.path_m,
+            human_path_m: o.human_path_m,
+            ratio: o.path_ratio(),
+            duration_s: o.duration_s,
+            mean_density: o.mean_density,
+            max_density: o.max_density,
+            replans: o.replans,
+            mean_replan_s: (o.replans > 0).then(|| r.planning_s / o.replans as f64),
+            closest_pedestrian: o.closest.map(|c| c.0),
+            closest_t_s: o.closest.map(|c| c.1),
+        }
+    }
+}
+
 /// `runs.csv`: one line per (planner, run).
 pub fn runs_csv(rows: &[ReplayRow]) -> String {
-    let mut out = String::from(
-        "planner,pedestrian,segment,t_start_s,t_end_s,reached,s_m,path_m,human_path_m,ratio,\
-         duration_s,mean_density,max_density,replans,mean_replan_s,closest_pedestrian,closest_t_s\n",
-    );
-    for r in rows {
-        let o = &r.outcome;
-        let replan = if o.replans > 0 {
-            format!("{:.6}", r.planning_s / o.replans as f64)
-        } else {
-            String::new()
-        };
-        let _ = writeln!(
-            out,
-            "{},{},{},{:.1},{:.1},{},{:.4},{:.4},{:.4},{:.4},{:.1},{:.4},{:.4},{},{},{},{}",
-            r.planner,
-            r.run.pedestrian,
-            r.run.segment,
-            r.run.t_start,
-            r.run.t_end,
-            o.reached,
-            o.min_distance_m,
-            o.path_m,
-            o.human_path_m,
-            o.path_ratio(),
-            o.duration_s,
-            o.mean_density,
-            o.max_density,
-            o.replans,
-            replan,
-            o.closest.map_or(String::new(), |c| c.0.to_string()),
-            o.closest.map_or(String::new(), |c| format!("{:.1}", c.1)),
-        );
-    }
-    out
+    super::csv_fields::to_csv(rows.iter().map(RunRecord::from))
 }
 
 /// One row of the paper's tables, keyed as `table.json` spells it.
@@ -190,10 +219,10 @@ pub struct TableRow {
 
 /// Mean and standard deviation (population), through `stats::mean`; NaN for no values.
 fn mean_sd(values: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
-    let Some(mean) = crate::stats::mean(values.clone()) else {
+    let Some(mean) = super::stats::mean(values.clone()) else {
         return (f64::NAN, f64::NAN);
     };
-    let var = crate::stats::mean(values.map(|v| (v - mean).powi(2))).unwrap_or(f64::NAN);
+    let var = super::stats::mean(values.map(|v| (v - mean).powi(2))).unwrap_or(f64::NAN);
     (mean, var.sqrt())
 }
 
@@ -290,30 +319,41 @@ pub fn table_markdown(table: &[TableRow]) -> String {
     out
 }
 
+/// `table.json`: the dataset, the kind of runs and the table.
+#[derive(Debug, Serialize)]
+struct TableFile<'a> {
+    dataset: &'a str,
+    runs: String,
+    rows: &'a [TableRow],
+}
+
 /// Writes `runs.csv`, `table.json`, `table.md` and `safety_vs_path.png` into `out`.
 pub fn write_outputs(
     out: &Path,
     study: &ReplayStudy,
     rows: &[ReplayRow],
-) -> std::io::Result<Vec<TableRow>> {
-    std::fs::create_dir_all(out)?;
-    std::fs::write(out.join("runs.csv"), runs_csv(rows))?;
+) -> Result<Vec<TableRow>, StudyError> {
+    std::fs::create_dir_all(out).map_err(StudyError::io(out))?;
+    let path = out.join("runs.csv");
+    std::fs::write(&path, runs_csv(rows)).map_err(StudyError::io(&path))?;
     let table = table(rows, &study.planners);
-    let json = serde_json::json!({
-        "dataset": study.recording.name,
-        "runs": study.kind.to_string(),
-        "rows": table,
-    });
-    let text = serde_json::to_string_pretty(&json).map_err(std::io::Error::other)?;
-    std::fs::write(out.join("table.json"), text + "\n")?;
+    let file = TableFile {
+        dataset: &study.recording.name,
+        runs: study.kind.to_string(),
+        rows: &table,
+    };
+    // Through a JSON value, whose keys are in alphabetical order at every level.
+    let sorted = serde_json::to_value(&file).expect("the table serialises to JSON");
+    super::write_json(&out.join("table.json"), &sorted)?;
     let md = format!(
         "# {} — {} runs\n\n{}",
         study.recording.name,
         study.kind,
         table_markdown(&table)
     );
-    std::fs::write(out.join("table.md"), md)?;
-    let points: Vec<crate::plots::ReplayPoints<'_>> = table
+    let path = out.join("table.md");
+    std::fs::write(&path, md).map_err(StudyError::io(&path))?;
+    let points: Vec<super::plots::ReplayPoints<'_>> = table
         .iter()
         .filter(|t| t.planner != HUMAN)
         .map(|t| {
@@ -333,8 +373,7 @@ pub fn write_outputs(
         "{} — {} runs: safety vs path length (cf. foIGP paper Figs. 5c/6c)",
         study.recording.name, study.kind
     );
-    crate::plots::write_replay_figure(&out.join("safety_vs_path.png"), &title, &points, &human_s)
-        .map_err(std::io::Error::other)?;
+    super::plots::write_replay_figure(&out.join("safety_vs_path.png"), &title, &points, &human_s)?;
     Ok(table)
 }
 

@@ -1,10 +1,12 @@
 """Generate Social Force reference trajectories with PySocialForce 1.1.2.
 
-Writes agent/tests/fixtures/pysf_<scene>_<params>.json, read by
-agent/tests/pysocialforce_crosscheck.rs.
+Writes world-sim/tests/fixtures/pysf_<scene>_<params>.json, read by
+world-sim/tests/pysocialforce_crosscheck.rs. (The committed fixtures were generated before the
+crowd moved from agent to world-sim, so their "generator" field names this script's old path,
+agent/tests/reference/; they are kept byte for byte as generated.)
 
     python -m venv .venv && .venv/bin/pip install pysocialforce==1.1.2
-    .venv/bin/python agent/tests/reference/pysocialforce_fixtures.py
+    .venv/bin/python world-sim/tests/reference/pysocialforce_fixtures.py
 
 Parameter sets:
   default  PySocialForce's default.toml (the simulated humans).
@@ -111,7 +113,7 @@ def run(scene, params):
     fixture = {
         "scene": scene,
         "params": params,
-        "generator": "agent/tests/reference/pysocialforce_fixtures.py with pysocialforce 1.1.2",
+        "generator": "world-sim/tests/reference/pysocialforce_fixtures.py with pysocialforce 1.1.2",
         "step_width": STEP_WIDTH,
         "lambda_importance": PARAMS[params]["lam"],
         "n": PARAMS[params]["n"],

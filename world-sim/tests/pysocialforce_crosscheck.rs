@@ -6,8 +6,10 @@
 //! ≤ 2e-15 m).
 
 use agent::math::{Vec2, vec2};
-use agent::social_force::{Crowd, ObstaclePoints, SfParams};
+use agent::obstacle_points::ObstaclePoints;
+use agent::social_force::SfParams;
 use serde::Deserialize;
+use world_sim::crowd::{Crowd, Walls};
 
 /// Largest allowed position difference (m) at any step.
 const TOLERANCE_M: f64 = 1e-12;
@@ -38,12 +40,12 @@ fn replay(scene: &str, params: &str) -> f64 {
     p.social.lambda_importance = f.lambda_importance;
     p.social.n = f.n;
     // PySocialForce's obstacle tuples are (x1, x2, y1, y2).
-    let obstacles = ObstaclePoints::from_segments(
+    let obstacles = Walls::from(ObstaclePoints::from_segments(
         f.obstacles
             .iter()
             .map(|o| (vec2(o[0], o[2]), vec2(o[1], o[3]))),
         p.resolution,
-    );
+    ));
     let column = |a: usize, b: usize| {
         f.initial
             .iter()

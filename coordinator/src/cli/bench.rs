@@ -1,0 +1,303 @@
+//! `gapfleet bench`: how fast things run on this machine, printed as text or one JSON object.
+
+use super::{Overrides, ScenarioRef, density, init_logging, positive, runtime};
+use anyhow::{Result, bail};
+use clap::Subcommand;
+use clap::builder::TypedValueParser as _;
+use coordinator::bench::fleet::FleetBench;
+use coordinator::bench::machine::{CpuSpeedProbe, CpuTimes};
+use coordinator::bench::world::bench_world;
+use std::path::PathBuf;
+use world_sim::scenario::{Scenario, WallModel};
+
+/// A count of at least one.
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(0) => Err("must be at least 1".to_owned()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// The fleet's own sizes for the dashboard and fleet benchmarks.
+fn warehouse_large(robots: usize, humans: usize) -> Result<Scenario> {
+    let large: ScenarioRef = "warehouse-large".parse()?;
+    large.warehouse(Overrides {
+        robots: Some(robots),
+        humans: Some(humans),
+        seed: None,
+    })
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Bench {
+    /// How steadily this machine's CPU runs, with nothing else of gapfleet's running: a fixed
+    /// job timed every 5 ms in its own thread CPU time. On a shared VM the host slows the CPU
+    /// down at times (often unseen by the steal counter), and latency tails follow.
+    Cpu {
+        /// Seconds to sample.
+        #[arg(long, default_value_t = 20.0, value_parser = positive)]
+        seconds: f64,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// A coordinator tick with and without the Rerun dashboard (recording to an .rrd file).
+    Dashboard {
+        /// Robots (parked).
+        #[arg(long, default_value_t = 100, value_parser = at_least_one)]
+        robots: usize,
+        /// People.
+        #[arg(long, default_value_t = 1000)]
+        humans: usize,
+        /// Ticks timed per variant (after 20 warm-up ticks).
+        #[arg(long, default_value_t = 300, value_parser = at_least_one)]
+        ticks: usize,
+        /// Where the recording goes.
+        #[arg(long, default_value = "target/bench-dashboard.rrd")]
+        rrd: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Observation → command round trip of a live fleet over Zenoh (loopback, one session per
+    /// agent), messages lost, and a raw Zenoh request/reply round trip for comparison.
+    Fleet {
+        /// Agents (robots).
+        #[arg(long, default_value_t = 100, value_parser = at_least_one)]
+        agents: usize,
+        /// People (0 measures the fleet's transport and planning alone).
+        #[arg(long, default_value_t = 0)]
+        humans: usize,
+        /// Seconds to run (real time, 10 Hz).
+        #[arg(long, default_value_t = 30.0, value_parser = positive)]
+        seconds: f64,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// World steps per second: people walking (robots parked, planners not included).
+    World {
+        /// `open-space` (sized to --density), or a warehouse scenario (built-in name or file;
+        /// --density is then ignored).
+        #[arg(long, default_value = "open-space")]
+        scenario: ScenarioRef,
+        /// Number of people.
+        #[arg(long, default_value_t = 1000, value_parser = at_least_one)]
+        humans: usize,
+        /// People per m² (the stage is sized to fit them).
+        #[arg(long, default_value_t = 0.3, value_parser = density)]
+        density: f64,
+        /// Steps to time (after 20 warm-up steps).
+        #[arg(long, default_value_t = 500, value_parser = at_least_one)]
+        steps: usize,
+        /// How walls push people: `points` (PySocialForce) or `field` (the same force read from
+        /// a table built at set-up; see world-sim/README.md). Overrides the scenario's.
+        #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(["points", "field"])
+            .try_map(|name| name.parse::<WallModel>()))]
+        walls: Option<WallModel>,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+impl Bench {
+    /// Runs the benchmark and prints what it measured.
+    pub fn run(self) -> Result<()> {
+        match self {
+            Bench::Cpu { seconds, json } => cpu(seconds, json),
+            Bench::Dashboard {
+                robots,
+                humans,
+                ticks,
+                rrd,
+                json,
+            } => {
+                let scenario = warehouse_large(robots, humans)?;
+                let b = coordinator::bench::dashboard::bench_dashboard(&scenario, ticks, &rrd)?;
+                if json {
+                    println!("{}", serde_json::to_string(&b)?);
+                } else {
+                    println!(
+                        "{} robots, {} people, {} ticks: median tick {:.0} µs without dashboard, {:.0} µs with (.rrd): overhead {:.1} %, {} frames dropped",
+                        b.robots,
+                        b.humans,
+                        b.ticks,
+                        b.without_us,
+                        b.with_us,
+                        b.overhead * 100.0,
+                        b.dropped
+                    );
+                }
+                Ok(())
+            }
+            Bench::Fleet {
+                agents,
+                humans,
+                seconds,
+                json,
+            } => {
+                init_logging("warn");
+                let scenario = warehouse_large(agents, humans)?;
+                let b = runtime()?.block_on(coordinator::bench::fleet::bench_fleet(
+                    scenario, agents, humans, seconds,
+                ))?;
+                print_fleet(&b, json)
+            }
+            Bench::World {
+                scenario,
+                humans,
+                density,
+                steps,
+                walls,
+                json,
+            } => world(&scenario, humans, density, steps, walls, json),
+        }
+    }
+}
+
+/// `bench cpu`: the CPU-speed probe alone.
+fn cpu(seconds: f64, json: bool) -> Result<()> {
+    let before = CpuTimes::now();
+    let probe = CpuSpeedProbe::start()?;
+    std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
+    let steal = before
+        .zip(CpuTimes::now())
+        .and_then(|(a, b)| a.shares(b))
+        .map(|s| s.1);
+    let Some(c) = probe.finish().summary() else {
+        bail!("the probe timed no job in {seconds} s");
+    };
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({ "cpu_speed": c, "steal_percent": steal })
+        );
+    } else {
+        println!(
+            "{} jobs of {:.0} us: {:.1}% took over twice as long, the slowest {:.1}x; \
+             steal reported by the hypervisor {}",
+            c.samples,
+            c.nominal_us,
+            c.slow_percent,
+            c.worst_slowdown,
+            steal.map_or("unknown".to_owned(), |s| format!("{s:.1}%"))
+        );
+    }
+    Ok(())
+}
+
+/// `bench world`: an open stage sized for `humans` at `density`, or a warehouse with
+/// `humans` people.
+fn world(
+    scenario: &ScenarioRef,
+    humans: usize,
+    density: f64,
+    steps: usize,
+    walls: Option<WallModel>,
+    json: bool,
+) -> Result<()> {
+    // The open stage is sized to the density; a warehouse keeps its floor and takes the count.
+    let mut s = if scenario.name == "open-space" {
+        Scenario::sized_for(humans, density)?
+    } else {
+        scenario.warehouse(Overrides {
+            humans: Some(humans),
+            ..Overrides::default()
+        })?
+    };
+    if let Some(walls) = walls {
+        s.humans.walls = walls;
+    }
+    let b = bench_world(&scenario.name, &s, steps);
+    if json {
+        println!("{}", serde_json::to_string(&b)?);
+    } else {
+        println!(
+            "{}: {} people at {:.2}/m², walls = {}, {} steps: median {:.1} µs/step, mean {:.1} µs/step, {:.0} steps/s (set-up {:.2} s)",
+            b.scenario,
+            b.humans,
+            b.density,
+            b.walls,
+            b.steps,
+            b.median_us_per_step,
+            b.mean_us_per_step,
+            b.steps_per_s,
+            b.set_up_s
+        );
+    }
+    Ok(())
+}
+
+/// `bench fleet`'s report.
+fn print_fleet(b: &FleetBench, json: bool) -> Result<()> {
+    if json {
+        println!("{}", serde_json::to_string(b)?);
+    } else {
+        println!(
+            "{} agents, {} people, {} simulated s at 10 Hz in {:.1} wall s: {} observations, {} answered, {} lost\n\
+         observation -> command round trip: p50 {:.2} ms, p99 {:.2} ms (worst agent's planning p99 {:.2} ms)\n\
+         raw Zenoh get/reply ({} B) while the fleet ran ({} samples): p50 {:.3} ms, p99 {:.3} ms; ratio p50 {:.1}x, p99 {:.1}x\n\
+         raw Zenoh get/reply on the idle machine afterwards: p50 {:.3} ms, p99 {:.3} ms; ratio p50 {:.1}x, p99 {:.1}x",
+            b.agents,
+            b.humans,
+            b.seconds,
+            b.wall_seconds,
+            b.observations,
+            b.answered,
+            b.lost,
+            b.round_trip_p50_ms,
+            b.round_trip_p99_ms,
+            b.planner_p99_us / 1000.0,
+            b.raw_payload_bytes,
+            b.raw_samples,
+            b.raw_zenoh_p50_ms,
+            b.raw_zenoh_p99_ms,
+            b.round_trip_p50_ms / b.raw_zenoh_p50_ms,
+            b.round_trip_p99_ms / b.raw_zenoh_p99_ms,
+            b.raw_idle_p50_ms,
+            b.raw_idle_p99_ms,
+            b.round_trip_p50_ms / b.raw_idle_p50_ms,
+            b.round_trip_p99_ms / b.raw_idle_p99_ms,
+        );
+        if let (Some(process), Some(steal)) = (b.process_cpu_percent, b.steal_percent) {
+            println!(
+                "the machine while the fleet ran: this process used {process:.1}% of all \
+     cores' CPU time; steal reported by the hypervisor {steal:.1}%"
+            );
+            if steal >= 1.0 {
+                println!(
+                    "note: the hypervisor gave {steal:.1}% of the CPU time to others; \
+         latencies measured now measure the host (the probe below cannot see \
+         stolen time)"
+                );
+            }
+        }
+        if let Some(c) = b.cpu_speed {
+            println!(
+                "CPU-speed probe ({} jobs of {:.0} us, in thread CPU time, every 5 ms): \
+     {:.1}% took over twice as long (the slowest {:.1}x); the CPU may have run \
+     slow for {:.1}% of the run",
+                c.samples, c.nominal_us, c.slow_percent, c.worst_slowdown, b.slow_cpu_time_percent
+            );
+            let share = 100.0 * b.round_trips_in_slow_cpu as f64 / b.answered.max(1) as f64;
+            println!(
+                "round trips overlapping those stretches: {} of {} ({share:.1}%); p99 of \
+     the other {}: {}",
+                b.round_trips_in_slow_cpu,
+                b.answered,
+                b.answered.saturating_sub(b.round_trips_in_slow_cpu),
+                b.round_trip_p99_clear_ms
+                    .map_or("-".to_owned(), |p| format!("{p:.2} ms")),
+            );
+            if share > 1.0 {
+                println!(
+                    "note: over 1% of the round trips overlapped slow CPU, so the p99 above \
+         measures the host as much as gapfleet (coordinator/README.md)"
+                );
+            }
+        }
+    }
+    Ok(())
+}

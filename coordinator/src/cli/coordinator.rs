@@ -1,0 +1,122 @@
+//! `gapfleet coordinator`: the warehouse world served to `gapfleet-agent` processes over Zenoh.
+
+use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime};
+use agent::runtime::net::{NetArgs, Role, config};
+use anyhow::Result;
+use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
+use coordinator::fleet::demo::status_line;
+use coordinator::fleet::{CoordinatorConfig, Event, Status, run_coordinator};
+use world_sim::fleet::Fleet;
+
+/// `gapfleet coordinator`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct CoordinatorArgs {
+    /// Built-in warehouse scenario or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    scenario: ScenarioRef,
+    /// Override the scenario's robot count.
+    #[arg(long)]
+    robots: Option<usize>,
+    /// Override the scenario's people count.
+    #[arg(long)]
+    humans: Option<usize>,
+    /// Override the scenario's seed.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Simulated seconds per wall second.
+    #[arg(long, default_value_t = 1.0, value_parser = positive)]
+    speed: f64,
+    /// Stop after this many simulated seconds (default: run until SIGINT/SIGTERM).
+    #[arg(long, value_parser = positive)]
+    seconds: Option<f64>,
+    /// Site name.
+    #[arg(long, default_value = "demo")]
+    site: String,
+    /// Do not put other robots' intents into observations.
+    #[arg(long)]
+    no_intent_sharing: bool,
+    #[command(flatten)]
+    net: NetArgs,
+    #[command(flatten)]
+    rerun: RerunArgs,
+}
+
+impl CoordinatorArgs {
+    /// Serves the fleet until the time is up or SIGINT/SIGTERM.
+    pub fn run(self) -> Result<()> {
+        init_logging("info,zenoh=warn");
+        let scenario = self.scenario.warehouse(Overrides {
+            robots: self.robots,
+            humans: self.humans,
+            seed: self.seed,
+        })?;
+        let mut net = self.net.clone();
+        if net.listen.is_empty() && net.connect.is_empty() && net.zenoh_config.is_none() {
+            net.listen.push("tcp/127.0.0.1:7447".to_owned());
+        }
+        let mut fleet = Fleet::new(&scenario)?;
+        fleet.share_intents = !self.no_intent_sharing;
+        let mut config_ = CoordinatorConfig::new(&self.site);
+        config_.speed = self.speed;
+        config_.seconds = self.seconds;
+        runtime()?.block_on(async {
+            let session = zenoh::open(config(&net, Role::Router)?)
+                .await
+                .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
+            eprintln!(
+                "gapfleet coordinator: site {:?}, {} robots, {} people, listening {:?} connecting {:?}",
+                self.site,
+                fleet.robots(),
+                fleet.world.humans.crowd.len(),
+                net.listen,
+                net.connect
+            );
+            let mut seen_events = 0;
+            let log = |status: &Status, _: &Fleet| {
+                for event in &status.events[seen_events..] {
+                    if !matches!(event, Event::TaskDone { .. }) {
+                        eprintln!("event: {event:?}");
+                    }
+                }
+                seen_events = status.events.len();
+                eprintln!("{}", status_line(status));
+            };
+            let sinks = self.rerun.sinks();
+            let dashboard = if sinks.any() {
+                fleet.measure_human_impact(HUMAN_IMPACT_WINDOW_S);
+                let d = DashboardObserver::start(&fleet, &sinks, "agent")?;
+                if let Some(url) = d.web_url() {
+                    eprintln!("dashboard: open {url}");
+                }
+                Some(d)
+            } else {
+                None
+            };
+            let mut observers = (log, dashboard);
+            let status = run_coordinator(
+                &session,
+                fleet,
+                config_,
+                agent::runtime::shutdown_signal(),
+                &mut observers,
+            )
+            .await?;
+            if let Some(d) = observers.1 {
+                let stats = d.finish();
+                eprintln!(
+                    "dashboard: {} frames logged, {} dropped",
+                    stats.logged, stats.dropped
+                );
+            }
+            eprintln!(
+                "stopped after {:.1} simulated seconds, {} tasks done",
+                status.sim_time, status.tasks_done
+            );
+            session
+                .close()
+                .await
+                .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
+            Ok(())
+        })
+    }
+}

@@ -1,0 +1,109 @@
+//! `gapfleet demo`: a coordinator and one agent per robot in one process.
+
+use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime};
+use agent::planner::PlannerSpec;
+use anyhow::Result;
+use coordinator::fleet::demo::{DemoOptions, run_demo, status_line, summary};
+use std::io::IsTerminal;
+use world_sim::scenario::Scenario;
+
+/// `gapfleet demo`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct DemoArgs {
+    /// Robots, one agent each [default: the scenario's; 8 in the built-in warehouse].
+    #[arg(long)]
+    robots: Option<usize>,
+    /// People [default: the scenario's; 40 in the built-in warehouse].
+    #[arg(long)]
+    humans: Option<usize>,
+    /// Simulated seconds.
+    #[arg(long, default_value_t = 60.0, value_parser = positive)]
+    seconds: f64,
+    /// Seed of the world [default: the scenario's; 1 in the built-in warehouse].
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Planner stack of every agent.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: PlannerSpec,
+    /// Simulated seconds per wall second.
+    #[arg(long, default_value_t = 1.0, value_parser = positive)]
+    speed: f64,
+    /// Built-in warehouse scenario or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    scenario: ScenarioRef,
+    /// Where the coordinator listens (default: a free port on 127.0.0.1), e.g. to attach a
+    /// Python client: tcp/127.0.0.1:7447.
+    #[arg(long)]
+    listen: Option<String>,
+    /// Site name.
+    #[arg(long, default_value = "demo")]
+    site: String,
+    /// Do not put other robots' intents into observations.
+    #[arg(long)]
+    no_intent_sharing: bool,
+    #[command(flatten)]
+    rerun: RerunArgs,
+}
+
+impl DemoArgs {
+    /// The warehouse to run: the scenario with the counts and seed given on the command line.
+    pub fn scenario(&self) -> Result<Scenario> {
+        self.scenario.warehouse(Overrides {
+            robots: self.robots,
+            humans: self.humans,
+            seed: self.seed,
+        })
+    }
+
+    /// Runs the demo, printing a live status line and the final metrics table.
+    pub fn run(self) -> Result<()> {
+        init_logging("warn");
+        let scenario = self.scenario()?;
+        let (robots, humans) = scenario
+            .warehouse
+            .as_ref()
+            .map_or((0, 0), |w| (w.robots, w.humans));
+        if !self.planner.avoids_static_obstacles() {
+            eprintln!(
+                "warning: {} does not see shelves or walls (the foIGP paper models people only); \
+                 robots will drive into them",
+                self.planner
+            );
+        }
+        let options = DemoOptions {
+            scenario,
+            planner: self.planner,
+            seconds: self.seconds,
+            speed: self.speed,
+            site: self.site,
+            listen: self.listen,
+            share_intents: !self.no_intent_sharing,
+            sinks: self.rerun.sinks(),
+            round_trips: None,
+        };
+        eprintln!(
+            "gapfleet demo: {robots} robots ({}), {humans} people, {} s at {}x; Ctrl-C stops early",
+            self.planner, self.seconds, self.speed
+        );
+        let tty = std::io::stderr().is_terminal();
+        let mut printed = 0u64;
+        let report = runtime()?.block_on(run_demo(
+            options,
+            agent::runtime::shutdown_signal(),
+            |status| {
+                printed += 1;
+                if tty {
+                    eprint!("\r{}", status_line(status));
+                } else if printed.is_multiple_of(5) {
+                    eprintln!("{}", status_line(status));
+                }
+            },
+            |url| eprintln!("dashboard: open {url}"),
+        ))?;
+        if tty {
+            eprintln!();
+        }
+        println!("{}", summary(&report, self.planner));
+        Ok(())
+    }
+}

@@ -1,0 +1,272 @@
+//! `gapfleet experiment`: the studies, run in-process on all cores with a progress bar.
+
+use super::{Overrides, ScenarioRef, density, positive};
+use agent::planner::PlannerSpec;
+use anyhow::{Context, Result, bail};
+use clap::Subcommand;
+use coordinator::study::intent_sharing::{IntentSharingStudy, report};
+use coordinator::study::open_space::{StudyPlan, parse_runs_csv, write_outputs, write_summary};
+use coordinator::study::replay::{ReplayStudy, table_markdown};
+use coordinator::study::{with_progress, write_json};
+use std::path::PathBuf;
+use std::time::Instant;
+use world_sim::dataset::Recording;
+use world_sim::replay::{ReplayOptions, RunKind, map_of, median_speed};
+use world_sim::scenario::Scenario;
+
+/// The studies.
+#[derive(Debug, Subcommand)]
+pub enum Experiment {
+    /// The PGP paper's open-space study: algorithms × densities × seeds.
+    OpenSpace(OpenSpaceArgs),
+    /// The same warehouse seeds with robots sharing intents and without: robot–robot near
+    /// misses and collisions, in-process.
+    IntentSharing(IntentSharingArgs),
+    /// The foIGP paper's protocol on a recorded crowd (OpenTraj obsmat.txt format: ETH, UCY,
+    /// …): each planner in turn takes a pedestrian's place among the others as recorded.
+    #[command(alias = "eth")]
+    Replay(ReplayArgs),
+    /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
+    Summarize {
+        /// The study's output folder.
+        #[arg(long, default_value = "results/open-space")]
+        dir: PathBuf,
+    },
+}
+
+/// `experiment open-space`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct OpenSpaceArgs {
+    /// Planners, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "dwa,orca,sf,pgp+dwa,pgp+orca,pgp+sf"
+    )]
+    algorithms: Vec<PlannerSpec>,
+    /// People per m², comma-separated, each in (0, 3].
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.01,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,1.0",
+        value_parser = density
+    )]
+    densities: Vec<f64>,
+    /// Seeds per (algorithm, density): 1..=N, the same for every algorithm.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder for runs.csv and summary.json.
+    #[arg(long, default_value = "results/open-space")]
+    out: PathBuf,
+    /// A built-in scenario name or a scenario file to start from.
+    #[arg(long, default_value = "open-space")]
+    scenario: ScenarioRef,
+}
+
+/// `experiment intent-sharing`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct IntentSharingArgs {
+    /// Seeds 1..=N.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Simulated seconds per run.
+    #[arg(long, default_value_t = 300.0, value_parser = positive)]
+    seconds: f64,
+    /// Robots [default: the scenario's].
+    #[arg(long)]
+    robots: Option<usize>,
+    /// People [default: the scenario's].
+    #[arg(long)]
+    humans: Option<usize>,
+    /// Planner stack of every robot.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: PlannerSpec,
+    /// Built-in warehouse scenario or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    scenario: ScenarioRef,
+    /// Write the per-run table here as JSON.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// `experiment replay`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct ReplayArgs {
+    /// A sequence folder with obsmat.txt (and optionally map.xml), e.g.
+    /// world-sim/datasets/ETH/seq_eth or world-sim/datasets/UCY/zara01.
+    #[arg(long)]
+    dataset: PathBuf,
+    /// Planners, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "foigp,igp-diag,igp-lin,mc,dwa,pgp+orca"
+    )]
+    planners: Vec<PlannerSpec>,
+    /// partial (≈ 10 m stretches, start and goal only) or full (whole tracks).
+    #[arg(long, default_value = "partial")]
+    runs: RunKind,
+    /// Only the first N runs.
+    #[arg(long)]
+    limit: Option<usize>,
+    /// The robot's top speed, for every planner (m/s, at most 5; default: the recording's
+    /// median walking speed).
+    #[arg(long, value_parser = positive)]
+    robot_speed: Option<f64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder (default: results/eth/<sequence>-<runs>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+impl Experiment {
+    /// Runs the study and writes its outputs.
+    pub fn run(self) -> Result<()> {
+        match self {
+            Experiment::OpenSpace(args) => open_space(args),
+            Experiment::IntentSharing(args) => intent_sharing(args),
+            Experiment::Replay(args) => replay(args),
+            Experiment::Summarize { dir } => summarize(&dir),
+        }
+    }
+}
+
+fn open_space(args: OpenSpaceArgs) -> Result<()> {
+    let plan = StudyPlan {
+        scenario: *args.scenario.scenario,
+        algorithms: args.algorithms,
+        densities: args.densities,
+        seeds: args.seeds,
+    };
+    let started = Instant::now();
+    let (rows, threads) = with_progress(args.jobs, plan.runs().len() as u64, |progress| {
+        plan.execute(progress)
+    })?;
+    let summary = write_outputs(&args.out, &plan, &rows)?;
+    eprintln!(
+        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv and summary.json",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    for c in summary.comparisons.iter().filter(|c| c.metric == "svr") {
+        eprintln!(
+            "  svr {:>8} {:.4} vs {:>4} {:.4} (Wilcoxon p = {})",
+            c.with_pgp,
+            c.mean_with.unwrap_or(f64::NAN),
+            c.baseline,
+            c.mean_without.unwrap_or(f64::NAN),
+            c.wilcoxon_p.map_or("n/a".into(), |p| format!("{p:.3e}"))
+        );
+    }
+    Ok(())
+}
+
+fn intent_sharing(args: IntentSharingArgs) -> Result<()> {
+    let scenario = args.scenario.warehouse(Overrides {
+        robots: args.robots,
+        humans: args.humans,
+        seed: None,
+    })?;
+    let (robots, humans) = scenario
+        .warehouse
+        .as_ref()
+        .map_or((0, 0), |w| (w.robots, w.humans));
+    let study = IntentSharingStudy {
+        scenario,
+        planner: args.planner,
+        seeds: args.seeds,
+        seconds: args.seconds,
+    };
+    let (runs, _) = with_progress(None, 2 * args.seeds, |progress| study.execute(progress))?;
+    let runs = runs?;
+    println!(
+        "{} seeds x {} s, {robots} robots ({}), {humans} people; means per run:",
+        args.seeds, args.seconds, args.planner
+    );
+    print!("{}", report(&runs));
+    if let Some(path) = args.out {
+        // Through a JSON value, whose keys are in alphabetical order.
+        write_json(&path, &serde_json::to_value(&runs)?)?;
+    }
+    Ok(())
+}
+
+fn replay(args: ReplayArgs) -> Result<()> {
+    let recording = Recording::load(&args.dataset)?;
+    let map = map_of(&recording)
+        .with_context(|| format!("{}: map.xml obstacles", args.dataset.display()))?;
+    let kind = args.runs;
+    let out = args
+        .out
+        .unwrap_or_else(|| PathBuf::from("results/eth").join(format!("{}-{kind}", recording.name)));
+    let speed = args
+        .robot_speed
+        .unwrap_or_else(|| (median_speed(&recording) * 100.0).round() / 100.0);
+    if !(speed.is_finite() && speed > 0.0 && speed <= 5.0) {
+        bail!("--robot-speed: {speed} is not in (0, 5] m/s");
+    }
+    let mut options = ReplayOptions::default();
+    options.robot.max_speed = speed;
+    let study = ReplayStudy {
+        recording,
+        map,
+        planners: args.planners,
+        kind,
+        options,
+        limit: args.limit,
+    };
+    let runs = study.runs().len();
+    if runs == 0 {
+        bail!(
+            "{}: no {kind} runs in this recording",
+            args.dataset.display()
+        );
+    }
+    eprintln!(
+        "{}: {} tracks, {runs} {kind} runs × ({} planners + human), robot top speed {speed} m/s",
+        study.recording.name,
+        study.recording.tracks.len(),
+        study.planners.len()
+    );
+    let started = Instant::now();
+    let (rows, threads) = with_progress(args.jobs, study.jobs() as u64, |progress| {
+        study.execute(progress)
+    })?;
+    let table = coordinator::study::replay::write_outputs(&out, &study, &rows)?;
+    eprintln!(
+        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, table.json, table.md",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        out.display()
+    );
+    print!("{}", table_markdown(&table));
+    Ok(())
+}
+
+fn summarize(dir: &std::path::Path) -> Result<()> {
+    let path = dir.join("runs.csv");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let parsed = parse_runs_csv(&text)?;
+    let rows = parsed.rows;
+    let seeds = rows.iter().map(|r| r.seed).max().unwrap_or(0);
+    let plan = StudyPlan {
+        scenario: Scenario::builtin("open-space")?,
+        algorithms: parsed.algorithms,
+        densities: parsed.densities,
+        seeds,
+    };
+    write_summary(dir, &plan, &rows)?;
+    eprintln!(
+        "{} runs: wrote {1}/summary.json, fig4_success.png, fig5_social.png",
+        rows.len(),
+        dir.display()
+    );
+    Ok(())
+}

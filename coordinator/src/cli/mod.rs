@@ -1,0 +1,284 @@
+//! The `gapfleet` command line: one module per subcommand with its clap types. Values are
+//! parsed once, into checked types (planners as `PlannerSpec`s, scenarios as [`ScenarioRef`]s,
+//! ranges by value parsers), so that the work behind a command receives only valid input.
+
+pub mod bench;
+pub mod coordinator;
+pub mod demo;
+#[cfg(feature = "studies")]
+pub mod experiment;
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+use world_sim::scenario::Scenario;
+
+/// `gapfleet`'s arguments.
+#[derive(Debug, Parser)]
+#[command(
+    name = "gapfleet",
+    version,
+    about = "Fleet coordination among people: planners, simulation, experiments"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Batch experiments with the planners in-process.
+    #[cfg(feature = "studies")]
+    #[command(subcommand)]
+    Experiment(experiment::Experiment),
+    /// Measure how fast things run on this machine, to size a deployment.
+    #[command(subcommand)]
+    Bench(bench::Bench),
+    /// The whole fleet in one process: a coordinator and one agent per robot, each with its
+    /// own Zenoh session on loopback, in a warehouse with people.
+    Demo(demo::DemoArgs),
+    /// Run the warehouse world and serve agents over Zenoh (`gapfleet-agent` processes).
+    Coordinator(coordinator::CoordinatorArgs),
+}
+
+impl Command {
+    /// Runs the subcommand.
+    pub fn run(self) -> Result<()> {
+        match self {
+            #[cfg(feature = "studies")]
+            Command::Experiment(e) => e.run(),
+            Command::Bench(b) => b.run(),
+            Command::Demo(d) => d.run(),
+            Command::Coordinator(c) => c.run(),
+        }
+    }
+}
+
+/// A scenario named on the command line, loaded and validated once: a built-in name
+/// (`warehouse`, `open-space`, …) or a TOML file.
+#[derive(Debug, Clone)]
+pub struct ScenarioRef {
+    /// As given.
+    pub name: String,
+    /// Its content (boxed: a scenario is large beside the other arguments).
+    pub scenario: Box<Scenario>,
+}
+
+impl std::str::FromStr for ScenarioRef {
+    type Err = anyhow::Error;
+
+    fn from_str(name_or_path: &str) -> Result<Self> {
+        let path = Path::new(name_or_path);
+        let scenario = match Scenario::builtin(name_or_path) {
+            Ok(s) => s,
+            // Neither a built-in nor a file: the error lists the built-ins.
+            Err(unknown) if !path.exists() => return Err(unknown.into()),
+            Err(_) => {
+                let text = std::fs::read_to_string(path)
+                    .with_context(|| format!("reading {}", path.display()))?;
+                Scenario::from_toml(&text, name_or_path)?
+            }
+        };
+        Ok(Self {
+            name: name_or_path.to_owned(),
+            scenario: Box::new(scenario),
+        })
+    }
+}
+
+/// Changes to a warehouse scenario's counts and seed; `None` keeps the scenario's value.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Overrides {
+    /// Robots.
+    pub robots: Option<usize>,
+    /// People.
+    pub humans: Option<usize>,
+    /// Seed of the world.
+    pub seed: Option<u64>,
+}
+
+impl ScenarioRef {
+    /// The scenario as a warehouse with `overrides` applied (and validated again).
+    pub fn warehouse(&self, overrides: Overrides) -> Result<Scenario> {
+        let mut s = Scenario::clone(&self.scenario);
+        let Some(w) = s.warehouse.as_mut() else {
+            bail!(
+                "scenario {:?} is not a warehouse (it needs a [warehouse] table)",
+                self.name
+            );
+        };
+        if let Some(r) = overrides.robots {
+            w.robots = r;
+        }
+        if let Some(h) = overrides.humans {
+            w.humans = h;
+        }
+        if let Some(seed) = overrides.seed {
+            s.seed = seed;
+        }
+        s.validate(&self.name)?;
+        Ok(s)
+    }
+}
+
+/// A finite number above zero.
+pub fn positive(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Ok(x) => Err(format!("{x} is not a positive number")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// People per m² for a generated stage: (0, 3].
+pub fn density(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(d) if d.is_finite() && d > 0.0 && d <= 3.0 => Ok(d),
+        Ok(d) => Err(format!("{d} is not in (0, 3] people per m²")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Where the Rerun dashboard goes (any combination; none: no dashboard).
+#[derive(Debug, clap::Args, Clone, Default)]
+pub struct RerunArgs {
+    /// Save the dashboard recording to this .rrd file.
+    #[arg(long, value_name = "PATH")]
+    rrd: Option<PathBuf>,
+    /// Serve the Rerun web viewer from this process and print its URL.
+    #[arg(long)]
+    web: bool,
+    /// Stream to a running Rerun viewer, e.g. rerun+http://127.0.0.1:9876/proxy.
+    #[arg(long, value_name = "URL")]
+    rerun_connect: Option<String>,
+    /// Spawn a native Rerun viewer (`rerun` on PATH, e.g. `pip install rerun-sdk==0.36.3`).
+    #[arg(long)]
+    spawn: bool,
+}
+
+impl RerunArgs {
+    /// The dashboard's sinks.
+    pub fn sinks(&self) -> dashboards::Sinks {
+        dashboards::Sinks {
+            rrd: self.rrd.clone(),
+            web: self.web,
+            connect: self.rerun_connect.clone(),
+            spawn: self.spawn,
+        }
+    }
+}
+
+/// Logs to stderr, filtered by `RUST_LOG` or else `default`.
+pub fn init_logging(default: &str) {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| default.into()),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+}
+
+/// A multi-threaded Tokio runtime for the commands that talk Zenoh.
+pub fn runtime() -> Result<tokio::runtime::Runtime> {
+    Ok(tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Cli {
+        Cli::try_parse_from(std::iter::once("gapfleet").chain(args.iter().copied()))
+            .expect("valid arguments")
+    }
+
+    /// Regression: `demo --scenario FILE` ignored the file's robot and people counts and seed
+    /// (the demo's own 8, 40 and 1 always won). A scenario's values hold unless a flag is given.
+    #[test]
+    fn demo_takes_the_scenarios_counts_unless_flags_override_them() {
+        let dir = std::env::temp_dir().join(format!("gapfleet-cli-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let file = dir.join("busy.toml");
+        let builtin = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../world-sim/scenarios/warehouse.toml"
+        );
+        let text = std::fs::read_to_string(builtin)
+            .expect("the built-in warehouse's file")
+            .replace("robots = 8", "robots = 13")
+            .replace("humans = 40", "humans = 55")
+            .replace("seed = 1", "seed = 9");
+        std::fs::write(&file, text).expect("scenario file");
+        let path = file.to_str().expect("UTF-8 path");
+
+        let Command::Demo(args) = parse(&["demo", "--scenario", path]).command else {
+            panic!("not a demo");
+        };
+        let s = args.scenario().expect("a warehouse");
+        let w = s.warehouse.expect("warehouse table");
+        assert_eq!((w.robots, w.humans, s.seed), (13, 55, 9));
+
+        let Command::Demo(args) =
+            parse(&["demo", "--scenario", path, "--robots", "3", "--seed", "4"]).command
+        else {
+            panic!("not a demo");
+        };
+        let s = args.scenario().expect("a warehouse");
+        let w = s.warehouse.expect("warehouse table");
+        assert_eq!((w.robots, w.humans, s.seed), (3, 55, 4));
+
+        // The embedded default is unchanged: 8 robots, 40 people, seed 1.
+        let Command::Demo(args) = parse(&["demo"]).command else {
+            panic!("not a demo");
+        };
+        let s = args.scenario().expect("a warehouse");
+        let w = s.warehouse.expect("warehouse table");
+        assert_eq!((w.robots, w.humans, s.seed), (8, 40, 1));
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+
+    #[test]
+    fn bad_values_are_refused_while_parsing() {
+        let refused = |args: &[&str]| {
+            Cli::try_parse_from(std::iter::once("gapfleet").chain(args.iter().copied()))
+                .expect_err("refused")
+                .to_string()
+        };
+        assert!(refused(&["demo", "--speed", "0"]).contains("not a positive number"));
+        assert!(refused(&["demo", "--seconds", "nan"]).contains("not a positive number"));
+        assert!(refused(&["demo", "--scenario", "no-such-place"]).contains("no-such-place"));
+        assert!(refused(&["demo", "--planner", "teleport"]).contains("teleport"));
+        #[cfg(feature = "studies")]
+        {
+            assert!(
+                refused(&["experiment", "open-space", "--densities", "0.1,4"])
+                    .contains("not in (0, 3]")
+            );
+            assert!(refused(&["experiment", "open-space", "--seeds", "0"]).contains("0"));
+            assert!(
+                refused(&["experiment", "open-space", "--algorithms", "dwa,teleport"])
+                    .contains("teleport")
+            );
+        }
+    }
+
+    /// `experiment eth` is the old name of `experiment replay` (it runs UCY recordings too).
+    #[cfg(feature = "studies")]
+    #[test]
+    fn experiment_eth_is_an_alias_of_replay() {
+        for name in ["replay", "eth"] {
+            let cli = parse(&["experiment", name, "--dataset", "x"]);
+            assert!(
+                matches!(
+                    cli.command,
+                    Command::Experiment(experiment::Experiment::Replay(_))
+                ),
+                "{name}"
+            );
+        }
+    }
+}

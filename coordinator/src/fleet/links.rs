@@ -1,0 +1,188 @@
+//! The coordinator's bookkeeping per robot (is its agent alive, its newest command, the
+//! observations it has yet to answer) and what arrives from the agents: liveliness changes and
+//! commands.
+
+use super::{CoordinatorConfig, Event, RoundTrip, Status};
+use agent::model::Command;
+use agent::runtime::{percentile, wire};
+use schemas::{CommandMsg, Keys, decode};
+use std::collections::VecDeque;
+use std::time::Instant;
+use world_sim::fleet::Fleet;
+use zenoh::sample::{Sample, SampleKind};
+
+/// Round-trip samples kept (the oldest half is dropped beyond this).
+const MAX_ROUND_TRIP_SAMPLES: usize = 400_000;
+
+/// Recent observations kept per robot for matching their commands.
+const SENT_KEPT: usize = 16;
+
+/// Per-robot bookkeeping.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Link {
+    pub(super) alive: bool,
+    pub(super) flagged: bool,
+    /// Newest command: the observation it answers, the command, whether it was a safe stop.
+    pub(super) command: Option<(u64, Command, bool)>,
+    /// Next observation sequence number.
+    pub(super) next_seq: u64,
+    /// Recent observations: sequence number, wall time published, whether answered.
+    sent: VecDeque<(u64, Instant, bool)>,
+}
+
+impl Link {
+    /// The newest command if it answers one of the last `stale_ticks` observations and is
+    /// not a safe stop.
+    pub(super) fn fresh_command(&self, stale_ticks: u64) -> Option<Command> {
+        self.command
+            .filter(|c| !c.2 && self.next_seq.saturating_sub(c.0 + 1) <= stale_ticks)
+            .map(|c| c.1)
+    }
+
+    /// Records observation `seq` as published now.
+    pub(super) fn sent(&mut self, seq: u64) {
+        self.next_seq += 1;
+        self.sent.push_back((seq, Instant::now(), false));
+        if self.sent.len() > SENT_KEPT {
+            self.sent.pop_front();
+        }
+    }
+}
+
+/// Round trips timed so far (µs, in arrival order) and where each one goes as it is counted.
+#[derive(Debug)]
+pub(super) struct RoundTrips {
+    pub(super) us: Vec<u32>,
+    log: Option<std::sync::mpsc::Sender<RoundTrip>>,
+}
+
+impl RoundTrips {
+    pub(super) fn new(log: Option<std::sync::mpsc::Sender<RoundTrip>>) -> Self {
+        Self {
+            us: Vec::new(),
+            log,
+        }
+    }
+
+    fn record(&mut self, trip: RoundTrip) {
+        let us = trip
+            .arrived
+            .saturating_duration_since(trip.published)
+            .as_micros();
+        if self.us.len() >= MAX_ROUND_TRIP_SAMPLES {
+            self.us.drain(..MAX_ROUND_TRIP_SAMPLES / 2);
+        }
+        self.us.push(us.min(u32::MAX as u128) as u32);
+        if let Some(log) = &self.log {
+            let _ = log.send(trip);
+        }
+    }
+}
+
+/// Tells the status and the event channel that `event` happened.
+pub(super) fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
+    if let Some(tx) = &config.events {
+        let _ = tx.send((Instant::now(), event.clone()));
+    }
+    status.events.push(event);
+}
+
+/// An agent's liveliness token came (its robot is released) or went (its robot is held and
+/// flagged: a clean leave if its last command was a safe stop, a crash otherwise).
+pub(super) fn liveliness_change(
+    sample: &Sample,
+    keys: &Keys,
+    links: &mut [Link],
+    fleet: &mut Fleet,
+    status: &mut Status,
+    config: &CoordinatorConfig,
+) {
+    let Some(id) = keys.parse_alive(sample.key_expr().as_str()) else {
+        return;
+    };
+    let n = links.len();
+    let Some(link) = links.get_mut(id as usize) else {
+        tracing::warn!("agent {id} has no robot here ({n} robots)");
+        return;
+    };
+    match sample.kind() {
+        SampleKind::Put => {
+            link.alive = true;
+            link.flagged = false;
+            link.command = None;
+            fleet.set_held(id as usize, false);
+            tracing::info!(robot = id, "agent joined");
+            emit(status, config, Event::Joined(id));
+        }
+        SampleKind::Delete => {
+            link.alive = false;
+            link.flagged = true;
+            fleet.set_held(id as usize, true);
+            let clean = link.command.is_some_and(|c| c.2);
+            let event = if clean {
+                Event::Left(id)
+            } else {
+                Event::Crashed(id)
+            };
+            tracing::warn!(
+                robot = id,
+                "agent gone: {event:?}; robot stopped and flagged"
+            );
+            emit(status, config, event);
+        }
+    }
+}
+
+/// Takes in every command that arrived: the newest per robot is kept; answers to recent
+/// observations are counted once and timed.
+pub(super) fn take_commands(
+    cmd_rx: &std::sync::mpsc::Receiver<(Instant, Sample)>,
+    keys: &Keys,
+    links: &mut [Link],
+    status: &mut Status,
+    round_trips: &mut RoundTrips,
+) {
+    let n = links.len();
+    while let Ok((arrived, sample)) = cmd_rx.try_recv() {
+        let key_id = keys.parse_robot(sample.key_expr().as_str()).map(|k| k.0);
+        match decode::<CommandMsg>(&sample.payload().to_bytes()) {
+            Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
+                let link = &mut links[cmd.robot_id as usize];
+                status.commands += 1;
+                if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
+                    && !entry.2
+                    && !cmd.safe_stop
+                {
+                    entry.2 = true;
+                    status.answered += 1;
+                    round_trips.record(RoundTrip {
+                        robot: cmd.robot_id,
+                        published: entry.1,
+                        arrived,
+                    });
+                }
+                if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
+                    link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
+                }
+            }
+            Ok(_) => status.rejected += 1,
+            Err(e) => {
+                status.rejected += 1;
+                tracing::debug!("bad command: {e}");
+            }
+        }
+    }
+}
+
+/// Updates the derived fields; round trips are kept in arrival order (percentiles sort a copy).
+pub(super) fn refresh(status: &mut Status, links: &[Link], round_trips_us: &[u32]) {
+    status.alive = links.iter().filter(|l| l.alive).count();
+    status.flagged = (0..links.len() as u32)
+        .filter(|&i| links[i as usize].flagged)
+        .collect();
+    let mut sorted = round_trips_us.to_vec();
+    status.round_trip_ms = (
+        percentile(&mut sorted, 0.5) / 1000.0,
+        percentile(&mut sorted, 0.99) / 1000.0,
+    );
+}

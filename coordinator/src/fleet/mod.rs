@@ -1,0 +1,625 @@
+//! The coordinator: runs a warehouse [`Fleet`] in (scaled) real time and connects it to the
+//! agents over Zenoh.
+//!
+//! Every tick runs these phases, each a function below: take in liveliness changes (an agent
+//! joined, left or crashed: its robot is held and stops) and the newest command per robot
+//! ([`Coordinator::take_arrivals`]); take in heartbeats, fans and intents
+//! ([`Coordinator::take_reports`]); apply each robot's newest command unless it is stale
+//! (answers an observation more than `stale_ticks` old: the robot stops), step the world and
+//! dispatch tasks to idle robots ([`Coordinator::step`]); publish each live robot's observation,
+//! with the intents of the robots it sees ([`Coordinator::publish_observations`]); and once per
+//! simulated second a fleet metrics frame ([`Coordinator::publish_metrics`]). A queryable
+//! serves the static map. The demo ([`demo`]) runs a coordinator and its agents in one
+//! process; [`dashboard`] draws a running fleet.
+
+pub mod dashboard;
+pub mod demo;
+mod links;
+mod messages;
+
+pub use messages::{MAP_VERSION, map_message, observation};
+
+use agent::model::Command;
+use agent::runtime::wire;
+use links::{Link, RoundTrips};
+use schemas::{Channel, FleetMetrics, IntentMsg, Keys, TaskAssignment, decode, encode};
+use std::future::Future;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+use world_sim::fleet::{Fleet, FleetEvent};
+use zenoh::handlers::{FifoChannelHandler, RingChannelHandler};
+use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::sample::Sample;
+
+/// How a coordinator runs.
+#[derive(Debug, Clone)]
+pub struct CoordinatorConfig {
+    /// Site name.
+    pub site: String,
+    /// Simulated seconds per wall second (1 = real time).
+    pub speed: f64,
+    /// Stop after this many simulated seconds (None: until shutdown).
+    pub seconds: Option<f64>,
+    /// A command answering an observation older than this many ticks is stale.
+    pub stale_ticks: u64,
+    /// Receives every event the moment it happens (tests, dashboards).
+    pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
+    /// Receives every timed round trip (benchmarks), when it is counted at the next tick.
+    pub round_trips: Option<std::sync::mpsc::Sender<RoundTrip>>,
+    /// Observations go out in this many slices spread over the first 90 % of each tick.
+    pub stagger: usize,
+    /// Hold the coordinator's liveliness token `…/coordinator` while running (agents stop
+    /// their robots the moment it goes). Off when the caller holds it instead, through
+    /// [`declare_presence`], to outlive the run: the demo keeps it until its agents have
+    /// shut down, so that a planned end is not a lost coordinator to them.
+    pub announce_presence: bool,
+}
+
+impl CoordinatorConfig {
+    /// Real time on `site`, until shutdown, 3-tick staleness (0.3 s at 10 Hz).
+    pub fn new(site: &str) -> Self {
+        Self {
+            site: site.to_owned(),
+            speed: 1.0,
+            seconds: None,
+            stale_ticks: 3,
+            events: None,
+            round_trips: None,
+            stagger: 100,
+            announce_presence: true,
+        }
+    }
+}
+
+/// Declares the coordinator's liveliness token of `site` on `session`: agents stop their
+/// robots the moment it is dropped.
+pub async fn declare_presence(
+    session: &zenoh::Session,
+    site: &str,
+) -> Result<zenoh::liveliness::LivelinessToken, CoordinatorError> {
+    let keys = Keys::new(site)?;
+    session
+        .liveliness()
+        .declare_token(keys.coordinator())
+        .await
+        .map_err(zerr("coordinator liveliness token"))
+}
+
+/// One observation and the command that answered it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RoundTrip {
+    /// Robot.
+    pub robot: u32,
+    /// When the observation was published.
+    pub published: Instant,
+    /// When its command reached the coordinator's session.
+    pub arrived: Instant,
+}
+
+/// Something that happened, for logs and dashboards.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// An agent declared its liveliness token.
+    Joined(u32),
+    /// An agent withdrew its token after a safe stop.
+    Left(u32),
+    /// An agent's token vanished without a safe stop.
+    Crashed(u32),
+    /// A robot finished a task.
+    TaskDone {
+        /// Robot.
+        robot: u32,
+        /// Task.
+        task: u64,
+    },
+}
+
+/// What the coordinator reports while it runs (once per wall second) and at the end.
+#[derive(Debug, Clone, Default)]
+pub struct Status {
+    /// Simulated seconds.
+    pub sim_time: f64,
+    /// Ticks run.
+    pub tick: u64,
+    /// Robots.
+    pub robots: usize,
+    /// Agents alive.
+    pub alive: usize,
+    /// Tasks completed.
+    pub tasks_done: u64,
+    /// The newest metrics frame.
+    pub metrics: Option<FleetMetrics>,
+    /// Observation published → its command received, milliseconds: p50 and p99 since start.
+    pub round_trip_ms: (f64, f64),
+    /// Commands received.
+    pub commands: u64,
+    /// Observations published.
+    pub observations: u64,
+    /// Observations answered by a command (each counted once).
+    pub answered: u64,
+    /// Ticks in which a robot with a task had no fresh command (it stopped).
+    pub stale_commands: u64,
+    /// Messages rejected by the decoder or for naming the wrong robot.
+    pub rejected: u64,
+    /// Events so far.
+    pub events: Vec<Event>,
+    /// Largest planning-time p99 reported by a live agent in its last heartbeat (µs).
+    pub planner_p99_us: f64,
+    /// The newest candidate fan of each robot whose agent shares it (index = robot id).
+    pub fans: Vec<Option<schemas::FanMsg>>,
+    /// Robots flagged (agent crashed or left), by id.
+    pub flagged: Vec<u32>,
+}
+
+/// Why the coordinator could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum CoordinatorError {
+    /// The session refused a declaration.
+    #[error("zenoh: {what}: {source}")]
+    Zenoh {
+        /// What was being declared.
+        what: &'static str,
+        /// Zenoh's error.
+        source: zenoh::Error,
+    },
+    /// Bad site name.
+    #[error(transparent)]
+    Key(#[from] schemas::KeyError),
+}
+
+fn zerr(what: &'static str) -> impl Fn(zenoh::Error) -> CoordinatorError {
+    move |source| CoordinatorError::Zenoh { what, source }
+}
+
+/// Watches a running coordinator (dashboards, tests, the demo's status line). A closure
+/// `FnMut(&Status, &Fleet)` is an observer of the status only.
+pub trait Observer {
+    /// After every tick, with that tick's fleet events.
+    fn tick(&mut self, _fleet: &Fleet, _status: &Status, _events: &[FleetEvent]) {}
+    /// About once per wall second, and once at the end.
+    fn status(&mut self, _fleet: &Fleet, _status: &Status) {}
+}
+
+impl<F: FnMut(&Status, &Fleet)> Observer for F {
+    fn status(&mut self, fleet: &Fleet, status: &Status) {
+        self(status, fleet);
+    }
+}
+
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn tick(&mut self, fleet: &Fleet, status: &Status, events: &[FleetEvent]) {
+        self.0.tick(fleet, status, events);
+        self.1.tick(fleet, status, events);
+    }
+    fn status(&mut self, fleet: &Fleet, status: &Status) {
+        self.0.status(fleet, status);
+        self.1.status(fleet, status);
+    }
+}
+
+impl<O: Observer> Observer for Option<O> {
+    fn tick(&mut self, fleet: &Fleet, status: &Status, events: &[FleetEvent]) {
+        if let Some(o) = self {
+            o.tick(fleet, status, events);
+        }
+    }
+    fn status(&mut self, fleet: &Fleet, status: &Status) {
+        if let Some(o) = self {
+            o.status(fleet, status);
+        }
+    }
+}
+
+/// The coordinator's declarations on its session: what it hears and where it speaks.
+struct Wire<'s> {
+    keys: Keys,
+    alive: Subscriber<FifoChannelHandler<Sample>>,
+    /// Commands, stamped on arrival; a full queue drops and counts (`cmd_overflow`) rather
+    /// than blocking the session.
+    commands: std::sync::mpsc::Receiver<(Instant, Sample)>,
+    cmd_overflow: Arc<AtomicU64>,
+    _command_subscriber: Subscriber<()>,
+    intents: Subscriber<RingChannelHandler<Sample>>,
+    infos: Subscriber<RingChannelHandler<Sample>>,
+    fans: Subscriber<RingChannelHandler<Sample>>,
+    observations: Vec<Publisher<'s>>,
+    tasks: Vec<Publisher<'s>>,
+    metrics: Publisher<'s>,
+    map_server: tokio::task::JoinHandle<()>,
+    _presence: Option<zenoh::liveliness::LivelinessToken>,
+}
+
+impl<'s> Wire<'s> {
+    async fn declare(
+        session: &'s zenoh::Session,
+        fleet: &Fleet,
+        config: &CoordinatorConfig,
+    ) -> Result<Self, CoordinatorError> {
+        let keys = Keys::new(&config.site)?;
+        let n = fleet.robots();
+        let map_bytes = encode(&map_message(fleet));
+        let queryable = session
+            .declare_queryable(keys.map())
+            .await
+            .map_err(zerr("map queryable"))?;
+        // Map queries are answered by a task of their own, whatever the tick loop is doing.
+        let map_server = tokio::spawn(async move {
+            while let Ok(query) = queryable.recv_async().await {
+                if let Err(e) = query
+                    .reply(query.key_expr().clone(), map_bytes.clone())
+                    .await
+                {
+                    tracing::warn!("map reply failed: {e}");
+                }
+            }
+        });
+        // While this token lives, agents know the coordinator does; when it goes (shutdown,
+        // crash, lost link) they stop their robots at once instead of waiting for observations
+        // to time out.
+        let presence = if config.announce_presence {
+            Some(declare_presence(session, &config.site).await?)
+        } else {
+            None
+        };
+        let alive = session
+            .liveliness()
+            .declare_subscriber(keys.every_alive())
+            .history(true)
+            .with(zenoh::handlers::FifoChannel::new(16 * 1024))
+            .await
+            .map_err(zerr("liveliness subscriber"))?;
+        // Commands are stamped on arrival (round trips are measured to there, not to the tick
+        // that applies them); a full queue drops and counts rather than blocking the session.
+        let (cmd_tx, commands) = std::sync::mpsc::sync_channel::<(Instant, Sample)>(64 * 1024);
+        let cmd_overflow = Arc::new(AtomicU64::new(0));
+        let overflow_in = cmd_overflow.clone();
+        let command_subscriber = session
+            .declare_subscriber(keys.every_robot(Channel::Cmd))
+            .callback(move |sample| {
+                if cmd_tx.try_send((Instant::now(), sample)).is_err() {
+                    overflow_in.fetch_add(1, Ordering::Relaxed);
+                }
+            })
+            .await
+            .map_err(zerr("command subscriber"))?;
+        // Rings drop the oldest reports if the loop falls behind; a full FIFO would block the
+        // session for everyone.
+        let ring = |capacity| zenoh::handlers::RingChannel::new(capacity);
+        let intents = session
+            .declare_subscriber(keys.every_robot(Channel::Intent))
+            .with(ring(64 * 1024))
+            .await
+            .map_err(zerr("intent subscriber"))?;
+        let infos = session
+            .declare_subscriber(keys.every_robot(Channel::Info))
+            .with(ring(4 * 1024))
+            .await
+            .map_err(zerr("info subscriber"))?;
+        let fans = session
+            .declare_subscriber(keys.every_robot(Channel::Fan))
+            .with(ring(1024))
+            .await
+            .map_err(zerr("fan subscriber"))?;
+        let mut observations = Vec::with_capacity(n);
+        let mut tasks = Vec::with_capacity(n);
+        for i in 0..n as u32 {
+            observations.push(
+                session
+                    .declare_publisher(keys.robot(i, Channel::Obs))
+                    .await
+                    .map_err(zerr("observation publisher"))?,
+            );
+            tasks.push(
+                session
+                    .declare_publisher(keys.robot(i, Channel::Task))
+                    .await
+                    .map_err(zerr("task publisher"))?,
+            );
+        }
+        let metrics = session
+            .declare_publisher(keys.metrics())
+            .await
+            .map_err(zerr("metrics publisher"))?;
+        Ok(Self {
+            keys,
+            alive,
+            commands,
+            cmd_overflow,
+            _command_subscriber: command_subscriber,
+            intents,
+            infos,
+            fans,
+            observations,
+            tasks,
+            metrics,
+            map_server,
+            _presence: presence,
+        })
+    }
+}
+
+/// A running coordinator: the fleet, its links to the agents and what it has counted.
+struct Coordinator<'s> {
+    fleet: Fleet,
+    config: CoordinatorConfig,
+    wire: Wire<'s>,
+    links: Vec<Link>,
+    status: Status,
+    round_trips: RoundTrips,
+    /// Each robot's planning-time p99 from its agent's last heartbeat (µs).
+    planner_p99: Vec<f64>,
+    /// Wall time of one tick.
+    tick_wall: Duration,
+}
+
+/// How a tick's observations went out.
+enum Published {
+    All,
+    /// A shutdown came while they were going out.
+    ShutDown,
+}
+
+impl Coordinator<'_> {
+    /// Liveliness changes and commands.
+    fn take_arrivals(&mut self) {
+        while let Ok(Some(sample)) = self.wire.alive.try_recv() {
+            links::liveliness_change(
+                &sample,
+                &self.wire.keys,
+                &mut self.links,
+                &mut self.fleet,
+                &mut self.status,
+                &self.config,
+            );
+        }
+        self.take_commands();
+        self.status.rejected += self.wire.cmd_overflow.swap(0, Ordering::Relaxed);
+    }
+
+    /// Commands: the newest per robot is kept.
+    fn take_commands(&mut self) {
+        links::take_commands(
+            &self.wire.commands,
+            &self.wire.keys,
+            &mut self.links,
+            &mut self.status,
+            &mut self.round_trips,
+        );
+    }
+
+    /// Agents' heartbeats (their planning time), fans (dashboards only) and intents.
+    fn take_reports(&mut self) {
+        let n = self.links.len();
+        while let Ok(Some(sample)) = self.wire.infos.try_recv() {
+            match decode::<schemas::AgentInfo>(&sample.payload().to_bytes()) {
+                Ok(info) if (info.robot_id as usize) < n => {
+                    self.planner_p99[info.robot_id as usize] = info.plan_p99_us;
+                }
+                _ => self.status.rejected += 1,
+            }
+        }
+        self.status.planner_p99_us = (0..n)
+            .filter(|&i| self.links[i].alive)
+            .map(|i| self.planner_p99[i])
+            .fold(0.0, f64::max);
+        while let Ok(Some(sample)) = self.wire.fans.try_recv() {
+            match decode::<schemas::FanMsg>(&sample.payload().to_bytes()) {
+                Ok(fan) if (fan.robot_id as usize) < n => {
+                    let id = fan.robot_id as usize;
+                    self.status.fans[id] = Some(fan);
+                }
+                _ => self.status.rejected += 1,
+            }
+        }
+        while let Ok(Some(sample)) = self.wire.intents.try_recv() {
+            match decode::<IntentMsg>(&sample.payload().to_bytes()) {
+                Ok(intent) if (intent.robot_id as usize) < n => {
+                    let samples = wire::samples_from_wire(&intent.trajectory);
+                    self.fleet
+                        .set_intent(intent.robot_id as usize, intent.stamp, samples);
+                }
+                _ => self.status.rejected += 1,
+            }
+        }
+    }
+
+    /// Applies the newest fresh command per robot (the others stop), steps the world and
+    /// dispatches tasks; returns the tick's fleet events.
+    fn step(&mut self) -> Vec<FleetEvent> {
+        let n = self.links.len();
+        let mut commands = vec![Command::STOP; n];
+        for (i, link) in self.links.iter().enumerate() {
+            match link.fresh_command(self.config.stale_ticks) {
+                Some(command) => commands[i] = command,
+                None if link.alive && self.fleet.job(i).is_some() && link.next_seq > 0 => {
+                    self.status.stale_commands += 1;
+                }
+                None => {}
+            }
+        }
+        let mut events = self.fleet.step(&commands);
+        events.extend(self.fleet.dispatch());
+        self.status.tick += 1;
+        self.status.sim_time = self.fleet.world.time;
+        events
+    }
+
+    /// Sends new assignments to their robots and counts finished tasks.
+    async fn publish_tasks(&mut self, events: &[FleetEvent]) {
+        for event in events {
+            match *event {
+                FleetEvent::Assigned { robot, task } => {
+                    let site = self.fleet.site();
+                    let assignment = TaskAssignment {
+                        robot_id: robot as u32,
+                        task_id: task.id,
+                        pick_station: task.pick as u32,
+                        pick: wire::p2(site.stations[task.pick].position),
+                        drop_station: task.drop as u32,
+                        drop: wire::p2(site.stations[task.drop].position),
+                        assigned_at: self.fleet.world.time,
+                    };
+                    if let Err(e) = self.wire.tasks[robot].put(encode(&assignment)).await {
+                        tracing::warn!(robot, "task not sent: {e}");
+                    }
+                }
+                FleetEvent::Done { robot, task } => {
+                    self.status.tasks_done += 1;
+                    let done = Event::TaskDone {
+                        robot: robot as u32,
+                        task,
+                    };
+                    links::emit(&mut self.status, &self.config, done);
+                }
+                FleetEvent::Picked { .. } => {}
+            }
+        }
+    }
+
+    /// Observations for robots with a live agent, all of this tick's state, published in
+    /// `stagger` slices at fixed offsets over the first 90 % of the tick, so that agents
+    /// sharing a machine do not all plan in the same instant (real robots' sensors are not in
+    /// phase either) and the last slice's commands still arrive before the next tick. Offsets
+    /// are absolute (timer rounding never accumulates), and each slice's observations are
+    /// built just before it goes out (the world does not change within a tick), which spreads
+    /// the perception work over the tick as well.
+    async fn publish_observations(
+        &mut self,
+        tick_started: tokio::time::Instant,
+        shutdown: &mut (impl Future<Output = ()> + Unpin),
+    ) -> Published {
+        let live: Vec<usize> = (0..self.links.len())
+            .filter(|&i| self.links[i].alive)
+            .collect();
+        let window = self.tick_wall.mul_f64(0.9);
+        // Slices at least 2 ms apart: the timer wakes up to 1 ms late.
+        let max_slices = (window.as_millis() / 2).max(1) as usize;
+        let per_slice = live
+            .len()
+            .div_ceil(self.config.stagger.clamp(1, max_slices))
+            .max(1);
+        let slices = live.len().div_ceil(per_slice).max(1);
+        let offset = window / slices as u32;
+        let mut previous: Option<tokio::time::Instant> = None;
+        for (k, chunk) in live.chunks(per_slice).enumerate() {
+            // A slice that is late after a stall catches up at half the spacing, never back to
+            // back: slices sent at once would make their agents plan all at once.
+            let due = tick_started + offset * k as u32;
+            let at = previous.map_or(due, |p| due.max(p + offset / 2));
+            // A shutdown during the tick stops the remaining slices too.
+            tokio::select! {
+                biased;
+                () = &mut *shutdown => return Published::ShutDown,
+                () = tokio::time::sleep_until(at) => {}
+            }
+            previous = Some(tokio::time::Instant::now());
+            for &i in chunk {
+                let obs = observation(&mut self.fleet, i, self.links[i].next_seq);
+                let bytes = encode(&obs);
+                self.links[i].sent(obs.seq);
+                self.status.observations += 1;
+                if let Err(e) = self.wire.observations[i].put(bytes).await {
+                    tracing::warn!(robot = i, "observation not sent: {e}");
+                }
+            }
+        }
+        Published::All
+    }
+
+    /// Publishes the fleet metrics frame and keeps it in the status.
+    async fn publish_metrics(&mut self) {
+        let frame = self.metrics_frame();
+        if let Err(e) = self.wire.metrics.put(encode(&frame)).await {
+            tracing::warn!("metrics not sent: {e}");
+        }
+        self.status.metrics = Some(frame);
+    }
+
+    fn metrics_frame(&self) -> FleetMetrics {
+        messages::metrics_frame(&self.fleet, &self.links, &self.status)
+    }
+
+    /// Updates the status's derived fields and shows it to the observer.
+    fn report_status(&mut self, observer: &mut impl Observer) {
+        links::refresh(&mut self.status, &self.links, &self.round_trips.us);
+        observer.status(&self.fleet, &self.status);
+    }
+}
+
+/// Runs the coordinator on `session` until `seconds` have been simulated or `shutdown`
+/// completes, reporting to `observer`.
+pub async fn run_coordinator(
+    session: &zenoh::Session,
+    mut fleet: Fleet,
+    config: CoordinatorConfig,
+    shutdown: impl Future<Output = ()>,
+    observer: &mut impl Observer,
+) -> Result<Status, CoordinatorError> {
+    let n = fleet.robots();
+    let dt = fleet.world.dt;
+    let wire = Wire::declare(session, &fleet, &config).await?;
+    // Robots without a live agent are held until one joins.
+    for i in 0..n {
+        fleet.set_held(i, true);
+    }
+    let tick_wall = Duration::from_secs_f64(dt / config.speed);
+    let mut c = Coordinator {
+        fleet,
+        wire,
+        links: vec![Link::default(); n],
+        status: Status {
+            robots: n,
+            fans: vec![None; n],
+            ..Status::default()
+        },
+        round_trips: RoundTrips::new(config.round_trips.clone()),
+        planner_p99: vec![0.0; n],
+        tick_wall,
+        config,
+    };
+    let mut ticker = tokio::time::interval(tick_wall);
+    ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut last_status = Instant::now();
+    let ticks_per_metrics = (1.0 / dt).round().max(1.0) as u64;
+    let end_tick = c.config.seconds.map(|s| (s / dt).round() as u64);
+    tokio::pin!(shutdown);
+
+    loop {
+        // A shutdown wins over a due tick: once asked to stop, nothing more goes out.
+        tokio::select! {
+            biased;
+            () = &mut shutdown => break,
+            _ = ticker.tick() => {}
+        }
+        let tick_started = tokio::time::Instant::now();
+        c.take_arrivals();
+        // The end comes after the last observations had a tick to be answered.
+        if end_tick.is_some_and(|end| c.status.tick >= end) {
+            tokio::time::sleep(tick_wall).await;
+            c.take_commands();
+            break;
+        }
+        c.take_reports();
+        let events = c.step();
+        c.publish_tasks(&events).await;
+        if let Published::ShutDown = c.publish_observations(tick_started, &mut shutdown).await {
+            break;
+        }
+        observer.tick(&c.fleet, &c.status, &events);
+        if c.status.tick.is_multiple_of(ticks_per_metrics) {
+            c.publish_metrics().await;
+        }
+        if last_status.elapsed() >= Duration::from_secs(1) {
+            last_status = Instant::now();
+            c.report_status(observer);
+        }
+    }
+    // Final frame and status.
+    let frame = c.metrics_frame();
+    let _ = c.wire.metrics.put(encode(&frame)).await;
+    c.status.metrics = Some(frame);
+    c.report_status(observer);
+    c.wire.map_server.abort();
+    Ok(c.status)
+}
