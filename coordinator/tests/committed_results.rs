@@ -1,0 +1,44 @@
+//! The committed study results are what the code computes now: a smoke version of the
+//! open-space study reproduces its cells of `results/open-space/runs.csv` byte for byte. A
+//! change that moves any bit of any planner or of the crowd fails here; if the change is
+//! meant to, re-run the study and commit its results (`results/open-space/REPORT.md`).
+
+#![cfg(feature = "studies")]
+
+use coordinator::study::open_space::{StudyPlan, runs_csv};
+use world_sim::scenario::Scenario;
+
+#[test]
+fn open_space_smoke_rows_are_the_committed_rows() {
+    let committed = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/open-space/runs.csv"
+    ))
+    .expect("the committed study");
+    let plan = StudyPlan {
+        scenario: Scenario::builtin("open-space").expect("built-in"),
+        algorithms: PLANNERS.iter().map(|a| a.parse().expect("known")).collect(),
+        densities: vec![0.1, 0.5, 1.0],
+        seeds: 2,
+    };
+    let rows = plan.execute(&|| {});
+    let ours = runs_csv(&rows);
+    let mut lines = ours.lines();
+    let header = lines.next().expect("a header");
+    assert_eq!(Some(header), committed.lines().next(), "runs.csv columns");
+    let mut compared = 0;
+    for line in lines {
+        // The committed row of the same (algorithm, density, seed).
+        let cell: Vec<&str> = line.splitn(4, ',').take(3).collect();
+        let key = cell.join(",") + ",";
+        let theirs = committed
+            .lines()
+            .find(|l| l.starts_with(&key))
+            .unwrap_or_else(|| panic!("no committed row for {key}"));
+        assert_eq!(line, theirs, "run {key}");
+        compared += 1;
+    }
+    assert_eq!(compared, PLANNERS.len() * 3 * 2);
+}
+
+const PLANNERS: [&str; 6] = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf"];
