@@ -5,7 +5,8 @@
 
 #![cfg(feature = "studies")]
 
-use coordinator::study::open_space::{StudyPlan, runs_csv};
+use coordinator::study::open_space::StudyPlan;
+use coordinator::study::runs::runs_csv;
 use world_sim::scenario::Scenario;
 
 #[test]

@@ -3,8 +3,8 @@
 
 #![cfg(feature = "studies")]
 
-use coordinator::study::open_space::{StudyPlan, runs_csv};
-use coordinator::study::summary::summarize;
+use coordinator::study::open_space::StudyPlan;
+use coordinator::study::runs::runs_csv;
 use world_sim::scenario::Scenario;
 
 fn plan() -> StudyPlan {
@@ -26,7 +26,7 @@ fn run_with(threads: usize) -> (String, String) {
         .build()
         .expect("thread pool");
     let rows = pool.install(|| plan.execute(&|| {}));
-    let summary = summarize(&plan, &rows);
+    let summary = plan.summarize(&rows);
     (
         runs_csv(&rows),
         serde_json::to_string_pretty(&summary).expect("serialisable"),

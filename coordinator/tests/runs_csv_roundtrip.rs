@@ -2,8 +2,8 @@
 
 #![cfg(feature = "studies")]
 
-use coordinator::study::open_space::{StudyPlan, parse_runs_csv, runs_csv, runs_csv_header};
-use coordinator::study::summary::summarize;
+use coordinator::study::open_space::StudyPlan;
+use coordinator::study::runs::{parse_runs_csv, runs_csv, runs_csv_header};
 use world_sim::scenario::Scenario;
 
 #[test]
@@ -25,7 +25,7 @@ fn runs_csv_round_trips_and_rebuilds_the_same_summary() {
         (back.algorithms, back.densities),
         (plan.algorithms.clone(), plan.densities.clone())
     );
-    assert_eq!(summarize(&plan, &back.rows), summarize(&plan, &rows));
+    assert_eq!(plan.summarize(&back.rows), plan.summarize(&rows));
 }
 
 #[test]

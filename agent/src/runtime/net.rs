@@ -46,18 +46,18 @@ impl Role {
 
 /// A Zenoh config error with the offending setting.
 #[derive(Debug, thiserror::Error)]
-#[error("zenoh config: {setting}: {message}")]
+#[error("zenoh config: {setting}: {source}")]
 pub struct ConfigError {
     /// Which setting.
     pub setting: String,
-    /// Zenoh's message.
-    pub message: String,
+    /// Zenoh's error.
+    pub source: zenoh::Error,
 }
 
 fn set(config: &mut zenoh::Config, key: &str, value: &str) -> Result<(), ConfigError> {
     config.insert_json5(key, value).map_err(|e| ConfigError {
         setting: format!("{key} = {value}"),
-        message: e.to_string(),
+        source: e,
     })
 }
 
@@ -76,7 +76,7 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
     let mut config = match &args.zenoh_config {
         Some(path) => zenoh::Config::from_file(path).map_err(|e| ConfigError {
             setting: path.display().to_string(),
-            message: e.to_string(),
+            source: e,
         })?,
         None => {
             let mut c = zenoh::Config::default();
@@ -130,7 +130,7 @@ pub async fn open_loopback(role: Role, endpoint: &str) -> Result<zenoh::Session,
     };
     zenoh::open(config).await.map_err(|e| ConfigError {
         setting: format!("{} session on {endpoint}", role.as_str()),
-        message: e.to_string(),
+        source: e,
     })
 }
 

@@ -2,7 +2,7 @@
 //! events (agents joining, leaving, crashing, tasks done, collisions and near misses at their
 //! onset) and the social metrics, fleet-wide and per robot.
 
-use super::{Event, Observer, Status};
+use super::status::{Event, Observer, Status};
 use dashboards::{Dashboard, EventView, FanView, Frame, IntentView, MapFrame, P, RobotView, Sinks};
 use std::collections::HashSet;
 use world_sim::fleet::{Fleet, FleetEvent};

@@ -2,7 +2,7 @@
 //! observations it has yet to answer) and what arrives from the agents: liveliness changes and
 //! commands.
 
-use super::{CoordinatorConfig, Event, RoundTrip, Status};
+use super::status::{CoordinatorConfig, Event, RoundTrip, Status};
 use agent::model::Command;
 use agent::runtime::{percentile, wire};
 use schemas::{CommandMsg, Keys, decode};

@@ -1,8 +1,8 @@
 //! What the coordinator sends: each robot's observation, the static map served to agents,
 //! and the fleet metrics frame.
 
-use super::Status;
 use super::links::Link;
+use super::status::Status;
 use agent::map::StaticMap;
 use agent::math::{Real, vec2};
 use agent::runtime::wire;

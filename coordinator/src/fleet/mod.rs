@@ -3,12 +3,12 @@
 //!
 //! Every tick runs these phases, each a function below: take in liveliness changes (an agent
 //! joined, left or crashed: its robot is held and stops) and the newest command per robot
-//! ([`Coordinator::take_arrivals`]); take in heartbeats, fans and intents
-//! ([`Coordinator::take_reports`]); apply each robot's newest command unless it is stale
+//! (`Coordinator::take_arrivals`); take in heartbeats, fans and intents
+//! (`Coordinator::take_reports`); apply each robot's newest command unless it is stale
 //! (answers an observation more than `stale_ticks` old: the robot stops), step the world and
-//! dispatch tasks to idle robots ([`Coordinator::step`]); publish each live robot's observation,
-//! with the intents of the robots it sees ([`Coordinator::publish_observations`]); and once per
-//! simulated second a fleet metrics frame ([`Coordinator::publish_metrics`]). A queryable
+//! dispatch tasks to idle robots (`Coordinator::step`); publish each live robot's observation,
+//! with the intents of the robots it sees (`Coordinator::publish_observations`); and once per
+//! simulated second a fleet metrics frame (`Coordinator::publish_metrics`). A queryable
 //! serves the static map. The demo ([`demo`]) runs a coordinator and its agents in one
 //! process; [`dashboard`] draws a running fleet.
 
@@ -16,8 +16,10 @@ pub mod dashboard;
 pub mod demo;
 mod links;
 mod messages;
+mod status;
 
 pub use messages::{MAP_VERSION, map_message, observation};
+pub use status::{CoordinatorConfig, CoordinatorError, Event, Observer, RoundTrip, Status};
 
 use agent::model::Command;
 use agent::runtime::wire;
@@ -31,46 +33,6 @@ use world_sim::fleet::{Fleet, FleetEvent};
 use zenoh::handlers::{FifoChannelHandler, RingChannelHandler};
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::sample::Sample;
-
-/// How a coordinator runs.
-#[derive(Debug, Clone)]
-pub struct CoordinatorConfig {
-    /// Site name.
-    pub site: String,
-    /// Simulated seconds per wall second (1 = real time).
-    pub speed: f64,
-    /// Stop after this many simulated seconds (None: until shutdown).
-    pub seconds: Option<f64>,
-    /// A command answering an observation older than this many ticks is stale.
-    pub stale_ticks: u64,
-    /// Receives every event the moment it happens (tests, dashboards).
-    pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
-    /// Receives every timed round trip (benchmarks), when it is counted at the next tick.
-    pub round_trips: Option<std::sync::mpsc::Sender<RoundTrip>>,
-    /// Observations go out in this many slices spread over the first 90 % of each tick.
-    pub stagger: usize,
-    /// Hold the coordinator's liveliness token `…/coordinator` while running (agents stop
-    /// their robots the moment it goes). Off when the caller holds it instead, through
-    /// [`declare_presence`], to outlive the run: the demo keeps it until its agents have
-    /// shut down, so that a planned end is not a lost coordinator to them.
-    pub announce_presence: bool,
-}
-
-impl CoordinatorConfig {
-    /// Real time on `site`, until shutdown, 3-tick staleness (0.3 s at 10 Hz).
-    pub fn new(site: &str) -> Self {
-        Self {
-            site: site.to_owned(),
-            speed: 1.0,
-            seconds: None,
-            stale_ticks: 3,
-            events: None,
-            round_trips: None,
-            stagger: 100,
-            announce_presence: true,
-        }
-    }
-}
 
 /// Declares the coordinator's liveliness token of `site` on `session`: agents stop their
 /// robots the moment it is dropped.
@@ -86,129 +48,8 @@ pub async fn declare_presence(
         .map_err(zerr("coordinator liveliness token"))
 }
 
-/// One observation and the command that answered it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct RoundTrip {
-    /// Robot.
-    pub robot: u32,
-    /// When the observation was published.
-    pub published: Instant,
-    /// When its command reached the coordinator's session.
-    pub arrived: Instant,
-}
-
-/// Something that happened, for logs and dashboards.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Event {
-    /// An agent declared its liveliness token.
-    Joined(u32),
-    /// An agent withdrew its token after a safe stop.
-    Left(u32),
-    /// An agent's token vanished without a safe stop.
-    Crashed(u32),
-    /// A robot finished a task.
-    TaskDone {
-        /// Robot.
-        robot: u32,
-        /// Task.
-        task: u64,
-    },
-}
-
-/// What the coordinator reports while it runs (once per wall second) and at the end.
-#[derive(Debug, Clone, Default)]
-pub struct Status {
-    /// Simulated seconds.
-    pub sim_time: f64,
-    /// Ticks run.
-    pub tick: u64,
-    /// Robots.
-    pub robots: usize,
-    /// Agents alive.
-    pub alive: usize,
-    /// Tasks completed.
-    pub tasks_done: u64,
-    /// The newest metrics frame.
-    pub metrics: Option<FleetMetrics>,
-    /// Observation published → its command received, milliseconds: p50 and p99 since start.
-    pub round_trip_ms: (f64, f64),
-    /// Commands received.
-    pub commands: u64,
-    /// Observations published.
-    pub observations: u64,
-    /// Observations answered by a command (each counted once).
-    pub answered: u64,
-    /// Ticks in which a robot with a task had no fresh command (it stopped).
-    pub stale_commands: u64,
-    /// Messages rejected by the decoder or for naming the wrong robot.
-    pub rejected: u64,
-    /// Events so far.
-    pub events: Vec<Event>,
-    /// Largest planning-time p99 reported by a live agent in its last heartbeat (µs).
-    pub planner_p99_us: f64,
-    /// The newest candidate fan of each robot whose agent shares it (index = robot id).
-    pub fans: Vec<Option<schemas::FanMsg>>,
-    /// Robots flagged (agent crashed or left), by id.
-    pub flagged: Vec<u32>,
-}
-
-/// Why the coordinator could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum CoordinatorError {
-    /// The session refused a declaration.
-    #[error("zenoh: {what}: {source}")]
-    Zenoh {
-        /// What was being declared.
-        what: &'static str,
-        /// Zenoh's error.
-        source: zenoh::Error,
-    },
-    /// Bad site name.
-    #[error(transparent)]
-    Key(#[from] schemas::KeyError),
-}
-
 fn zerr(what: &'static str) -> impl Fn(zenoh::Error) -> CoordinatorError {
     move |source| CoordinatorError::Zenoh { what, source }
-}
-
-/// Watches a running coordinator (dashboards, tests, the demo's status line). A closure
-/// `FnMut(&Status, &Fleet)` is an observer of the status only.
-pub trait Observer {
-    /// After every tick, with that tick's fleet events.
-    fn tick(&mut self, _fleet: &Fleet, _status: &Status, _events: &[FleetEvent]) {}
-    /// About once per wall second, and once at the end.
-    fn status(&mut self, _fleet: &Fleet, _status: &Status) {}
-}
-
-impl<F: FnMut(&Status, &Fleet)> Observer for F {
-    fn status(&mut self, fleet: &Fleet, status: &Status) {
-        self(status, fleet);
-    }
-}
-
-impl<A: Observer, B: Observer> Observer for (A, B) {
-    fn tick(&mut self, fleet: &Fleet, status: &Status, events: &[FleetEvent]) {
-        self.0.tick(fleet, status, events);
-        self.1.tick(fleet, status, events);
-    }
-    fn status(&mut self, fleet: &Fleet, status: &Status) {
-        self.0.status(fleet, status);
-        self.1.status(fleet, status);
-    }
-}
-
-impl<O: Observer> Observer for Option<O> {
-    fn tick(&mut self, fleet: &Fleet, status: &Status, events: &[FleetEvent]) {
-        if let Some(o) = self {
-            o.tick(fleet, status, events);
-        }
-    }
-    fn status(&mut self, fleet: &Fleet, status: &Status) {
-        if let Some(o) = self {
-            o.status(fleet, status);
-        }
-    }
 }
 
 /// The coordinator's declarations on its session: what it hears and where it speaks.

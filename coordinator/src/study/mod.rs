@@ -1,57 +1,24 @@
 //! Batch studies with the planners in-process, one module per study: the PGP paper's
-//! open-space study ([`open_space`], summarised by [`summary`]), planners in recorded
+//! open-space study ([`open_space`], its rows and `runs.csv` in [`runs`], summarised by
+//! [`summary`]), planners in recorded
 //! pedestrians' places ([`replay`], the foIGP paper's protocol) and a warehouse fleet with and
 //! without shared intents ([`intent_sharing`]); their statistics ([`stats`]) and figures
 //! ([`plots`]). Every study's output depends only on its inputs, never on the thread count.
 //!
 //! Behind the default-on cargo feature `studies`: a coordinator built without it
-//! (`--no-default-features`) links no plotting, font, rayon or progress bars.
+//! (`--no-default-features`) links no plotting, font or CSV, and has no `gapfleet experiment`.
 
 pub mod csv_fields;
 pub mod intent_sharing;
 pub mod open_space;
+pub mod output;
 pub mod plots;
 pub mod replay;
+pub mod runs;
 pub mod stats;
 pub mod summary;
 
-use std::path::{Path, PathBuf};
-
-/// Why a study could not write its outputs.
-#[derive(Debug, thiserror::Error)]
-pub enum StudyError {
-    /// A file or folder could not be written.
-    #[error("writing {path}: {source}")]
-    Io {
-        /// Where.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
-    /// A figure could not be drawn.
-    #[error(transparent)]
-    Plot(#[from] plots::PlotError),
-    /// The scenario has no warehouse.
-    #[error(transparent)]
-    NotAWarehouse(#[from] world_sim::fleet::NotAWarehouse),
-}
-
-impl StudyError {
-    /// `map_err` for I/O on `path`.
-    pub fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Self + '_ {
-        move |source| Self::Io {
-            path: path.to_owned(),
-            source,
-        }
-    }
-}
-
-/// Writes `value` as pretty JSON with a final newline.
-pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<(), StudyError> {
-    // Plain data (numbers, strings, lists) always serialises.
-    let text = serde_json::to_string_pretty(value).expect("study outputs serialise to JSON");
-    std::fs::write(path, text + "\n").map_err(StudyError::io(path))
-}
+pub use output::{StudyError, write_json};
 
 /// Runs `work` on a pool of `threads` (all cores when `None`) with a progress bar of `total`
 /// runs on stderr; `work` gets the callback to call after each run. Returns its result and the

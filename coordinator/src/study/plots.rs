@@ -14,10 +14,17 @@ static REGISTER: Once = Once::new();
 
 /// A plot could not be drawn or written.
 #[derive(Debug, thiserror::Error)]
-#[error("plot {path}: {message}")]
+#[error("plot {}: {source}", path.display())]
 pub struct PlotError {
-    path: String,
-    message: String,
+    path: std::path::PathBuf,
+    source: Box<dyn std::error::Error + Send + Sync>,
+}
+
+fn plot_error<E: std::error::Error + Send + Sync + 'static>(path: &Path, e: E) -> PlotError {
+    PlotError {
+        path: path.to_owned(),
+        source: Box::new(e),
+    }
 }
 
 /// One panel: its y-axis label and how to read the value from a group.
@@ -70,15 +77,10 @@ fn colour(algorithm: &str) -> RGBColor {
 }
 
 fn figure(path: &Path, title: &str, panels: &[Panel], summary: &Summary) -> Result<(), PlotError> {
-    let err = |e: &dyn std::fmt::Display| PlotError {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
+    let err = |e| plot_error(path, e);
     let root = BitMapBackend::new(path, (900, 1150)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let root = root
-        .titled(title, ("sans-serif", 24))
-        .map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(err)?;
+    let root = root.titled(title, ("sans-serif", 24)).map_err(err)?;
     let mut algorithms: Vec<&str> = Vec::new();
     for g in &summary.groups {
         if !algorithms.contains(&g.algorithm.as_str()) {
@@ -111,27 +113,27 @@ fn figure(path: &Path, title: &str, panels: &[Panel], summary: &Summary) -> Resu
             .x_label_area_size(40)
             .y_label_area_size(70)
             .build_cartesian_2d(0.0..x_max, 0.0..y_max)
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
         chart
             .configure_mesh()
             .x_desc("density (people / m²)")
             .y_desc(*label)
             .label_style(("sans-serif", 14))
             .draw()
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
         for (name, pts) in series {
             let style = colour(name).stroke_width(2);
             let name = name.to_uppercase();
             if name.starts_with("PGP") {
                 chart
                     .draw_series(LineSeries::new(pts, style))
-                    .map_err(|e| err(&e))?
+                    .map_err(err)?
                     .label(name)
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
             } else {
                 chart
                     .draw_series(DashedLineSeries::new(pts, 7, 5, style))
-                    .map_err(|e| err(&e))?
+                    .map_err(err)?
                     .label(name)
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], style));
             }
@@ -143,9 +145,9 @@ fn figure(path: &Path, title: &str, panels: &[Panel], summary: &Summary) -> Resu
             .border_style(BLACK)
             .background_style(WHITE.mix(0.85))
             .draw()
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
     }
-    root.present().map_err(|e| err(&e))
+    root.present().map_err(err)
 }
 
 /// One planner's runs on a recorded crowd: (s, d_r / d_h) per run.
@@ -161,16 +163,11 @@ pub fn write_replay_figure(
     human_s: &[f64],
 ) -> Result<(), PlotError> {
     register_font();
-    let err = |e: &dyn std::fmt::Display| PlotError {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
+    let err = |e| plot_error(path, e);
     let rows = planners.len().div_ceil(2).max(1);
     let root = BitMapBackend::new(path, (1000, 60 + 330 * rows as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let root = root
-        .titled(title, ("sans-serif", 22))
-        .map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(err)?;
+    let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
     let finite = |v: f64| v.is_finite().then_some(v);
     let x_max = planners
         .iter()
@@ -199,20 +196,20 @@ pub fn write_replay_figure(
             .x_label_area_size(36)
             .y_label_area_size(50)
             .build_cartesian_2d(0.0..x_max, y_min..y_max)
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
         chart
             .configure_mesh()
             .x_desc("s: closest distance to a pedestrian (m)")
             .y_desc("d_r / d_h")
             .label_style(("sans-serif", 13))
             .draw()
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
         let grey = RGBColor(170, 170, 170);
         chart
             .draw_series(human_s.iter().filter_map(|&s| {
                 finite(s).map(|s| Circle::new((s.min(x_max), 1.0), 2, grey.filled()))
             }))
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
         let red = RGBColor(214, 39, 40);
         for x in [0.21, 0.3] {
             chart
@@ -222,7 +219,7 @@ pub fn write_replay_figure(
                     4,
                     red.stroke_width(1),
                 ))
-                .map_err(|e| err(&e))?;
+                .map_err(err)?;
         }
         chart
             .draw_series(DashedLineSeries::new(
@@ -231,7 +228,7 @@ pub fn write_replay_figure(
                 4,
                 BLACK.stroke_width(1),
             ))
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
         let blue = RGBColor(31, 119, 180);
         chart
             .draw_series(points.iter().filter_map(|&(s, r)| {
@@ -241,7 +238,7 @@ pub fn write_replay_figure(
                     blue.filled(),
                 ))
             }))
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
     }
-    root.present().map_err(|e| err(&e))
+    root.present().map_err(err)
 }

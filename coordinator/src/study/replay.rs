@@ -3,8 +3,8 @@
 //! Tables 1 and 2. Replan times are the only wall-clock figures; everything else is a function
 //! of the recording and the planners.
 
-use super::StudyError;
 use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
+use super::output::{StudyError, write_json};
 use agent::map::StaticMap;
 use agent::planner::{PlannerSpec, PlannerStack};
 use rayon::prelude::*;
@@ -344,7 +344,7 @@ pub fn write_outputs(
     };
     // Through a JSON value, whose keys are in alphabetical order at every level.
     let sorted = serde_json::to_value(&file).expect("the table serialises to JSON");
-    super::write_json(&out.join("table.json"), &sorted)?;
+    write_json(&out.join("table.json"), &sorted)?;
     let md = format!(
         "# {} — {} runs\n\n{}",
         study.recording.name,

@@ -1,7 +1,7 @@
 //! The open-space study's `summary.json`: means per (algorithm, density) group, and paired
 //! Wilcoxon signed-rank comparisons of each PGP+X against X.
 
-use super::open_space::{RunRow, StudyPlan};
+use super::runs::RunRow;
 use super::stats::{mean, wilcoxon_signed_rank};
 use agent::planner::PlannerSpec;
 use serde::Serialize;
@@ -75,10 +75,10 @@ const COMPARED: [MetricColumn; 7] = [
 ];
 
 /// Group means and the paired comparisons.
-pub fn summarize(plan: &StudyPlan, rows: &[RunRow]) -> Summary {
+pub fn summarize(algorithms: &[PlannerSpec], densities: &[f64], rows: &[RunRow]) -> Summary {
     let mut groups = Vec::new();
-    for &a in &plan.algorithms {
-        for &d in &plan.densities {
+    for &a in algorithms {
+        for &d in densities {
             let g: Vec<&RobotMetrics> = rows
                 .iter()
                 .filter(|r| r.algorithm == a && r.density == d)
@@ -100,12 +100,12 @@ pub fn summarize(plan: &StudyPlan, rows: &[RunRow]) -> Summary {
         }
     }
     let mut comparisons = Vec::new();
-    for &with in plan.algorithms.iter().filter(|a| a.pgp) {
+    for &with in algorithms.iter().filter(|a| a.pgp) {
         let baseline = PlannerSpec {
             pgp: false,
             local: with.local,
         };
-        if !plan.algorithms.contains(&baseline) {
+        if !algorithms.contains(&baseline) {
             continue;
         }
         for (metric, get, successes_only) in COMPARED {

@@ -13,6 +13,7 @@
 mod columns;
 pub mod grid;
 pub mod wall_field;
+mod wall_index;
 pub mod walls;
 
 use agent::math::{Real, Vec2, vec2};

@@ -14,9 +14,10 @@
 //! it ripple); bodies are kept farther off by the force itself. The error against the point
 //! sum is measured in the tests and in `world-sim/README.md`.
 
-use super::walls::Walls;
+use super::wall_index::{WallIndex, runs_near};
 use agent::fastmath::{self, LANES};
 use agent::math::{Real, Vec2, bounds, vec2};
+use agent::obstacle_points::ObstaclePoints;
 use agent::social_force::ObstacleForceParams;
 
 /// The obstacle potential of a set of wall points tabulated on a square grid, for one body
@@ -37,7 +38,8 @@ pub struct WallField {
 }
 
 impl WallField {
-    /// Sums the potential of `points` at every corner of a grid of `spacing` (m) covering every
+    /// Sums the potential of `points` (visited through `index` where it covers their reach) at
+    /// every corner of a grid of `spacing` (m) covering every
     /// place where a point acts on a body of `radius`. Costs one exact obstacle-force
     /// evaluation per corner (about 1 s for the 95 × 78 m `warehouse-large` at 0.1 m on this
     /// project's 2-core VM); `points` indexed with a reach of at least threshold + 2·radius
@@ -45,13 +47,19 @@ impl WallField {
     ///
     /// # Panics
     /// If `spacing` is not positive and finite.
-    pub fn build(walls: &Walls, radius: Real, params: &ObstacleForceParams, spacing: Real) -> Self {
+    pub(super) fn build(
+        points: &ObstaclePoints,
+        index: Option<&WallIndex>,
+        radius: Real,
+        params: &ObstacleForceParams,
+        spacing: Real,
+    ) -> Self {
         assert!(
             spacing.is_finite() && spacing > 0.0,
             "wall field spacing must be positive, got {spacing}"
         );
         let reach = params.threshold + 2.0 * radius;
-        let (mut min, mut max) = bounds(walls.points().points());
+        let (mut min, mut max) = bounds(points.points());
         let margin = reach + spacing;
         min -= vec2(margin, margin);
         max += vec2(margin, margin);
@@ -59,7 +67,8 @@ impl WallField {
         let rows = ((max.y - min.y) / spacing).ceil() as usize + 1;
         let mut corners = Vec::with_capacity(cols * rows);
         pulp::Arch::new().dispatch(BuildCorners {
-            walls,
+            points,
+            index,
             radius,
             params,
             spacing,
@@ -135,7 +144,8 @@ impl WallField {
 
 /// The table's corners, summed by vector code.
 struct BuildCorners<'a> {
-    walls: &'a Walls,
+    points: &'a ObstaclePoints,
+    index: Option<&'a WallIndex>,
     radius: Real,
     params: &'a ObstacleForceParams,
     spacing: Real,
@@ -154,12 +164,12 @@ impl pulp::WithSimd for BuildCorners<'_> {
         let reach = threshold + self.radius;
         let inv_sigma = 1.0 / self.params.sigma;
         let (sigma, r, h) = (self.params.sigma, self.radius, self.spacing);
-        let all = [(0, self.walls.points().blocks())];
-        let (xs, ys) = self.walls.points().columns();
+        let all = [(0, self.points.blocks())];
+        let (xs, ys) = self.points.columns();
         for row in 0..self.rows {
             for col in 0..self.cols {
                 let pos = self.min + vec2(col as Real, row as Real) * h;
-                let runs = self.walls.runs_near(pos, reach, &all);
+                let runs = runs_near(self.index, pos, reach, &all);
                 let mut sums = [[0.0; LANES]; 4];
                 for &(first, end) in runs {
                     let (first, end) = (first as usize * LANES, end as usize * LANES);

@@ -3,8 +3,9 @@
 //! separately named tabulated model of the same force ([`WallField`]).
 
 use super::wall_field::WallField;
-use agent::fastmath::{LANES, LaneSums};
-use agent::math::{Real, Vec2, bounds, vec2};
+use super::wall_index::{WallIndex, runs_near};
+use agent::fastmath::LaneSums;
+use agent::math::{Real, Vec2};
 use agent::obstacle_points::ObstaclePoints;
 use agent::social_force::ObstacleForceParams;
 use std::sync::Arc;
@@ -51,7 +52,8 @@ impl Walls {
     /// those parameters interpolates the table instead of summing the points. A separately
     /// named model (walls = "field"), not PySocialForce's arithmetic; index the points first.
     pub fn with_field(mut self, radius: Real, params: &ObstacleForceParams, spacing: Real) -> Self {
-        self.field = Some(Arc::new(WallField::build(&self, radius, params, spacing)));
+        let field = WallField::build(&self.points, self.index.as_ref(), radius, params, spacing);
+        self.field = Some(Arc::new(field));
         self
     }
 
@@ -63,23 +65,6 @@ impl Walls {
     /// The wall points.
     pub fn points(&self) -> &ObstaclePoints {
         &self.points
-    }
-
-    /// The runs of blocks of points that can act within `reach` of `pos`: those of its grid
-    /// cell when the index covers `reach`, else every block.
-    #[inline(always)]
-    pub(super) fn runs_near<'a>(
-        &'a self,
-        pos: Vec2,
-        reach: Real,
-        all: &'a [(u32, u32); 1],
-    ) -> &'a [(u32, u32)] {
-        match &self.index {
-            // Every point that acts is in the blocks listed for the body's cell; the rest add
-            // exact zeros to the same partial sums as in the full scan.
-            Some(index) if reach <= index.reach => index.runs_at(pos),
-            _ => all,
-        }
     }
 
     /// `ObstacleForce` on a body of `radius` at `pos`: PySocialForce's sum over the points
@@ -95,97 +80,10 @@ impl Walls {
         let threshold = p.threshold + radius;
         let mut acc = LaneSums::ZERO;
         let all = [(0, self.points.blocks())];
-        for &run in self.runs_near(pos, threshold + radius, &all) {
+        for &run in runs_near(self.index.as_ref(), pos, threshold + radius, &all) {
             self.points
                 .add_pushes(&mut acc, pos, radius, threshold, p.sigma, run);
         }
         acc.total() * p.factor
-    }
-}
-
-/// For each cell of a square grid, the blocks of `LANES` points that hold every point within
-/// `reach` of the cell, as ascending, disjoint runs of block numbers.
-#[derive(Debug, Clone)]
-pub(super) struct WallIndex {
-    pub(super) reach: Real,
-    cell: Real,
-    min: Vec2,
-    cols: usize,
-    rows: usize,
-    /// `starts[c]..starts[c + 1]` indexes `runs` for cell c.
-    starts: Vec<u32>,
-    runs: Vec<(u32, u32)>,
-}
-
-impl WallIndex {
-    /// Cell side (m): smaller cells visit fewer points that do not act but take more memory.
-    const CELL: Real = 1.0;
-
-    fn build(points: &[Vec2], reach: Real) -> Self {
-        // A little slack so that rounding in a body's distance test cannot drop a point.
-        let slack = 1e-9 * (1.0 + reach);
-        let cell = Self::CELL;
-        let (mut min, mut max) = bounds(points);
-        let margin = vec2(reach + cell, reach + cell);
-        min -= margin;
-        max += margin;
-        let cols = ((max.x - min.x) / cell) as usize + 1;
-        let rows = ((max.y - min.y) / cell) as usize + 1;
-        // Per cell, the blocks (ascending, since points are visited in order).
-        let mut blocks: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
-        for (i, p) in points.iter().enumerate() {
-            let block = (i / LANES) as u32;
-            let lo = ((p - min).add_scalar(-reach - slack) / cell).map(|v| v.floor().max(0.0));
-            let hi = ((p - min).add_scalar(reach + slack) / cell).map(|v| v.floor());
-            for cy in lo.y as usize..=(hi.y as usize).min(rows - 1) {
-                for cx in lo.x as usize..=(hi.x as usize).min(cols - 1) {
-                    // Distance from p to the cell's square.
-                    let corner = min + vec2(cx as Real, cy as Real) * cell;
-                    let dx = (corner.x - p.x).max(p.x - (corner.x + cell)).max(0.0);
-                    let dy = (corner.y - p.y).max(p.y - (corner.y + cell)).max(0.0);
-                    let list = &mut blocks[cy * cols + cx];
-                    if dx * dx + dy * dy <= (reach + slack) * (reach + slack)
-                        && list.last() != Some(&block)
-                    {
-                        list.push(block);
-                    }
-                }
-            }
-        }
-        let mut starts = Vec::with_capacity(blocks.len() + 1);
-        let mut runs: Vec<(u32, u32)> = Vec::new();
-        for list in &blocks {
-            starts.push(runs.len() as u32);
-            let first_run = runs.len();
-            for &b in list {
-                match runs[first_run..].last_mut() {
-                    Some(run) if run.1 == b => run.1 = b + 1,
-                    _ => runs.push((b, b + 1)),
-                }
-            }
-        }
-        starts.push(runs.len() as u32);
-        Self {
-            reach,
-            cell,
-            min,
-            cols,
-            rows,
-            starts,
-            runs,
-        }
-    }
-
-    /// The runs of blocks for a body at `pos`; empty when no point is within `reach`.
-    #[inline(always)]
-    pub(super) fn runs_at(&self, pos: Vec2) -> &[(u32, u32)] {
-        let fx = ((pos.x - self.min.x) / self.cell).floor();
-        let fy = ((pos.y - self.min.y) / self.cell).floor();
-        // Outside the grid (which extends `reach` beyond every point) nothing acts; NaN too.
-        if !(fx >= 0.0 && fy >= 0.0 && fx < self.cols as Real && fy < self.rows as Real) {
-            return &[];
-        }
-        let c = fy as usize * self.cols + fx as usize;
-        &self.runs[self.starts[c] as usize..self.starts[c + 1] as usize]
     }
 }
