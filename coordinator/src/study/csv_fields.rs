@@ -1,6 +1,7 @@
 //! How the studies' CSV rows spell their fields, for `#[serde(with = "…")]`: numbers as Rust
-//! prints them ([`shortest`]) or to a fixed number of decimals ([`fixed1`], [`fixed4`],
-//! [`fixed6`]), planner names through `Display` / `FromStr` ([`display`]). Each row is one
+//! prints them ([`shortest`]) or to a fixed number of decimals ([`fixed1`], [`fixed4`], and
+//! the optional [`fixed1_or_empty`], [`fixed6_or_empty`]), planner names through `Display` /
+//! `FromStr` ([`display`]). Each row is one
 //! typed struct; the `csv` crate writes and reads it.
 
 use serde::Serialize;
@@ -100,53 +101,38 @@ macro_rules! fixed {
 
 fixed!(fixed1, 1);
 fixed!(fixed4, 4);
-fixed!(fixed6, 6);
 
-/// An optional number with one decimal; `None` is an empty field.
-pub mod fixed1_or_empty {
-    use serde::{Deserialize, Deserializer, Serializer};
+macro_rules! fixed_or_empty {
+    ($name:ident, $decimals:literal) => {
+        #[doc = concat!(
+            "An optional number with ", stringify!($decimals), " decimals; `None` is an empty field."
+        )]
+        pub mod $name {
+            use serde::{Deserialize, Deserializer, Serializer};
 
-    /// Writes the number or nothing.
-    pub fn serialize<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
-        match x {
-            Some(x) => s.collect_str(&format_args!("{x:.1}")),
-            None => s.serialize_str(""),
+            /// Writes the number or nothing.
+            pub fn serialize<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+                match x {
+                    Some(x) => s.collect_str(&format_args!("{:.*}", $decimals, x)),
+                    None => s.serialize_str(""),
+                }
+            }
+
+            /// Reads it back.
+            pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+                let text = String::deserialize(d)?;
+                if text.is_empty() {
+                    Ok(None)
+                } else {
+                    text.parse().map(Some).map_err(serde::de::Error::custom)
+                }
+            }
         }
-    }
-
-    /// Reads it back.
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
-        let text = String::deserialize(d)?;
-        if text.is_empty() {
-            Ok(None)
-        } else {
-            text.parse().map(Some).map_err(serde::de::Error::custom)
-        }
-    }
+    };
 }
 
-/// An optional number with six decimals; `None` is an empty field.
-pub mod fixed6_or_empty {
-    use serde::{Deserialize, Deserializer, Serializer};
-
-    /// Writes the number or nothing.
-    pub fn serialize<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
-        match x {
-            Some(x) => s.collect_str(&format_args!("{x:.6}")),
-            None => s.serialize_str(""),
-        }
-    }
-
-    /// Reads it back.
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
-        let text = String::deserialize(d)?;
-        if text.is_empty() {
-            Ok(None)
-        } else {
-            text.parse().map(Some).map_err(serde::de::Error::custom)
-        }
-    }
-}
+fixed_or_empty!(fixed1_or_empty, 1);
+fixed_or_empty!(fixed6_or_empty, 6);
 
 #[cfg(test)]
 mod tests {
