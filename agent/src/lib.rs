@@ -22,4 +22,5 @@ pub mod prediction;
 pub mod risk;
 #[cfg(feature = "runtime")]
 pub mod runtime;
+pub mod safety;
 pub mod social_force;

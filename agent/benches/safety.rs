@@ -1,0 +1,44 @@
+//! One call of the safety layer on a robot driving at full speed among 50 perceived people
+//! (the planners' benchmark scene, 0.5 persons/m²), in open space and between two walls.
+//!
+//! Target (issue 19): one call with 50 perceived bodies ≤ 10 µs median.
+//!
+//!     cargo bench -p agent --bench safety
+
+mod scene;
+
+use agent::map::{Obstacle, StaticMap};
+use agent::math::vec2;
+use agent::model::Command;
+use agent::safety::{SafetyLayer, SafetyLimits, SafetyParams};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+
+fn safety(c: &mut Criterion) {
+    let limits = SafetyLimits {
+        max_speed: 1.0,
+        max_accel: 1.5,
+        max_braking: 1.5,
+        max_yaw_accel: 1.5,
+        control_period: 0.1,
+    };
+    let e = scene::ego();
+    let people = scene::crowd(50, 7);
+    let corridor = StaticMap::new(vec![
+        Obstacle::Wall(vec2(-20.0, -1.5), vec2(20.0, -1.5)),
+        Obstacle::Wall(vec2(-20.0, 1.5), vec2(20.0, 1.5)),
+    ])
+    .expect("two valid walls");
+    let mut group = c.benchmark_group("safety");
+    for (name, map) in [("open", StaticMap::empty()), ("corridor", corridor)] {
+        let mut layer = SafetyLayer::new(SafetyParams::default());
+        let command = Command::Velocity(vec2(1.0, 0.0));
+        group.bench_function(BenchmarkId::new(name, 50), |b| {
+            b.iter(|| black_box(layer.guard(command, &e, &limits, black_box(&people), &map)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, safety);
+criterion_main!(benches);

@@ -1,0 +1,343 @@
+//! The safety layer under every planner: a protective field and a warning field, as a safety
+//! laser scanner gives a warehouse robot, checked on the command the planner chose.
+//!
+//! Speed and separation monitoring (ISO/TS 15066, ISO 13855) keeps a protective separation
+//! S = v_h·(T_r + T_s) + v_r·T_r + B + C + Z between robot and person: what the person covers
+//! while the robot reacts and stops, what the robot covers before it brakes, its braking
+//! distance B, and the intrusion and uncertainty allowances C + Z. Here the same budget is
+//! checked along the commanded motion itself (the "equivalent braking-distance check along the
+//! commanded arc"): the robot is rolled out as its base executes the command, for the reaction
+//! time T_r, then braking at its guaranteed deceleration until it stands; every perceived body
+//! either moves on at its perceived velocity meanwhile (v_h·(T_r + T_s)) or stops dead where
+//! it is (a robot ahead braking hard), whichever comes closer, and walls stand still. The
+//! command is safe when, at every instant of that rollout at which the robot is moving toward a
+//! body, the gap stays above the margin C + Z. A robot that only ever executes safe commands
+//! can always still stop before it drives into anything it sees.
+//!
+//! - **Protective field**: an unsafe command is scaled down (speed and turn rate alike, so an
+//!   arc keeps its curvature) to the largest safe fraction on a fixed ladder, down to a stop.
+//! - **Warning field**: a command that would become unsafe were the robot to keep it for the
+//!   warning time T_w longer is first slowed to [`SafetyParams::warning_scale`].
+//! - It never adds speed, and a command that neither field touches passes through
+//!   bit-identical.
+//!
+//! Bodies the robot moves away from, or that walk into a robot standing still, cannot make a
+//! command unsafe: the layer prevents contacts the robot would cause, and leaves a robot free
+//! to back away from a person closing in.
+
+use crate::map::{LocalMap, StaticMap};
+use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
+use crate::model::{Command, EgoState, Neighbour};
+
+/// What the robot's base guarantees, and how often it is commanded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SafetyLimits {
+    /// Largest speed the base executes (m/s).
+    pub max_speed: Real,
+    /// Largest acceleration towards a commanded velocity (m/s²).
+    pub max_accel: Real,
+    /// Deceleration the base guarantees when stopping (m/s²): the braking a safety-rated stop
+    /// achieves. Never more than the base can do.
+    pub max_braking: Real,
+    /// Largest turn-rate change (rad/s²), for unicycle bases.
+    pub max_yaw_accel: Real,
+    /// How long a command holds before the next one (s): the control period.
+    pub control_period: Real,
+}
+
+/// The layer's own parameters. None comes from the papers; each is named with its source or
+/// the reason for its value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SafetyParams {
+    /// T_r (s), ISO 13855's response time beyond the control period: from a body appearing
+    /// in an observation to the base acting on the stop. Safety laser scanners respond in
+    /// 60–120 ms; gapfleet's observation → command round trip is under 10 ms at p99.
+    pub reaction_time: Real,
+    /// C + Z (m): the gap kept at every instant of the rollout, for perception uncertainty
+    /// (Z) and what the bodies' constant-velocity extrapolation misses (C). 5 cm: the
+    /// simulator's perception is exact by default; a real scanner's tolerance is a few cm.
+    pub margin: Real,
+    /// T_w (s): the warning field looks this much further, as if the command were kept this
+    /// long before braking. One second: a person at walking speed covers about 1.3 m.
+    pub warning_time: Real,
+    /// The speed fraction a command is slowed to in the warning field (ISO 3691-4's reduced
+    /// speed in a warning zone; half is a common scanner-field setting).
+    pub warning_scale: Real,
+    /// Sub-steps of the rollout per control period: the check's time resolution. Two (50 ms
+    /// at 10 Hz): bodies closing at 3 m/s move 15 cm between samples, far less than two
+    /// bodies' width, so no conflict passes between samples unseen.
+    pub substeps: usize,
+}
+
+impl Default for SafetyParams {
+    fn default() -> Self {
+        Self {
+            reaction_time: 0.1,
+            margin: 0.05,
+            warning_time: 1.0,
+            warning_scale: 0.5,
+            substeps: 2,
+        }
+    }
+}
+
+/// Which field acted on a command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Zone {
+    /// Neither: the command passed through unchanged.
+    Clear,
+    /// The warning field slowed it to [`SafetyParams::warning_scale`].
+    Warning,
+    /// The protective field slowed it further, or stopped the robot.
+    Protective,
+}
+
+/// A command after the safety layer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Guarded {
+    /// What the robot may execute.
+    pub command: Command,
+    /// Which field acted.
+    pub zone: Zone,
+    /// The fraction of the planner's command kept (1 when clear, 0 for a protective stop).
+    pub scale: Real,
+}
+
+/// Fractions of a command the protective field tries, largest first, before a stop.
+const LADDER: [Real; 8] = [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05];
+
+/// The safety layer: its parameters and scratch buffers reused between calls (it keeps no
+/// other state; the same input gives the same bits).
+#[derive(Debug, Clone, Default)]
+pub struct SafetyLayer {
+    params: SafetyParams,
+    /// Bodies that can come within reach during the rollout: position, velocity, radius.
+    near: Vec<(Vec2, Vec2, Real)>,
+    /// Walls and shelves within reach.
+    local: LocalMap,
+    /// Per body of `near` and hypothesis (walking on, stopping dead): whether it has come to
+    /// the robot already in this rollout without the robot moving toward it. A body that
+    /// walks into the robot stops there; its straight line through the robot afterwards
+    /// means nothing.
+    arrived: Vec<[bool; 2]>,
+}
+
+/// The robot along a rollout: position, velocity, heading, turn rate.
+#[derive(Debug, Clone, Copy)]
+struct Motion {
+    position: Vec2,
+    velocity: Vec2,
+    heading: Real,
+    yaw_rate: Real,
+}
+
+impl SafetyLayer {
+    /// A layer with the given parameters.
+    pub fn new(params: SafetyParams) -> Self {
+        Self {
+            params,
+            ..Self::default()
+        }
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &SafetyParams {
+        &self.params
+    }
+
+    /// The command the robot may execute instead of `command`: `command` itself when it is
+    /// safe and outside the warning field, else a slower fraction of it, else a stop.
+    pub fn guard(
+        &mut self,
+        command: Command,
+        ego: &EgoState,
+        limits: &SafetyLimits,
+        bodies: &[Neighbour],
+        map: &StaticMap,
+    ) -> Guarded {
+        let p = self.params;
+        let dt = limits.control_period;
+        let braking = limits.max_braking.min(limits.max_accel);
+        // The farthest the robot can get before it stands, at any fraction of the command.
+        let top = limits.max_speed.max(ego.velocity.norm());
+        let horizon = dt + p.reaction_time + p.warning_time + top / braking.max(1e-9);
+        let reach = top * horizon;
+        self.gather(ego, bodies, map, reach, horizon);
+        if self.near.is_empty() && self.local.is_empty() {
+            return Guarded {
+                command,
+                zone: Zone::Clear,
+                scale: 1.0,
+            };
+        }
+        let warned = !self.safe(command, ego, limits, map, p.warning_time);
+        let start = if warned { p.warning_scale } else { 1.0 };
+        let tried =
+            std::iter::once(start).chain(LADDER.into_iter().filter(|&s| s < start && s > 0.0));
+        for s in tried {
+            let candidate = if s == 1.0 {
+                command
+            } else {
+                scaled(command, s)
+            };
+            if self.safe(candidate, ego, limits, map, p.reaction_time) {
+                let zone = match (s == start, warned) {
+                    (true, false) => Zone::Clear,
+                    (true, true) => Zone::Warning,
+                    (false, _) => Zone::Protective,
+                };
+                // Untouched commands keep their bits.
+                return Guarded {
+                    command: candidate,
+                    zone,
+                    scale: s,
+                };
+            }
+        }
+        // A stop: the most the robot can do (it never adds speed, so it does not flee).
+        Guarded {
+            command: scaled(command, 0.0),
+            zone: Zone::Protective,
+            scale: 0.0,
+        }
+    }
+
+    /// Keeps the bodies and wall edges that can come within reach of the robot before the
+    /// longest rollout ends.
+    fn gather(
+        &mut self,
+        ego: &EgoState,
+        bodies: &[Neighbour],
+        map: &StaticMap,
+        reach: Real,
+        horizon: Real,
+    ) {
+        let m = self.params.margin;
+        self.near.clear();
+        self.near.extend(
+            bodies
+                .iter()
+                .filter(|b| {
+                    let travel = reach + b.velocity.norm() * horizon;
+                    (b.position - ego.position).norm() < travel + ego.radius + b.radius + m
+                })
+                .map(|b| (b.position, b.velocity, (ego.radius + b.radius + m).powi(2))),
+        );
+        let r = vec2(reach, reach);
+        map.gather(
+            ego.position - r,
+            ego.position + r,
+            ego.radius + m,
+            &mut self.local,
+        );
+    }
+
+    /// Whether the robot, executing `command` for one control period plus `extra` seconds and
+    /// then braking to a stop, keeps more than the margin from every body and wall it moves
+    /// toward.
+    fn safe(
+        &mut self,
+        command: Command,
+        ego: &EgoState,
+        limits: &SafetyLimits,
+        map: &StaticMap,
+        extra: Real,
+    ) -> bool {
+        let p = &self.params;
+        let h = limits.control_period / p.substeps.max(1) as Real;
+        let drive_steps = ((limits.control_period + extra) / h).ceil() as usize;
+        let braking = limits.max_braking.min(limits.max_accel);
+        let mut m = Motion {
+            position: ego.position,
+            velocity: ego.velocity,
+            heading: ego.heading,
+            yaw_rate: ego.yaw_rate,
+        };
+        let mut t = 0.0;
+        let mut wall = self.local.distance(map, &m.position);
+        self.arrived.clear();
+        self.arrived.resize(self.near.len(), [false; 2]);
+        // Until the robot stands (at most its speed over the deceleration, plus the drive).
+        let max_steps = drive_steps
+            + (limits.max_speed.max(ego.velocity.norm()) / (braking * h)).ceil() as usize
+            + 1;
+        for k in 0..max_steps {
+            let driving = k < drive_steps;
+            if driving {
+                step_toward(&mut m, command, limits, h);
+            } else {
+                brake(&mut m, braking, limits, h);
+            }
+            t += h;
+            if m.velocity == vec2(0.0, 0.0) && !driving {
+                break;
+            }
+            // Bodies the robot moves toward: walking on at their velocity (v_h·(T_r + T_s)), or
+            // stopping dead where they are (a robot ahead that brakes, a person who halts).
+            for (&(position, velocity, within_sq), arrived) in
+                self.near.iter().zip(&mut self.arrived)
+            {
+                for (at, arrived) in [position + velocity * t, position].into_iter().zip(arrived) {
+                    let d = at - m.position;
+                    // The gap is under the margin: no square root needed.
+                    if d.norm_squared() < within_sq && !*arrived {
+                        if d.dot(&m.velocity) > 0.0 {
+                            return false;
+                        }
+                        *arrived = true;
+                    }
+                }
+            }
+            // Walls the robot moves toward.
+            let to_wall = self.local.distance(map, &m.position);
+            if to_wall - ego.radius < p.margin && to_wall < wall {
+                return false;
+            }
+            wall = to_wall;
+        }
+        true
+    }
+}
+
+/// The command with its speed (and turn rate) times `s`.
+fn scaled(command: Command, s: Real) -> Command {
+    match command {
+        Command::Velocity(v) => Command::Velocity(v * s),
+        Command::Unicycle { speed, yaw_rate } => Command::Unicycle {
+            speed: speed * s,
+            yaw_rate: yaw_rate * s,
+        },
+    }
+}
+
+/// One sub-step of the base executing `command`, as `world_sim::robot` executes it.
+fn step_toward(m: &mut Motion, command: Command, lim: &SafetyLimits, h: Real) {
+    match command {
+        Command::Velocity(v) => {
+            let target = clamp_norm(v, lim.max_speed);
+            m.velocity += clamp_norm(target - m.velocity, lim.max_accel * h);
+        }
+        Command::Unicycle { speed, yaw_rate } => {
+            let current = m.velocity.dot(&unit(m.heading));
+            let target = speed.clamp(-lim.max_speed, lim.max_speed);
+            let v = current + (target - current).clamp(-lim.max_accel * h, lim.max_accel * h);
+            m.yaw_rate +=
+                (yaw_rate - m.yaw_rate).clamp(-lim.max_yaw_accel * h, lim.max_yaw_accel * h);
+            m.heading += m.yaw_rate * h;
+            m.velocity = unit(m.heading) * v;
+        }
+    }
+    m.position += m.velocity * h;
+}
+
+/// One sub-step of braking at `braking` along the current direction of travel.
+fn brake(m: &mut Motion, braking: Real, lim: &SafetyLimits, h: Real) {
+    m.velocity -= clamp_norm(m.velocity, braking * h);
+    m.yaw_rate -= m
+        .yaw_rate
+        .clamp(-lim.max_yaw_accel * h, lim.max_yaw_accel * h);
+    m.position += m.velocity * h;
+}
+
+#[cfg(test)]
+mod tests;

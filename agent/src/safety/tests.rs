@@ -1,0 +1,333 @@
+use super::*;
+use crate::map::Obstacle;
+use crate::model::AgentKind;
+
+/// The simulator's default robot: 1 m/s, 1.5 m/s², commanded at 10 Hz.
+fn limits() -> SafetyLimits {
+    SafetyLimits {
+        max_speed: 1.0,
+        max_accel: 1.5,
+        max_braking: 1.5,
+        max_yaw_accel: 1.5,
+        control_period: 0.1,
+    }
+}
+
+fn ego(position: Vec2, velocity: Vec2) -> EgoState {
+    EgoState {
+        position,
+        heading: velocity.y.atan2(velocity.x),
+        velocity,
+        yaw_rate: 0.0,
+        radius: 0.3,
+    }
+}
+
+fn person(id: u64, position: Vec2, velocity: Vec2) -> Neighbour {
+    Neighbour::new(id, position, velocity, 0.35, AgentKind::Human)
+}
+
+/// A contact's onset: who was moving toward whom.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Onset {
+    /// The robot moved toward the body.
+    RobotCaused,
+    /// The body came to a robot standing or moving away.
+    BodyCaused,
+}
+
+/// A closed loop at the simulator's 0.1 s step: a planner that always wants `want` (a world
+/// velocity), the layer under it, bodies walking at constant velocity except where `script`
+/// changes them, and every contact onset classified.
+struct Loop {
+    /// Without the layer, the planner's command goes straight to the base.
+    guarded: bool,
+    layer: SafetyLayer,
+    robot: Motion,
+    bodies: Vec<Neighbour>,
+    map: StaticMap,
+    touching: Vec<bool>,
+    onsets: Vec<Onset>,
+    zones: Vec<Zone>,
+    wall_onsets: usize,
+}
+
+impl Loop {
+    fn new(start: Vec2, velocity: Vec2, bodies: Vec<Neighbour>, map: StaticMap) -> Self {
+        let n = bodies.len();
+        Self {
+            guarded: true,
+            layer: SafetyLayer::new(SafetyParams::default()),
+            robot: Motion {
+                position: start,
+                velocity,
+                heading: velocity.y.atan2(velocity.x),
+                yaw_rate: 0.0,
+            },
+            bodies,
+            map,
+            touching: vec![false; n],
+            onsets: Vec::new(),
+            zones: Vec::new(),
+            wall_onsets: 0,
+        }
+    }
+
+    fn ego(&self) -> EgoState {
+        EgoState {
+            position: self.robot.position,
+            heading: self.robot.heading,
+            velocity: self.robot.velocity,
+            yaw_rate: self.robot.yaw_rate,
+            radius: 0.3,
+        }
+    }
+
+    /// One step; `visible` picks the bodies the robot perceives.
+    fn step(&mut self, want: Vec2, visible: impl Fn(&Neighbour) -> bool) {
+        let seen: Vec<Neighbour> = self.bodies.iter().filter(|b| visible(b)).cloned().collect();
+        let guarded = if self.guarded {
+            self.layer.guard(
+                Command::Velocity(want),
+                &self.ego(),
+                &limits(),
+                &seen,
+                &self.map,
+            )
+        } else {
+            Guarded {
+                command: Command::Velocity(want),
+                zone: Zone::Clear,
+                scale: 1.0,
+            }
+        };
+        self.zones.push(guarded.zone);
+        let before_wall = self.map.distance(&self.robot.position) - 0.3;
+        step_toward(&mut self.robot, guarded.command, &limits(), 0.1);
+        for b in &mut self.bodies {
+            b.position += b.velocity * 0.1;
+        }
+        for (i, b) in self.bodies.iter().enumerate() {
+            let d = b.position - self.robot.position;
+            let touching = d.norm() < 0.3 + b.radius;
+            if touching && !self.touching[i] {
+                let toward = d.dot(&self.robot.velocity) > 0.0;
+                self.onsets.push(if toward {
+                    Onset::RobotCaused
+                } else {
+                    Onset::BodyCaused
+                });
+            }
+            self.touching[i] = touching;
+        }
+        let wall = self.map.distance(&self.robot.position) - 0.3;
+        if wall < 0.0 && before_wall >= 0.0 {
+            self.wall_onsets += 1;
+        }
+    }
+}
+
+#[test]
+fn a_clear_command_passes_through_bit_identical() {
+    let mut layer = SafetyLayer::new(SafetyParams::default());
+    let command = Command::Velocity(vec2(0.713_279_841_205_139_2, 0.3));
+    let far = [person(1, vec2(30.0, 0.0), vec2(-1.0, 0.0))];
+    let g = layer.guard(
+        command,
+        &ego(vec2(0.0, 0.0), vec2(0.5, 0.2)),
+        &limits(),
+        &far,
+        &StaticMap::empty(),
+    );
+    assert_eq!(g.zone, Zone::Clear);
+    assert_eq!(g.scale, 1.0);
+    match (g.command, command) {
+        (Command::Velocity(a), Command::Velocity(b)) => {
+            assert_eq!(
+                (a.x.to_bits(), a.y.to_bits()),
+                (b.x.to_bits(), b.y.to_bits())
+            );
+        }
+        _ => panic!("kind changed"),
+    }
+}
+
+#[test]
+fn the_warning_field_slows_before_the_protective_field_stops() {
+    let mut layer = SafetyLayer::new(SafetyParams::default());
+    let at = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
+    let full = Command::Velocity(vec2(1.0, 0.0));
+    // A person standing 1.6 m ahead: the robot could still stop (0.53 m), but not had it
+    // kept going a second longer.
+    let ahead = |x| [person(1, vec2(x, 0.0), vec2(0.0, 0.0))];
+    let warned = layer.guard(full, &at, &limits(), &ahead(1.6), &StaticMap::empty());
+    assert_eq!((warned.zone, warned.scale), (Zone::Warning, 0.5));
+    // 0.9 m ahead (0.25 m between bodies): only a stop keeps it clear.
+    let stopped = layer.guard(full, &at, &limits(), &ahead(0.9), &StaticMap::empty());
+    assert_eq!((stopped.zone, stopped.scale), (Zone::Protective, 0.0));
+    assert_eq!(stopped.command, Command::Velocity(vec2(0.0, 0.0)));
+}
+
+#[test]
+fn a_robot_may_back_away_from_a_person_closing_in() {
+    let mut layer = SafetyLayer::new(SafetyParams::default());
+    let closing = [person(1, vec2(0.8, 0.0), vec2(-1.3, 0.0))];
+    let back = Command::Velocity(vec2(-1.0, 0.0));
+    let g = layer.guard(
+        back,
+        &ego(vec2(0.0, 0.0), vec2(0.0, 0.0)),
+        &limits(),
+        &closing,
+        &StaticMap::empty(),
+    );
+    assert_eq!((g.zone, g.command), (Zone::Clear, back));
+}
+
+/// A person walks head-on at 2 m/s toward a robot driving at full speed toward them.
+fn head_on(guarded: bool) -> Loop {
+    let walker = person(1, vec2(8.0, 0.0), vec2(-2.0, 0.0));
+    let mut sim = Loop::new(
+        vec2(0.0, 0.0),
+        vec2(1.0, 0.0),
+        vec![walker],
+        StaticMap::empty(),
+    );
+    sim.guarded = guarded;
+    for _ in 0..60 {
+        sim.step(vec2(1.0, 0.0), |_| true);
+    }
+    sim
+}
+
+#[test]
+fn head_on_person_at_two_metres_per_second_is_never_hit() {
+    assert!(head_on(false).onsets.contains(&Onset::RobotCaused));
+    let sim = head_on(true);
+    // The person does walk into the stopped robot: that contact is theirs.
+    assert_eq!(sim.onsets, [Onset::BodyCaused]);
+    assert!(sim.zones.contains(&Zone::Protective));
+}
+
+/// A person steps out from behind a shelf corner 1 m ahead of the robot (between the bodies),
+/// across its path, and is seen only once out.
+fn blind_corner(guarded: bool) -> Loop {
+    // The robot drives along the shelf's face at y = 0.5 (0.2 m clear of it); the person
+    // waits out of sight and steps into the aisle when the robot is 1 m (surface to surface)
+    // short of them.
+    let shelf = Obstacle::Polygon(vec![
+        vec2(2.0, 0.5),
+        vec2(3.0, 0.5),
+        vec2(3.0, 2.0),
+        vec2(2.0, 2.0),
+    ]);
+    let map = StaticMap::new(vec![shelf]).expect("a valid shelf");
+    let hidden = person(1, vec2(3.6, 1.2), vec2(0.0, 0.0));
+    let mut sim = Loop::new(vec2(0.0, 0.0), vec2(1.0, 0.0), vec![hidden], map);
+    sim.guarded = guarded;
+    let mut stepped_out = false;
+    for _ in 0..80 {
+        let x = sim.robot.position.x;
+        if !stepped_out && 3.6 - x - 0.65 <= 1.0 {
+            stepped_out = true;
+            sim.bodies[0].position = vec2(3.6, 0.8);
+            sim.bodies[0].velocity = vec2(0.0, -0.8);
+        }
+        if sim.bodies[0].position.y < -1.0 {
+            sim.bodies[0].velocity = vec2(0.0, 0.0);
+        }
+        // Seen once it is out (its centre below the shelf's back).
+        sim.step(vec2(1.0, 0.0), |b| b.position.y < 0.9);
+    }
+    assert!(stepped_out);
+    sim
+}
+
+#[test]
+fn person_stepping_out_from_a_blind_corner_is_never_hit() {
+    assert!(blind_corner(false).onsets.contains(&Onset::RobotCaused));
+    let sim = blind_corner(true);
+    assert!(
+        !sim.onsets.contains(&Onset::RobotCaused),
+        "{:?}",
+        sim.onsets
+    );
+    assert_eq!(sim.wall_onsets, 0);
+}
+
+/// A robot drives 0.6 m behind another robot at 1 m/s; after 2 s the one ahead stops dead.
+fn stops_dead(guarded: bool) -> Loop {
+    let lead = Neighbour::new(2, vec2(1.2, 0.0), vec2(1.0, 0.0), 0.3, AgentKind::Robot);
+    let mut sim = Loop::new(
+        vec2(0.0, 0.0),
+        vec2(1.0, 0.0),
+        vec![lead],
+        StaticMap::empty(),
+    );
+    sim.guarded = guarded;
+    for k in 0..60 {
+        if k == 20 {
+            sim.bodies[0].velocity = vec2(0.0, 0.0);
+        }
+        sim.step(vec2(1.0, 0.0), |_| true);
+    }
+    sim
+}
+
+#[test]
+fn robot_behind_a_robot_that_stops_dead_never_hits_it() {
+    assert!(stops_dead(false).onsets.contains(&Onset::RobotCaused));
+    let sim = stops_dead(true);
+    assert!(sim.onsets.is_empty(), "{:?}", sim.onsets);
+    let gap = (sim.bodies[0].position - sim.robot.position).norm() - 0.6;
+    assert!((0.0..0.6).contains(&gap), "stopped {gap} m behind");
+}
+
+/// A planner that always commands full speed straight at a wall.
+fn at_a_wall(guarded: bool) -> Loop {
+    let map = StaticMap::new(vec![Obstacle::Wall(vec2(3.0, -5.0), vec2(3.0, 5.0))])
+        .expect("a valid wall");
+    let mut sim = Loop::new(vec2(0.0, 0.0), vec2(0.0, 0.0), vec![], map);
+    sim.guarded = guarded;
+    for _ in 0..80 {
+        sim.step(vec2(1.0, 0.0), |_| true);
+    }
+    sim
+}
+
+#[test]
+fn full_speed_at_a_wall_stops_short_of_it() {
+    assert_eq!(at_a_wall(false).wall_onsets, 1);
+    let sim = at_a_wall(true);
+    assert_eq!(sim.wall_onsets, 0);
+    let gap = 3.0 - sim.robot.position.x - 0.3;
+    assert!((0.0..0.3).contains(&gap), "stopped {gap} m short");
+    assert!(sim.robot.velocity.norm() < 1e-9);
+}
+
+proptest::proptest! {
+    /// The layer only ever keeps a fraction s ∈ [0, 1] of the planner's command: it never
+    /// adds speed or turns the robot another way.
+    #[test]
+    fn never_adds_speed(
+        v in (-1.5..1.5f64, -1.5..1.5f64),
+        own in (-1.0..1.0f64, -1.0..1.0f64),
+        others in proptest::collection::vec(
+            (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
+    ) {
+        let mut layer = SafetyLayer::new(SafetyParams::default());
+        let bodies: Vec<Neighbour> = others
+            .iter()
+            .enumerate()
+            .map(|(i, o)| person(i as u64, vec2(o.0, o.1), vec2(o.2, o.3)))
+            .collect();
+        let command = Command::Velocity(vec2(v.0, v.1));
+        let g = layer.guard(command, &ego(vec2(0.0, 0.0), vec2(own.0, own.1)), &limits(),
+            &bodies, &StaticMap::empty());
+        proptest::prop_assert!((0.0..=1.0).contains(&g.scale));
+        let Command::Velocity(out) = g.command else {
+            return Err(proptest::test_runner::TestCaseError::fail("kind changed"));
+        };
+        proptest::prop_assert_eq!(out, vec2(v.0, v.1) * g.scale);
+        proptest::prop_assert_eq!(g.zone == Zone::Clear, g.scale == 1.0);
+    }
+}
