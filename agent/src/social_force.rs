@@ -1,6 +1,7 @@
 //! The Social Force Model as PySocialForce 1.1.2 implements it (Helbing & Molnár 1995 with
-//! Moussaïd et al.'s 2009 interaction force and 2010 group forces): desired, social, obstacle,
-//! group coherence, group repulsion and group gaze forces, and its velocity update.
+//! Moussaïd et al.'s 2009 interaction force and 2010 group forces): the desired, social and
+//! obstacle forces, the velocity cap, and every parameter (the group forces and the crowd's
+//! update, which only simulated people need, are `world_sim::crowd`'s).
 //!
 //! This module holds the force law and the Social Force planner ([`SocialForceAgent`]); the
 //! simulated crowd that steps many people by the same law lives in `world_sim::crowd`. The
