@@ -20,7 +20,13 @@
 //! - **still time**: seconds at speed ≤ 0.05 m/s before the goal;
 //! - **robot near misses**: steps with another robot's body closer than 0.3 m without overlap;
 //! - **force on people**: the Social Force the robot exerts on all people, summed over people
-//!   and averaged over steps (how much the robot pushes people around).
+//!   and averaged over steps (how much the robot pushes people around);
+//! - **contacts by cause**: the onsets of body overlaps (a contact counts once, at the step it
+//!   begins), told apart as HuNavSim does: with a person, **robot-caused** when at the onset
+//!   the robot's own velocity along the line of centres toward the person exceeds
+//!   [`CAUSING_SPEED`] ([`contact_cause`]), else **person-caused** (a person walked into a robot
+//!   that stood or moved away); with another robot, and with a wall or shelf, each counted
+//!   apart.
 
 use crate::world::World;
 use agent::math::{Real, Vec2};
@@ -36,6 +42,38 @@ pub const INTIMATE_GAP: Real = 0.45;
 pub const PERSONAL_GAP: Real = 1.2;
 /// Robot–robot near miss, body to body (m).
 pub const NEAR_MISS_GAP: Real = 0.3;
+/// A contact is the robot's when, at its onset, the robot moves toward the other body faster
+/// than this along the line of centres (m/s): the moving threshold, so that a robot that
+/// stands (or creeps at sensor-noise speed) is not blamed for being walked into.
+pub const CAUSING_SPEED: Real = MOVING_SPEED;
+
+/// Who caused a contact, judged at its onset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactCause {
+    /// The robot was moving toward the other body.
+    Robot,
+    /// The other body came to a robot that stood or moved away.
+    Other,
+}
+
+/// The cause of a contact beginning between a robot at `robot` moving at `velocity` and a
+/// body at `other`: the robot's when its velocity along the line of centres toward the body
+/// exceeds [`CAUSING_SPEED`].
+pub fn contact_cause(robot: Vec2, velocity: Vec2, other: Vec2) -> ContactCause {
+    let line = other - robot;
+    let distance = line.norm();
+    // Coincident centres: the robot's speed alone decides.
+    let toward = if distance > 0.0 {
+        velocity.dot(&line) / distance
+    } else {
+        velocity.norm()
+    };
+    if toward > CAUSING_SPEED {
+        ContactCause::Robot
+    } else {
+        ContactCause::Other
+    }
+}
 
 /// One robot's metrics over a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -71,6 +109,14 @@ pub struct RobotMetrics {
     pub human_delay_s: Real,
     /// Extra path the robot caused people (m, `impact::HumanImpact`); 0 where not measured.
     pub human_extra_path_m: Real,
+    /// Contacts with people the robot caused (onsets, [`contact_cause`]).
+    pub robot_caused_contacts: u64,
+    /// Contacts people caused, walking into the robot (onsets).
+    pub person_caused_contacts: u64,
+    /// Contacts with other robots (onsets).
+    pub robot_robot_contacts: u64,
+    /// Contacts with walls and shelves (onsets).
+    pub wall_contacts: u64,
 }
 
 /// Accumulates one robot's metrics step by step.
@@ -89,6 +135,11 @@ pub struct MetricsRecorder {
     still_steps: u64,
     near_miss_steps: u64,
     robot_contact_steps: u64,
+    /// Contact onsets by cause, and who is touching the robot now (people, robots, a wall).
+    contacts: ContactCounts,
+    touching_people: Vec<bool>,
+    touching_robots: Vec<bool>,
+    touching_wall: bool,
     path_length: Real,
     last_position: Vec2,
     arrived_at: Option<Real>,
@@ -114,6 +165,10 @@ impl MetricsRecorder {
             still_steps: 0,
             near_miss_steps: 0,
             robot_contact_steps: 0,
+            contacts: ContactCounts::default(),
+            touching_people: vec![false; world.humans.crowd.len()],
+            touching_robots: vec![false; world.robots.len()],
+            touching_wall: false,
             path_length: 0.0,
             last_position: world.robots[index].state.position,
             arrived_at: None,
@@ -157,6 +212,11 @@ impl MetricsRecorder {
             let gap = d - ego.radius - world.humans.radius;
             self.min_human_distance = self.min_human_distance.min(d);
             overlap |= gap < 0.0;
+            self.contacts.person_onset(
+                &mut self.touching_people[i],
+                gap < 0.0,
+                contact_cause(ego.position, ego.velocity, crowd.positions[i]),
+            );
             violation |= d < SVR_DISTANCE;
             intimate |= gap < INTIMATE_GAP;
             personal |= gap < PERSONAL_GAP;
@@ -178,7 +238,10 @@ impl MetricsRecorder {
         }
         // Walls and shelves: the simulator does not stop a robot at them, so touching one is
         // counted here as a collision.
-        overlap |= world.map.distance(&ego.position) < ego.radius;
+        let on_wall = world.map.distance(&ego.position) < ego.radius;
+        overlap |= on_wall;
+        self.contacts.wall += u64::from(on_wall && !self.touching_wall);
+        self.touching_wall = on_wall;
         for (j, other) in world.robots.iter().enumerate() {
             if j == self.index {
                 continue;
@@ -193,6 +256,8 @@ impl MetricsRecorder {
             if gap < 0.0 {
                 self.robot_contact_steps += 1;
             }
+            self.contacts.robot += u64::from(gap < 0.0 && !self.touching_robots[j]);
+            self.touching_robots[j] = gap < 0.0;
         }
         if moving {
             self.moving_steps += 1;
@@ -242,7 +307,34 @@ impl MetricsRecorder {
             force_on_people: per_step(self.force_on_people_sum),
             human_delay_s: 0.0,
             human_extra_path_m: 0.0,
+            robot_caused_contacts: self.contacts.robot_caused,
+            person_caused_contacts: self.contacts.person_caused,
+            robot_robot_contacts: self.contacts.robot,
+            wall_contacts: self.contacts.wall,
         }
+    }
+}
+
+/// Contact onsets by cause.
+#[derive(Debug, Clone, Copy, Default)]
+struct ContactCounts {
+    robot_caused: u64,
+    person_caused: u64,
+    robot: u64,
+    wall: u64,
+}
+
+impl ContactCounts {
+    /// Counts a contact with a person if one begins now (`touching` holds whether one was
+    /// under way).
+    fn person_onset(&mut self, touching: &mut bool, overlap: bool, cause: ContactCause) {
+        if overlap && !*touching {
+            match cause {
+                ContactCause::Robot => self.robot_caused += 1,
+                ContactCause::Other => self.person_caused += 1,
+            }
+        }
+        *touching = overlap;
     }
 }
 
@@ -308,7 +400,67 @@ mod tests {
             w.step(&[Command::Velocity(vec2(-1.0, 0.0))]);
             m.record(&w);
         }
-        assert!(m.finish().collision_rate > 0.0);
+        let r = m.finish();
+        assert!(r.collision_rate > 0.0);
+        assert_eq!(r.wall_contacts, 1);
+    }
+
+    /// Each class of contact, on constructed cases.
+    #[test]
+    fn contacts_are_told_apart_by_cause() {
+        let (at, east) = (vec2(0.0, 0.0), vec2(1.0, 0.0));
+        // Driving into a person ahead: the robot's.
+        assert_eq!(contact_cause(at, east, vec2(0.6, 0.0)), ContactCause::Robot);
+        // Standing, or backing away, while a person walks in: theirs.
+        let person = vec2(0.6, 0.0);
+        assert_eq!(
+            contact_cause(at, vec2(0.0, 0.0), person),
+            ContactCause::Other
+        );
+        assert_eq!(contact_cause(at, -east, person), ContactCause::Other);
+        // Passing sideways, or creeping below the moving speed toward them: theirs.
+        assert_eq!(
+            contact_cause(at, vec2(0.0, 1.0), person),
+            ContactCause::Other
+        );
+        assert_eq!(contact_cause(at, east * 0.04, person), ContactCause::Other);
+        // At an angle, the component along the line of centres decides.
+        let diagonal = vec2(0.4, 0.4);
+        assert_eq!(contact_cause(at, east * 0.1, diagonal), ContactCause::Robot);
+        assert_eq!(
+            contact_cause(at, east * 0.07, diagonal),
+            ContactCause::Other
+        );
+    }
+
+    #[test]
+    fn the_recorder_counts_each_contact_once_at_its_onset() {
+        // The robot drives into a standing person: one robot-caused contact, however long
+        // the overlap lasts.
+        let start = vec2(0.0, 5.0);
+        let mut w = world_with_one_person(start + vec2(0.8, 0.0));
+        // Standing: no speed to walk at, wherever the world sends them.
+        w.humans.crowd.max_speeds[0] = 0.0;
+        let mut m = MetricsRecorder::new(&w, 0);
+        for _ in 0..12 {
+            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+            m.record(&w);
+        }
+        let r = m.finish();
+        assert_eq!((r.robot_caused_contacts, r.person_caused_contacts), (1, 0));
+        // A person walks into the standing robot: theirs.
+        let mut w = world_with_one_person(start + vec2(1.5, 0.0));
+        w.humans.crowd.velocities[0] = vec2(-1.0, 0.0);
+        w.humans.crowd.goals[0] = start - vec2(5.0, 0.0);
+        w.humans.crowd.max_speeds[0] = 1.0;
+        let mut m = MetricsRecorder::new(&w, 0);
+        for _ in 0..15 {
+            w.step(&[Command::STOP]);
+            m.record(&w);
+        }
+        let r = m.finish();
+        assert_eq!((r.robot_caused_contacts, r.person_caused_contacts), (0, 1));
+        assert_eq!((r.robot_robot_contacts, r.wall_contacts), (0, 0));
     }
 
     #[test]

@@ -208,20 +208,34 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         s.tasks_done, s.round_trip_ms.0, s.round_trip_ms.1, s.stale_commands, s.rejected
     ));
     out.push_str(
-        "robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps\n",
+        "robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps  \
+         contacts: robot-caused  person-caused\n",
     );
     for (i, m) in report.fleet_metrics.iter().enumerate() {
         out.push_str(&format!(
-            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}\n",
+            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}  {:22}  {:13}\n",
             report.tasks_done.get(i).copied().unwrap_or(0),
             m.path_length_m,
             m.collision_rate * 100.0,
             m.svr,
             m.min_human_distance_m,
             m.social_force,
-            m.robot_near_misses
+            m.robot_near_misses,
+            m.robot_caused_contacts,
+            m.person_caused_contacts,
         ));
     }
+    let total = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| {
+        report.fleet_metrics.iter().map(f).sum::<u64>()
+    };
+    out.push_str(&format!(
+        "contacts (onsets): with people {} robot-caused, {} person-caused; robot-robot {} \
+         (each robot counts its own); walls and shelves {}\n",
+        total(|m| m.robot_caused_contacts),
+        total(|m| m.person_caused_contacts),
+        total(|m| m.robot_robot_contacts),
+        total(|m| m.wall_contacts),
+    ));
     if let Some(d) = &report.dashboard {
         out.push_str(&format!(
             "dashboard: {} frames logged, {} dropped\n",
