@@ -45,6 +45,18 @@ pub struct SafetyLimits {
     pub control_period: Real,
 }
 
+impl SafetyLimits {
+    /// The simulator's default robot (`world-sim/scenarios/*.toml`, `[robot]`): 1 m/s,
+    /// 1.5 m/s² both ways, 1.5 rad/s², commanded at 10 Hz.
+    pub const SIMULATED_ROBOT: Self = Self {
+        max_speed: 1.0,
+        max_accel: 1.5,
+        max_braking: 1.5,
+        max_yaw_accel: 1.5,
+        control_period: 0.1,
+    };
+}
+
 /// The layer's own parameters. None comes from the papers; each is named with its source or
 /// the reason for its value.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -32,6 +32,11 @@ struct Args {
     /// Publish PGP's candidate fan with every plan, for dashboards (…/robot/<id>/fan).
     #[arg(long)]
     share_fan: bool,
+    /// Run the planner's commands without the safety layer (its protective and warning
+    /// fields; agent/README.md), as the papers' planners run. The layer assumes the simulated
+    /// robot's base: 1 m/s, 1.5 m/s² to speed up and to brake.
+    #[arg(long)]
+    no_safety: bool,
     #[command(flatten)]
     net: NetArgs,
 }
@@ -62,6 +67,9 @@ async fn main() -> anyhow::Result<()> {
     let mut agent_config = AgentConfig::new(args.robot_id, &args.site, args.planner);
     agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
     agent_config.share_fan = args.share_fan;
+    if args.no_safety {
+        agent_config.safety = None;
+    }
     let counters = Arc::new(AgentCounters::default());
     run_agent(
         &session,

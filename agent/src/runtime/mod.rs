@@ -15,6 +15,7 @@ pub mod wire;
 use crate::map::StaticMap;
 use crate::model::Command;
 use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use crate::safety::{SafetyLayer, SafetyLimits, SafetyParams, Zone};
 use schemas::{AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, decode, encode};
 use std::future::Future;
 use std::sync::Arc;
@@ -43,6 +44,9 @@ pub struct AgentConfig {
     pub obs_timeout: Duration,
     /// Publish PGP's candidate fan with every plan (`…/robot/<id>/fan`, for dashboards).
     pub share_fan: bool,
+    /// The safety layer under the planner, with the base's limits (its control period is the
+    /// observation's step); `None` runs the planner's commands as they are, as the papers do.
+    pub safety: Option<SafetyLimits>,
 }
 
 impl AgentConfig {
@@ -54,6 +58,7 @@ impl AgentConfig {
             planner,
             obs_timeout: DEFAULT_OBS_TIMEOUT,
             share_fan: false,
+            safety: Some(SafetyLimits::SIMULATED_ROBOT),
         }
     }
 }
@@ -71,6 +76,10 @@ pub struct AgentCounters {
     pub safe_stops: AtomicU64,
     /// Maps fetched.
     pub maps: AtomicU64,
+    /// Commands the safety layer slowed in its warning field.
+    pub warned: AtomicU64,
+    /// Commands the safety layer slowed further or stopped in its protective field.
+    pub protective: AtomicU64,
 }
 
 /// Runs one agent on `session` until `shutdown` completes.
@@ -117,6 +126,7 @@ pub async fn run_agent(
 
     let planner_name = config.planner.to_string();
     let mut stack = PlannerStack::new(config.planner);
+    let mut safety = SafetyLayer::new(SafetyParams::default());
     stack.set_record_fan(config.share_fan);
     let mut map: Option<(u32, StaticMap)> = None;
     let mut last_map_attempt: Option<Instant> = None;
@@ -180,13 +190,23 @@ pub async fn run_agent(
                         let ego = wire::ego(&obs);
                         let neighbours = wire::neighbours(&obs);
                         let started = Instant::now();
-                        let plan = stack.plan(&PlanningInput {
+                        let mut plan = stack.plan(&PlanningInput {
                             ego: &ego,
                             neighbours: &neighbours,
                             map: m,
                             goal: wire::vec(goal),
                             dt: obs.dt,
                         });
+                        if let Some(limits) = config.safety {
+                            let limits = SafetyLimits { control_period: obs.dt, ..limits };
+                            let guarded = safety.guard(plan.command, &ego, &limits, &neighbours, m);
+                            plan.command = guarded.command;
+                            match guarded.zone {
+                                Zone::Clear => {}
+                                Zone::Warning => _ = counters.warned.fetch_add(1, Ordering::Relaxed),
+                                Zone::Protective => _ = counters.protective.fetch_add(1, Ordering::Relaxed),
+                            }
+                        }
                         plan_times_us.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
                         counters.plans.fetch_add(1, Ordering::Relaxed);
                         let (cmd, intent) = wire::answer(&obs, &planner_name, &plan);

@@ -41,6 +41,10 @@ pub struct DemoArgs {
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// planners run.
+    #[arg(long)]
+    no_safety: bool,
     #[command(flatten)]
     rerun: RerunArgs,
 }
@@ -78,6 +82,7 @@ impl DemoArgs {
             site: self.site,
             listen: self.listen,
             share_intents: !self.no_intent_sharing,
+            safety: !self.no_safety,
             sinks: self.rerun.sinks(),
             round_trips: None,
         };

@@ -10,6 +10,7 @@ use super::{
 use agent::planner::PlannerSpec;
 use agent::runtime::net::{ConfigError, Role, free_loopback_port, open_loopback};
 use agent::runtime::{AgentConfig, AgentCounters, AgentError, run_agent};
+use agent::safety::SafetyLimits;
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -33,6 +34,9 @@ pub struct DemoOptions {
     pub listen: Option<String>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
+    /// Whether every agent runs the safety layer under its planner (`agent::safety`), with
+    /// the scenario's robot limits.
+    pub safety: bool,
     /// Rerun sinks (none: no dashboard).
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
@@ -120,6 +124,14 @@ pub async fn run_demo(
         let mut agent_config = AgentConfig::new(id, &options.site, options.planner);
         // Fans only travel when someone draws them.
         agent_config.share_fan = options.sinks.any();
+        let robot = &options.scenario.robot;
+        agent_config.safety = options.safety.then_some(SafetyLimits {
+            max_speed: robot.max_speed,
+            max_accel: robot.max_accel,
+            max_braking: robot.max_accel,
+            max_yaw_accel: robot.max_yaw_accel,
+            control_period: options.scenario.dt_s,
+        });
         let mut stop = stop_rx.clone();
         agents.push(tokio::spawn(async move {
             let shutdown = async move {
@@ -196,6 +208,16 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         .iter()
         .map(|c| c.rejected.load(Ordering::Relaxed))
         .sum();
+    let warned: u64 = report
+        .agents
+        .iter()
+        .map(|c| c.warned.load(Ordering::Relaxed))
+        .sum();
+    let protective: u64 = report
+        .agents
+        .iter()
+        .map(|c| c.protective.load(Ordering::Relaxed))
+        .sum();
     let mut out = String::new();
     out.push_str(&format!(
         "\n{} robots ({planner}), {} people, {:.0} simulated seconds\n",
@@ -206,6 +228,9 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     out.push_str(&format!(
         "tasks done {} | plans {plans} | observation->command round trip p50 {:.2} ms, p99 {:.2} ms | stale-command ticks {} | rejected messages {} (coordinator) {rejected} (agents)\n",
         s.tasks_done, s.round_trip_ms.0, s.round_trip_ms.1, s.stale_commands, s.rejected
+    ));
+    out.push_str(&format!(
+        "safety layer: {warned} commands slowed in the warning field, {protective} slowed further or stopped in the protective field\n"
     ));
     out.push_str(
         "robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps  \
