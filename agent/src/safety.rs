@@ -75,6 +75,12 @@ pub struct SafetyParams {
     /// The speed fraction a command is slowed to in the warning field (ISO 3691-4's reduced
     /// speed in a warning zone; half is a common scanner-field setting).
     pub warning_scale: Real,
+    /// How hard a perceived body may change its motion (m/s²): over the rollout it may stray
+    /// ½·a·t² from both hypotheses, in any direction (a person swerving into the robot's path
+    /// after its last safe command). 0 trusts the hypotheses: larger values removed the last
+    /// robot-caused contacts on some seeds but cost a third of the fleet's tasks on others
+    /// (agent/README.md, "The safety layer").
+    pub body_accel: Real,
     /// Sub-steps of the rollout per control period: the check's time resolution. Two (50 ms
     /// at 10 Hz): bodies closing at 3 m/s move 15 cm between samples, far less than two
     /// bodies' width, so no conflict passes between samples unseen.
@@ -88,6 +94,7 @@ impl Default for SafetyParams {
             margin: 0.05,
             warning_time: 1.0,
             warning_scale: 0.5,
+            body_accel: 0.0,
             substeps: 2,
         }
     }
@@ -230,10 +237,12 @@ impl SafetyLayer {
             bodies
                 .iter()
                 .filter(|b| {
-                    let travel = reach + b.velocity.norm() * horizon;
+                    let travel = reach
+                        + b.velocity.norm() * horizon
+                        + 0.5 * self.params.body_accel * horizon * horizon;
                     (b.position - ego.position).norm() < travel + ego.radius + b.radius + m
                 })
-                .map(|b| (b.position, b.velocity, (ego.radius + b.radius + m).powi(2))),
+                .map(|b| (b.position, b.velocity, ego.radius + b.radius + m)),
         );
         let r = vec2(reach, reach);
         map.gather(
@@ -286,9 +295,10 @@ impl SafetyLayer {
             }
             // Bodies the robot moves toward: walking on at their velocity (v_h·(T_r + T_s)), or
             // stopping dead where they are (a robot ahead that brakes, a person who halts).
-            for (&(position, velocity, within_sq), arrived) in
-                self.near.iter().zip(&mut self.arrived)
+            let stray = 0.5 * p.body_accel * t * t;
+            for (&(position, velocity, within), arrived) in self.near.iter().zip(&mut self.arrived)
             {
+                let within_sq = (within + stray).powi(2);
                 for (at, arrived) in [position + velocity * t, position].into_iter().zip(arrived) {
                     let d = at - m.position;
                     // The gap is under the margin: no square root needed.

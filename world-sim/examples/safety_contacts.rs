@@ -3,6 +3,7 @@
 //! who caused it and what the robot knew, and the totals.
 //!
 //!     cargo run --release -p world-sim --example safety_contacts [seed] [seconds] [--no-safety]
+//!         [--body-accel A]
 
 use agent::model::Command;
 use agent::planner::PlannerStack;
@@ -16,6 +17,12 @@ fn main() {
     let seed: u64 = args.first().and_then(|a| a.parse().ok()).unwrap_or(1);
     let seconds: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(60.0);
     let safety = !args.iter().any(|a| a == "--no-safety");
+    let body_accel: f64 = args
+        .iter()
+        .position(|a| a == "--body-accel")
+        .and_then(|k| args.get(k + 1))
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(SafetyParams::default().body_accel);
     let mut scenario = Scenario::builtin("warehouse").expect("built-in");
     scenario.seed = seed;
     let mut fleet = Fleet::new(&scenario).expect("a warehouse");
@@ -31,7 +38,11 @@ fn main() {
     let mut stacks: Vec<PlannerStack> = (0..n)
         .map(|_| PlannerStack::new("pgp+orca".parse().expect("known")))
         .collect();
-    let mut layers = vec![SafetyLayer::new(SafetyParams::default()); n];
+    let params = SafetyParams {
+        body_accel,
+        ..SafetyParams::default()
+    };
+    let mut layers = vec![SafetyLayer::new(params); n];
     let mut commands = vec![Command::STOP; n];
     let people = fleet.world.humans.crowd.len();
     let mut touching = vec![vec![false; people]; n];
@@ -84,7 +95,8 @@ fn main() {
         }
     }
     println!(
-        "seed {seed}, {seconds} s, safety {}: {robot_caused} robot-caused, {person_caused} person-caused contacts with people",
-        if safety { "on" } else { "off" }
+        "seed {seed}, {seconds} s, safety {} (body_accel {body_accel}): {robot_caused} robot-caused, {person_caused} person-caused contacts with people, {} tasks",
+        if safety { "on" } else { "off" },
+        (0..n).map(|i| fleet.tasks_done(i)).sum::<u64>(),
     );
 }
