@@ -7,7 +7,7 @@
 
 use agent::model::Command;
 use agent::planner::PlannerStack;
-use agent::safety::{SafetyLayer, SafetyLimits, SafetyParams};
+use agent::safety::{SafetyLayer, SafetyParams};
 use world_sim::fleet::{Fleet, plan_all};
 use world_sim::metrics::{ContactCause, contact_cause};
 use world_sim::scenario::Scenario;
@@ -28,13 +28,7 @@ fn main() {
     let mut fleet = Fleet::new(&scenario).expect("a warehouse");
     let n = fleet.robots();
     let robot = scenario.robot;
-    let limits = SafetyLimits {
-        max_speed: robot.max_speed,
-        max_accel: robot.max_accel,
-        max_braking: robot.max_accel,
-        max_yaw_accel: robot.max_yaw_accel,
-        control_period: scenario.dt_s,
-    };
+    let limits = robot.safety_limits(scenario.dt_s);
     let mut stacks: Vec<PlannerStack> = (0..n)
         .map(|_| PlannerStack::new("pgp+orca".parse().expect("known")))
         .collect();

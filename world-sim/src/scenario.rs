@@ -220,6 +220,20 @@ pub struct RobotSpec {
     pub occlusion: bool,
 }
 
+impl RobotSpec {
+    /// What the safety layer may assume of this base, commanded every `control_period` s: it
+    /// brakes as hard as it accelerates (the simulator's limit both ways).
+    pub fn safety_limits(&self, control_period: Real) -> agent::safety::SafetyLimits {
+        agent::safety::SafetyLimits {
+            max_speed: self.max_speed,
+            max_accel: self.max_accel,
+            max_braking: self.max_accel,
+            max_yaw_accel: self.max_yaw_accel,
+            control_period,
+        }
+    }
+}
+
 impl Warehouse {
     /// The first out-of-range field and why.
     fn validate(&self) -> Option<(&'static str, &'static str)> {

@@ -10,10 +10,9 @@ use super::{
 use agent::planner::PlannerSpec;
 use agent::runtime::net::{ConfigError, Role, free_loopback_port, open_loopback};
 use agent::runtime::{AgentConfig, AgentCounters, AgentError, run_agent};
-use agent::safety::SafetyLimits;
 use std::future::Future;
 use std::sync::Arc;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicU64, Ordering};
 use world_sim::fleet::Fleet;
 use world_sim::scenario::Scenario;
 
@@ -125,13 +124,9 @@ pub async fn run_demo(
         // Fans only travel when someone draws them.
         agent_config.share_fan = options.sinks.any();
         let robot = &options.scenario.robot;
-        agent_config.safety = options.safety.then_some(SafetyLimits {
-            max_speed: robot.max_speed,
-            max_accel: robot.max_accel,
-            max_braking: robot.max_accel,
-            max_yaw_accel: robot.max_yaw_accel,
-            control_period: options.scenario.dt_s,
-        });
+        agent_config.safety = options
+            .safety
+            .then(|| robot.safety_limits(options.scenario.dt_s));
         let mut stop = stop_rx.clone();
         agents.push(tokio::spawn(async move {
             let shutdown = async move {
@@ -198,26 +193,18 @@ pub fn status_line(s: &Status) -> String {
 /// The final summary, as printed by `gapfleet demo`.
 pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     let s = &report.status;
-    let plans: u64 = report
-        .agents
-        .iter()
-        .map(|c| c.plans.load(Ordering::Relaxed))
-        .sum();
-    let rejected: u64 = report
-        .agents
-        .iter()
-        .map(|c| c.rejected.load(Ordering::Relaxed))
-        .sum();
-    let warned: u64 = report
-        .agents
-        .iter()
-        .map(|c| c.warned.load(Ordering::Relaxed))
-        .sum();
-    let protective: u64 = report
-        .agents
-        .iter()
-        .map(|c| c.protective.load(Ordering::Relaxed))
-        .sum();
+    // One counter summed over the agents.
+    let sum = |counter: fn(&AgentCounters) -> &AtomicU64| -> u64 {
+        report
+            .agents
+            .iter()
+            .map(|c| counter(c).load(Ordering::Relaxed))
+            .sum()
+    };
+    let plans = sum(|c| &c.plans);
+    let rejected = sum(|c| &c.rejected);
+    let warned = sum(|c| &c.warned);
+    let protective = sum(|c| &c.protective);
     let mut out = String::new();
     out.push_str(&format!(
         "\n{} robots ({planner}), {} people, {:.0} simulated seconds\n",
