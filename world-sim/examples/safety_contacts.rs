@@ -3,11 +3,11 @@
 //! who caused it and what the robot knew, and the totals.
 //!
 //!     cargo run --release -p world-sim --example safety_contacts [seed] [seconds] [--no-safety]
-//!         [--body-accel A]
+//!         [--person-accel A]
 
 use agent::model::Command;
 use agent::planner::PlannerStack;
-use agent::safety::{SafetyLayer, SafetyParams};
+use agent::safety::{Guard, SafetyParams};
 use world_sim::fleet::{Fleet, plan_all};
 use world_sim::metrics::{ContactCause, contact_cause};
 use world_sim::scenario::Scenario;
@@ -17,12 +17,12 @@ fn main() {
     let seed: u64 = args.first().and_then(|a| a.parse().ok()).unwrap_or(1);
     let seconds: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(60.0);
     let safety = !args.iter().any(|a| a == "--no-safety");
-    let body_accel: f64 = args
+    let person_accel: f64 = args
         .iter()
-        .position(|a| a == "--body-accel")
+        .position(|a| a == "--person-accel")
         .and_then(|k| args.get(k + 1))
         .and_then(|a| a.parse().ok())
-        .unwrap_or(SafetyParams::default().body_accel);
+        .unwrap_or(SafetyParams::default().person_accel);
     let mut scenario = Scenario::builtin("warehouse").expect("built-in");
     scenario.seed = seed;
     let mut fleet = Fleet::new(&scenario).expect("a warehouse");
@@ -33,10 +33,10 @@ fn main() {
         .map(|_| PlannerStack::new("pgp+orca".parse().expect("known")))
         .collect();
     let params = SafetyParams {
-        body_accel,
+        person_accel,
         ..SafetyParams::default()
     };
-    let mut layers = vec![SafetyLayer::new(params); n];
+    let mut guards = vec![Guard::with_params(limits, params); n];
     let mut commands = vec![Command::STOP; n];
     let people = fleet.world.humans.crowd.len();
     let mut touching = vec![vec![false; people]; n];
@@ -50,15 +50,7 @@ fn main() {
         plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
             let mut plan = stack.plan(input);
             if safety {
-                plan.command = layers[i]
-                    .guard(
-                        plan.command,
-                        input.ego,
-                        &limits,
-                        input.neighbours,
-                        input.map,
-                    )
-                    .command;
+                plan.command = guards[i].check(plan.command, input).command;
             }
             plan
         });
@@ -89,7 +81,7 @@ fn main() {
         }
     }
     println!(
-        "seed {seed}, {seconds} s, safety {} (body_accel {body_accel}): {robot_caused} robot-caused, {person_caused} person-caused contacts with people, {} tasks",
+        "seed {seed}, {seconds} s, safety {} (person_accel {person_accel}): {robot_caused} robot-caused, {person_caused} person-caused contacts with people, {} tasks",
         if safety { "on" } else { "off" },
         (0..n).map(|i| fleet.tasks_done(i)).sum::<u64>(),
     );

@@ -7,13 +7,15 @@ use crate::scenario::Scenario;
 use crate::world::World;
 use agent::model::Command;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::safety::Guard;
 
 /// Windows of the human-impact measurement in episodes (s): short, so that few people change
 /// goal within one and drop out of it; the last, partial window is counted too.
 pub const EPISODE_IMPACT_WINDOW_S: agent::math::Real = 5.0;
 
-/// Runs a scenario with every robot using `planner` until all robots arrive or time runs
-/// out. Returns each robot's metrics.
+/// Runs a scenario with every robot using `planner` (under `agent::safety` unless the
+/// scenario's `[robot] safety` is off) until all robots arrive or time runs out. Returns each
+/// robot's metrics.
 pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetrics> {
     let mut world = World::from_scenario(scenario);
     let mut stacks: Vec<PlannerStack> = world
@@ -26,6 +28,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
             stack
         })
         .collect();
+    let mut guards = guards(scenario, world.robots.len());
     let mut recorders: Vec<MetricsRecorder> = (0..world.robots.len())
         .map(|i| MetricsRecorder::new(&world, i))
         .collect();
@@ -36,7 +39,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
         if recorders.iter().all(MetricsRecorder::arrived) {
             break;
         }
-        for (i, stack) in stacks.iter_mut().enumerate() {
+        for (i, (stack, guard)) in stacks.iter_mut().zip(&mut guards).enumerate() {
             commands[i] = if recorders[i].arrived() {
                 Command::STOP
             } else {
@@ -49,7 +52,10 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
                     goal,
                     dt: world.dt,
                 };
-                stack.plan(&input).command
+                let command = stack.plan(&input).command;
+                guard
+                    .as_mut()
+                    .map_or(command, |g| g.check(command, &input).command)
             };
         }
         world.step(&commands);
@@ -67,6 +73,14 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
             (m.human_delay_s, m.human_extra_path_m) = impact.robot_totals(i);
             m
         })
+        .collect()
+}
+
+/// One safety guard per robot when the scenario's robots run the layer, else none.
+pub fn guards(scenario: &Scenario, robots: usize) -> Vec<Option<Guard>> {
+    let limits = scenario.robot.safety_limits(scenario.dt_s);
+    (0..robots)
+        .map(|_| scenario.robot.safety.then(|| Guard::new(limits)))
         .collect()
 }
 

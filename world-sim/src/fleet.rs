@@ -349,6 +349,10 @@ pub struct FleetReport {
     pub tasks_done: Vec<u64>,
     /// Metrics per robot.
     pub robots: Vec<RobotMetrics>,
+    /// Commands the safety layer's warning field slowed, per robot (0 without the layer).
+    pub warned: Vec<u64>,
+    /// Commands its protective field slowed further or stopped, per robot.
+    pub protective: Vec<u64>,
 }
 
 impl FleetReport {
@@ -392,8 +396,9 @@ pub fn plan_all(
     }
 }
 
-/// Runs a warehouse for `seconds` with every robot planning in-process with `planner`;
-/// `share_intents` switches intent sharing between robots.
+/// Runs a warehouse for `seconds` with every robot planning in-process with `planner` (under
+/// `agent::safety` unless the scenario's `[robot] safety` is off); `share_intents` switches
+/// intent sharing between robots.
 pub fn run_fleet(
     scenario: &Scenario,
     planner: PlannerSpec,
@@ -409,12 +414,17 @@ pub fn run_fleet(
             stack
         })
         .collect();
+    let mut guards = crate::episode::guards(scenario, fleet.robots());
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut commands = vec![Command::STOP; fleet.robots()];
     for _ in 0..steps {
         fleet.dispatch();
-        plan_all(&mut fleet, &mut stacks, &mut commands, |_, stack, input| {
-            stack.plan(input)
+        plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
+            let mut plan = stack.plan(input);
+            if let Some(guard) = &mut guards[i] {
+                plan.command = guard.check(plan.command, input).command;
+            }
+            plan
         });
         fleet.step(&commands);
     }
@@ -422,6 +432,14 @@ pub fn run_fleet(
         seconds: fleet.world.time,
         tasks_done: fleet.tasks_done.clone(),
         robots: (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
+        warned: guards
+            .iter()
+            .map(|g| g.as_ref().map_or(0, |g| g.warned))
+            .collect(),
+        protective: guards
+            .iter()
+            .map(|g| g.as_ref().map_or(0, |g| g.protective))
+            .collect(),
     })
 }
 

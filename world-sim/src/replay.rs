@@ -10,6 +10,7 @@
 //! same way over their own time window.
 
 use crate::dataset::{Recording, SAMPLE_DT, Track};
+use crate::metrics::{ContactCause, contact_cause};
 use crate::robot::RobotBody;
 use crate::scenario::RobotSpec;
 use agent::map::{MapError, Obstacle, StaticMap};
@@ -100,6 +101,8 @@ impl Default for ReplayOptions {
                 position_noise_m: 0.0,
                 velocity_noise: 0.0,
                 occlusion: false,
+                // Recorded people do not react: the robot yields alone, under the layer.
+                safety: true,
             },
         }
     }
@@ -186,6 +189,11 @@ pub struct RunOutcome {
     pub max_density: Real,
     /// How many plans were made (0 for the person).
     pub replans: usize,
+    /// Contacts (bodies overlapping) begun while the robot moved toward the person
+    /// ([`contact_cause`]); for the person's own row, while they moved toward the other.
+    pub robot_caused_contacts: u64,
+    /// Contacts begun otherwise: a recorded person, who does not react, walked into the robot.
+    pub person_caused_contacts: u64,
 }
 
 impl RunOutcome {
@@ -203,10 +211,17 @@ struct Exposure {
     density_max: Real,
     samples: usize,
     radius: Real,
+    /// Centre distance at which two bodies touch.
+    contact: Real,
+    /// The people touching now.
+    touching: Vec<u64>,
+    was_touching: Vec<u64>,
+    robot_caused: u64,
+    person_caused: u64,
 }
 
 impl Exposure {
-    fn new(radius: Real) -> Self {
+    fn new(radius: Real, contact: Real) -> Self {
         Self {
             min_distance: Real::INFINITY,
             closest: None,
@@ -214,11 +229,19 @@ impl Exposure {
             density_max: 0.0,
             samples: 0,
             radius,
+            contact,
+            touching: Vec::new(),
+            was_touching: Vec::new(),
+            robot_caused: 0,
+            person_caused: 0,
         }
     }
 
-    fn record(&mut self, recording: &Recording, t: Real, at: Vec2, skip: u64) {
+    /// The robot (or the person) at `at` moving at `velocity` at time `t`.
+    fn record(&mut self, recording: &Recording, t: Real, at: Vec2, velocity: Vec2, skip: u64) {
         let mut near = 0usize;
+        std::mem::swap(&mut self.touching, &mut self.was_touching);
+        self.touching.clear();
         for (id, p, _) in recording.people_at(t, Some(skip)) {
             let d = (p - at).norm();
             if d < self.min_distance {
@@ -227,6 +250,15 @@ impl Exposure {
             }
             if d <= self.radius {
                 near += 1;
+            }
+            if d < self.contact {
+                self.touching.push(id);
+                if !self.was_touching.contains(&id) {
+                    match contact_cause(at, velocity, p) {
+                        ContactCause::Robot => self.robot_caused += 1,
+                        ContactCause::Other => self.person_caused += 1,
+                    }
+                }
             }
         }
         let density = near as Real / (std::f64::consts::PI * self.radius * self.radius);
@@ -253,6 +285,8 @@ impl Exposure {
             mean_density: self.density_sum / self.samples.max(1) as Real,
             max_density: self.density_max,
             replans,
+            robot_caused_contacts: self.robot_caused,
+            person_caused_contacts: self.person_caused,
         }
     }
 }
@@ -293,14 +327,14 @@ pub fn human_outcome(
     run: &ReplayRun,
     options: &ReplayOptions,
 ) -> RunOutcome {
-    let mut exposure = Exposure::new(options.density_radius_m);
+    let mut exposure = Exposure::new(options.density_radius_m, 2.0 * options.person_radius_m);
     let track = recording
         .track(run.pedestrian)
         .expect("runs come from this recording's tracks");
     for k in 0..=simulation_steps(run.t_start, run.t_end, options.dt) {
         let t = (run.t_start + k as Real * options.dt).min(run.t_end);
-        let (at, _) = track.state_at(t).expect("inside the track's window");
-        exposure.record(recording, t, at, run.pedestrian);
+        let (at, velocity) = track.state_at(t).expect("inside the track's window");
+        exposure.record(recording, t, at, velocity, run.pedestrian);
     }
     exposure.finish(
         true,
@@ -357,8 +391,18 @@ pub fn replay(
             robot.state.heading = angle_of(&velocity);
         }
     }
-    let mut exposure = Exposure::new(options.density_radius_m);
-    exposure.record(recording, run.t_start, robot.state.position, run.pedestrian);
+    let mut exposure = Exposure::new(
+        options.density_radius_m,
+        options.robot.radius_m + options.person_radius_m,
+    );
+    let s = &robot.state;
+    exposure.record(
+        recording,
+        run.t_start,
+        s.position,
+        s.velocity,
+        run.pedestrian,
+    );
     let duration = run.t_end - run.t_start;
     let deadline = run.t_end + options.patience_s.max(duration);
     let every = simulation_steps(0.0, options.replan_period, options.dt).max(1);
@@ -387,7 +431,8 @@ pub fn replay(
         robot.apply(command, options.dt);
         path += (robot.state.position - before).norm();
         t = run.t_start + (k + 1) as Real * options.dt;
-        exposure.record(recording, t, robot.state.position, run.pedestrian);
+        let s = &robot.state;
+        exposure.record(recording, t, s.position, s.velocity, run.pedestrian);
         if (robot.state.position - run.goal).norm() < options.robot.goal_tolerance_m {
             reached = true;
             break;

@@ -218,6 +218,10 @@ pub struct RobotSpec {
     /// Whether walls and shelves hide what is behind them (line of sight to a body's centre).
     #[serde(default = "yes")]
     pub occlusion: bool,
+    /// Whether `agent::safety` checks every command the planner gives (on unless a scenario
+    /// says `safety = false`, as the papers' studies ran; `--no-safety` on the commands).
+    #[serde(default = "yes")]
+    pub safety: bool,
 }
 
 impl RobotSpec {

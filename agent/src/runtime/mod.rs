@@ -15,7 +15,7 @@ pub mod wire;
 use crate::map::StaticMap;
 use crate::model::Command;
 use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
-use crate::safety::{SafetyLayer, SafetyLimits, SafetyParams, Zone};
+use crate::safety::{Guard, SafetyLimits, Zone};
 use schemas::{AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, decode, encode};
 use std::future::Future;
 use std::sync::Arc;
@@ -126,7 +126,7 @@ pub async fn run_agent(
 
     let planner_name = config.planner.to_string();
     let mut stack = PlannerStack::new(config.planner);
-    let mut safety = SafetyLayer::new(SafetyParams::default());
+    let mut guard = config.safety.map(Guard::new);
     stack.set_record_fan(config.share_fan);
     let mut map: Option<(u32, StaticMap)> = None;
     let mut last_map_attempt: Option<Instant> = None;
@@ -190,16 +190,16 @@ pub async fn run_agent(
                         let ego = wire::ego(&obs);
                         let neighbours = wire::neighbours(&obs);
                         let started = Instant::now();
-                        let mut plan = stack.plan(&PlanningInput {
+                        let input = PlanningInput {
                             ego: &ego,
                             neighbours: &neighbours,
                             map: m,
                             goal: wire::vec(goal),
                             dt: obs.dt,
-                        });
-                        if let Some(limits) = config.safety {
-                            let limits = SafetyLimits { control_period: obs.dt, ..limits };
-                            let guarded = safety.guard(plan.command, &ego, &limits, &neighbours, m);
+                        };
+                        let mut plan = stack.plan(&input);
+                        if let Some(guard) = &mut guard {
+                            let guarded = guard.check(plan.command, &input);
                             plan.command = guarded.command;
                             match guarded.zone {
                                 Zone::Clear => {}

@@ -88,7 +88,6 @@ pub async fn bench_fleet(
         site: "bench".to_owned(),
         listen: None,
         share_intents: true,
-        safety: true,
         sinks: dashboards::Sinks::default(),
         round_trips: Some(round_trips_tx),
     };

@@ -25,7 +25,7 @@ fn warehouse_large(robots: usize, humans: usize) -> Result<Scenario> {
     large.warehouse(Overrides {
         robots: Some(robots),
         humans: Some(humans),
-        seed: None,
+        ..Overrides::default()
     })
 }
 

@@ -49,6 +49,7 @@ impl CoordinatorArgs {
             robots: self.robots,
             humans: self.humans,
             seed: self.seed,
+            ..Overrides::default()
         })?;
         let mut net = self.net.clone();
         if net.listen.is_empty() && net.connect.is_empty() && net.zenoh_config.is_none() {

@@ -42,7 +42,7 @@ pub struct DemoArgs {
     #[arg(long)]
     no_intent_sharing: bool,
     /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
-    /// planners run.
+    /// planners run (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
     no_safety: bool,
     #[command(flatten)]
@@ -56,6 +56,7 @@ impl DemoArgs {
             robots: self.robots,
             humans: self.humans,
             seed: self.seed,
+            no_safety: self.no_safety,
         })
     }
 
@@ -82,7 +83,6 @@ impl DemoArgs {
             site: self.site,
             listen: self.listen,
             share_intents: !self.no_intent_sharing,
-            safety: !self.no_safety,
             sinks: self.rerun.sinks(),
             round_trips: None,
         };

@@ -65,6 +65,10 @@ pub struct OpenSpaceArgs {
     /// A built-in scenario name or a scenario file to start from.
     #[arg(long, default_value = "open-space")]
     scenario: ScenarioRef,
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
+    #[arg(long)]
+    no_safety: bool,
 }
 
 /// `experiment intent-sharing`'s arguments.
@@ -91,6 +95,10 @@ pub struct IntentSharingArgs {
     /// Write the per-run table here as JSON.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
+    #[arg(long)]
+    no_safety: bool,
 }
 
 /// `experiment replay`'s arguments.
@@ -123,6 +131,10 @@ pub struct ReplayArgs {
     /// Output folder (default: results/eth/<sequence>-<runs>).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
+    #[arg(long)]
+    no_safety: bool,
 }
 
 impl Experiment {
@@ -138,8 +150,12 @@ impl Experiment {
 }
 
 fn open_space(args: OpenSpaceArgs) -> Result<()> {
+    let mut scenario = *args.scenario.scenario;
+    if args.no_safety {
+        scenario.robot.safety = false;
+    }
     let plan = StudyPlan {
-        scenario: *args.scenario.scenario,
+        scenario,
         algorithms: args.algorithms,
         densities: args.densities,
         seeds: args.seeds,
@@ -173,6 +189,7 @@ fn intent_sharing(args: IntentSharingArgs) -> Result<()> {
         robots: args.robots,
         humans: args.humans,
         seed: None,
+        no_safety: args.no_safety,
     })?;
     let (robots, humans) = scenario
         .warehouse
@@ -214,6 +231,7 @@ fn replay(args: ReplayArgs) -> Result<()> {
     }
     let mut options = ReplayOptions::default();
     options.robot.max_speed = speed;
+    options.robot.safety = !args.no_safety;
     let study = ReplayStudy {
         recording,
         map,

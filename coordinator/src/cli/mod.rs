@@ -96,6 +96,8 @@ pub struct Overrides {
     pub humans: Option<usize>,
     /// Seed of the world.
     pub seed: Option<u64>,
+    /// Turn the safety layer off (`--no-safety`); `false` keeps the scenario's setting.
+    pub no_safety: bool,
 }
 
 impl ScenarioRef {
@@ -116,6 +118,9 @@ impl ScenarioRef {
         }
         if let Some(seed) = overrides.seed {
             s.seed = seed;
+        }
+        if overrides.no_safety {
+            s.robot.safety = false;
         }
         s.validate(&self.name)?;
         Ok(s)

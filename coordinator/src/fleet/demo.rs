@@ -33,9 +33,6 @@ pub struct DemoOptions {
     pub listen: Option<String>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
-    /// Whether every agent runs the safety layer under its planner (`agent::safety`), with
-    /// the scenario's robot limits.
-    pub safety: bool,
     /// Rerun sinks (none: no dashboard).
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
@@ -124,7 +121,7 @@ pub async fn run_demo(
         // Fans only travel when someone draws them.
         agent_config.share_fan = options.sinks.any();
         let robot = &options.scenario.robot;
-        agent_config.safety = options
+        agent_config.safety = robot
             .safety
             .then(|| robot.safety_limits(options.scenario.dt_s));
         let mut stop = stop_rx.clone();

@@ -43,6 +43,21 @@ pub struct SharingRun {
     pub collision_rate: f64,
     /// Mean over robots of the space-violation rate while moving.
     pub svr: f64,
+    /// Contacts with people the robots caused (onsets, `world_sim::metrics::contact_cause`).
+    #[serde(default)]
+    pub robot_caused_contacts: u64,
+    /// Contacts people caused: walking into a robot stopped or moving away (onsets).
+    #[serde(default)]
+    pub person_caused_contacts: u64,
+    /// Robot–robot contacts (onsets, each pair once per robot).
+    #[serde(default)]
+    pub robot_robot_contacts: u64,
+    /// Robot–wall contacts (onsets).
+    #[serde(default)]
+    pub wall_contacts: u64,
+    /// Commands the safety layer's protective field slowed or stopped (0 without the layer).
+    #[serde(default)]
+    pub protective_commands: u64,
 }
 
 impl SharingRun {
@@ -56,16 +71,25 @@ impl SharingRun {
             robot_contact_steps: report.robots.iter().map(|m| m.robot_contacts).sum(),
             collision_rate: report.robots.iter().map(|m| m.collision_rate).sum::<f64>() / n,
             svr: report.robots.iter().map(|m| m.svr).sum::<f64>() / n,
+            robot_caused_contacts: report.robots.iter().map(|m| m.robot_caused_contacts).sum(),
+            person_caused_contacts: report.robots.iter().map(|m| m.person_caused_contacts).sum(),
+            robot_robot_contacts: report.robots.iter().map(|m| m.robot_robot_contacts).sum(),
+            wall_contacts: report.robots.iter().map(|m| m.wall_contacts).sum(),
+            protective_commands: report.protective.iter().sum(),
         }
     }
 
     /// The compared metrics, by name.
-    const METRICS: [Metric; 5] = [
+    const METRICS: [Metric; 7] = [
         ("tasks", |r| r.tasks as f64),
         ("robot_near_miss_steps", |r| r.robot_near_miss_steps as f64),
         ("robot_contact_steps", |r| r.robot_contact_steps as f64),
         ("collision_rate", |r| r.collision_rate),
         ("svr", |r| r.svr),
+        ("robot_caused_contacts", |r| r.robot_caused_contacts as f64),
+        ("person_caused_contacts", |r| {
+            r.person_caused_contacts as f64
+        }),
     ];
 }
 
@@ -94,19 +118,23 @@ pub fn report(runs: &[SharingRun]) -> String {
     let of = |sharing: bool| runs.iter().filter(move |r| r.sharing == sharing);
     let _ = writeln!(
         out,
-        "sharing  tasks  robot_near_miss_steps  robot_contact_steps  collision%   SVR"
+        "sharing  tasks  robot_near_miss_steps  robot_contact_steps  collision%   SVR  \
+         robot-caused  person-caused  protective"
     );
     for sharing in [true, false] {
         let m = |get: fn(&SharingRun) -> f64| mean(of(sharing).map(get)).unwrap_or(0.0);
         let _ = writeln!(
             out,
-            "{:7}  {:5.1}  {:21.1}  {:19.1}  {:10.3}  {:.3}",
+            "{:7}  {:5.1}  {:21.1}  {:19.1}  {:10.3}  {:.3}  {:12.2}  {:13.2}  {:10.1}",
             if sharing { "on" } else { "off" },
             m(SharingRun::METRICS[0].1),
             m(SharingRun::METRICS[1].1),
             m(SharingRun::METRICS[2].1),
             m(SharingRun::METRICS[3].1) * 100.0,
-            m(SharingRun::METRICS[4].1)
+            m(SharingRun::METRICS[4].1),
+            m(SharingRun::METRICS[5].1),
+            m(SharingRun::METRICS[6].1),
+            m(|r| r.protective_commands as f64),
         );
     }
     // Paired by seed: the seeds are the same world with sharing switched, so the per-seed
@@ -149,6 +177,11 @@ mod tests {
             robot_contact_steps: 0,
             collision_rate: 0.01,
             svr: 0.2,
+            robot_caused_contacts: 0,
+            person_caused_contacts: seed,
+            robot_robot_contacts: 0,
+            wall_contacts: 0,
+            protective_commands: 3,
         }
     }
 

@@ -7,6 +7,7 @@ use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
 use super::output::{StudyError, write_json};
 use agent::map::StaticMap;
 use agent::planner::{PlannerSpec, PlannerStack};
+use agent::safety::Guard;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -92,6 +93,9 @@ impl ReplayStudy {
     fn play(&self, spec: PlannerSpec, run: &ReplayRun) -> ReplayRow {
         let mut stack = PlannerStack::with_max_speed(spec, self.options.robot.max_speed);
         stack.set_record_fan(false);
+        let robot = &self.options.robot;
+        // The control period is each plan's dt (the recording's frame step).
+        let mut guard = robot.safety.then(|| Guard::new(robot.safety_limits(0.0)));
         let mut planning_s = 0.0;
         let outcome = replay::replay(
             &self.recording,
@@ -100,7 +104,10 @@ impl ReplayStudy {
             &self.options,
             &mut |input| {
                 let started = Instant::now();
-                let command = stack.plan(input).command;
+                let planned = stack.plan(input).command;
+                let command = guard
+                    .as_mut()
+                    .map_or(planned, |g| g.check(planned, input).command);
                 planning_s += started.elapsed().as_secs_f64();
                 command
             },
@@ -147,6 +154,8 @@ struct RunRecord {
     closest_pedestrian: Option<u64>,
     #[serde(with = "fixed1_or_empty")]
     closest_t_s: Option<f64>,
+    robot_caused_contacts: u64,
+    person_caused_contacts: u64,
 }
 
 impl From<&ReplayRow> for RunRecord {
@@ -170,6 +179,8 @@ impl From<&ReplayRow> for RunRecord {
             mean_replan_s: (o.replans > 0).then(|| r.planning_s / o.replans as f64),
             closest_pedestrian: o.closest.map(|c| c.0),
             closest_t_s: o.closest.map(|c| c.1),
+            robot_caused_contacts: o.robot_caused_contacts,
+            person_caused_contacts: o.person_caused_contacts,
         }
     }
 }
@@ -215,6 +226,11 @@ pub struct TableRow {
     pub sd_density: f64,
     /// Mean over runs of the run's largest density (Table 2's μ(max ρ)).
     pub mean_max_density: f64,
+    /// Contacts with people the robot caused (moving toward them at the onset), summed over
+    /// the runs; for the human row, the recorded person moving toward another.
+    pub robot_caused_contacts: u64,
+    /// Contacts begun otherwise (a recorded person, who does not react, walked in), summed.
+    pub person_caused_contacts: u64,
 }
 
 /// Mean and standard deviation (population), through `stats::mean`; NaN for no values.
@@ -282,6 +298,8 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
                 mean_density,
                 sd_density,
                 mean_max_density,
+                robot_caused_contacts: outcomes.clone().map(|o| o.robot_caused_contacts).sum(),
+                person_caused_contacts: outcomes.clone().map(|o| o.person_caused_contacts).sum(),
             }
         })
         .collect()
@@ -290,14 +308,14 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
 /// The table as Markdown, laid out like the paper's Tables 1 and 2.
 pub fn table_markdown(table: &[TableRow]) -> String {
     let mut out = String::from(
-        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) | contacts caused / suffered |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let na = |v: Option<f64>, f: &dyn Fn(f64) -> String| v.map_or("NA".to_string(), f);
     for r in table {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} |",
+            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} | {} / {} |",
             r.planner,
             r.runs,
             r.runs_alone,
@@ -314,6 +332,8 @@ pub fn table_markdown(table: &[TableRow]) -> String {
             r.mean_density,
             r.sd_density,
             r.mean_max_density,
+            r.robot_caused_contacts,
+            r.person_caused_contacts,
         );
     }
     out

@@ -55,6 +55,9 @@ struct RunRecord {
     human_delay_s: f64,
     #[serde(with = "shortest")]
     human_extra_path_m: f64,
+    robot_caused_contacts: u64,
+    person_caused_contacts: u64,
+    wall_contacts: u64,
 }
 
 impl From<&RunRow> for RunRecord {
@@ -77,6 +80,9 @@ impl From<&RunRow> for RunRecord {
             force_on_people: m.force_on_people,
             human_delay_s: m.human_delay_s,
             human_extra_path_m: m.human_extra_path_m,
+            robot_caused_contacts: m.robot_caused_contacts,
+            person_caused_contacts: m.person_caused_contacts,
+            wall_contacts: m.wall_contacts,
         }
     }
 }
@@ -101,14 +107,13 @@ impl From<RunRecord> for RunRow {
                 // Robot–robot counts: the open-space study has one robot.
                 robot_near_misses: 0,
                 robot_contacts: 0,
+                robot_robot_contacts: 0,
                 force_on_people: r.force_on_people,
                 human_delay_s: r.human_delay_s,
                 human_extra_path_m: r.human_extra_path_m,
-                // Contacts by cause are not columns of runs.csv (yet: issue 19's re-run).
-                robot_caused_contacts: 0,
-                person_caused_contacts: 0,
-                robot_robot_contacts: 0,
-                wall_contacts: 0,
+                robot_caused_contacts: r.robot_caused_contacts,
+                person_caused_contacts: r.person_caused_contacts,
+                wall_contacts: r.wall_contacts,
             },
         }
     }

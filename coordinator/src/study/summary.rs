@@ -30,6 +30,13 @@ pub struct Group {
     pub social_force: Option<f64>,
     /// Mean smallest centre distance to a person (m).
     pub min_human_distance_m: Option<f64>,
+    /// Contacts with people the robot caused, summed over the runs
+    /// (`world_sim::metrics::contact_cause`).
+    pub robot_caused_contacts: u64,
+    /// Contacts people caused (walking into a robot stopped or moving away), summed.
+    pub person_caused_contacts: u64,
+    /// Mean delay the robot caused people (s).
+    pub human_delay_s: Option<f64>,
 }
 
 /// PGP+X against X on one metric, pooled over densities, paired by (density, seed).
@@ -96,6 +103,9 @@ pub fn summarize(algorithms: &[PlannerSpec], densities: &[f64], rows: &[RunRow])
                 svr: mean(g.iter().map(|m| m.svr)),
                 social_force: mean(g.iter().map(|m| m.social_force)),
                 min_human_distance_m: mean(g.iter().map(|m| m.min_human_distance_m)),
+                robot_caused_contacts: g.iter().map(|m| m.robot_caused_contacts).sum(),
+                person_caused_contacts: g.iter().map(|m| m.person_caused_contacts).sum(),
+                human_delay_s: mean(g.iter().map(|m| m.human_delay_s)),
             });
         }
     }
