@@ -139,11 +139,21 @@ pub struct SafetyLayer {
     near: Vec<(Vec2, Vec2, Real, Real)>,
     /// Walls and shelves within reach.
     local: LocalMap,
-    /// Per body of `near` and hypothesis (walking on, stopping dead): whether it has come to
-    /// the robot already in this rollout without the robot moving toward it. A body that
-    /// walks into the robot stops there; its straight line through the robot afterwards
-    /// means nothing.
-    arrived: Vec<[bool; 2]>,
+    /// Per body of `near` and hypothesis (walking on, stopping dead): if it has come within
+    /// the margin of the robot in this rollout without the robot moving toward it, where and
+    /// when, and how it goes on. A body that walks into the robot does not walk through it
+    /// (its straight line through the robot afterwards means nothing): it slides along,
+    /// keeping only the part of its velocity that does not close on the robot, and stays an
+    /// obstacle the robot may not move toward later in the rollout.
+    arrived: Vec<[Option<Arrival>; 2]>,
+}
+
+/// Where and when a body came to the robot in a rollout, and its velocity from then on.
+#[derive(Debug, Clone, Copy)]
+struct Arrival {
+    at: Vec2,
+    t: Real,
+    sliding: Vec2,
 }
 
 /// The robot along a rollout: position, velocity, heading, turn rate.
@@ -290,7 +300,7 @@ impl SafetyLayer {
         let mut t = 0.0;
         let mut wall = self.local.distance(map, &m.position);
         self.arrived.clear();
-        self.arrived.resize(self.near.len(), [false; 2]);
+        self.arrived.resize(self.near.len(), [None; 2]);
         // Until the robot stands (at most its speed over the deceleration, plus the drive).
         let max_steps = drive_steps
             + (limits.max_speed.max(ego.velocity.norm()) / (braking * h)).ceil() as usize
@@ -315,14 +325,24 @@ impl SafetyLayer {
                 self.near.iter().zip(&mut self.arrived)
             {
                 let within_sq = (within + accel * half_tt).powi(2);
-                for (at, arrived) in [position + velocity * t, position].into_iter().zip(arrived) {
+                let hypotheses = [
+                    (position + velocity * t, velocity),
+                    (position, vec2(0.0, 0.0)),
+                ];
+                for ((at, moving), arrival) in hypotheses.into_iter().zip(arrived) {
+                    let at = arrival.map_or(at, |a| a.at + a.sliding * (t - a.t));
                     let d = at - m.position;
                     // The gap is under the margin: no square root needed.
-                    if d.norm_squared() < within_sq && !*arrived {
+                    if d.norm_squared() < within_sq {
                         if d.dot(&m.velocity) > 0.0 {
                             return false;
                         }
-                        *arrived = true;
+                        if arrival.is_none() {
+                            // Its velocity less what closes on the robot.
+                            let n = unit_or_zero(d);
+                            let sliding = moving - n * moving.dot(&n).min(0.0);
+                            *arrival = Some(Arrival { at, t, sliding });
+                        }
                     }
                 }
             }
@@ -335,6 +355,20 @@ impl SafetyLayer {
         }
         true
     }
+}
+
+/// How far ahead of a robot moving at `speed` its two fields reach along its line of travel
+/// (m, from its centre's path, margin included): the protective field covers the control
+/// period and reaction time at that speed plus the braking distance, the warning field the
+/// warning time more. These are the shapes a safety scanner's speed-switched fields take; the
+/// layer itself checks the commanded motion against each body, and dashboards draw these.
+pub fn field_reach(speed: Real, limits: &SafetyLimits, params: &SafetyParams) -> (Real, Real) {
+    let speed = speed.abs();
+    let braking = limits.max_braking.min(limits.max_accel).max(1e-9);
+    let protective = speed * (limits.control_period + params.reaction_time)
+        + speed * speed / (2.0 * braking)
+        + params.margin;
+    (protective, protective + speed * params.warning_time)
 }
 
 /// The layer as a robot runs it under its planner: the base's limits (the control period is
@@ -381,6 +415,12 @@ impl Guard {
         }
         guarded
     }
+}
+
+/// `v` scaled to length 1, or zero.
+fn unit_or_zero(v: Vec2) -> Vec2 {
+    let n = v.norm();
+    if n > 0.0 { v / n } else { v }
 }
 
 /// The command with its speed (and turn rate) times `s`.

@@ -1,7 +1,9 @@
 //! The committed study results are what the code computes now: a smoke version of the
-//! open-space study reproduces its cells of `results/open-space/runs.csv` byte for byte. A
-//! change that moves any bit of any planner or of the crowd fails here; if the change is
-//! meant to, re-run the study and commit its results (`results/open-space/REPORT.md`).
+//! open-space study reproduces its cells of `results/open-space/runs.csv` (the papers'
+//! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
+//! every planner) byte for byte. A change that moves any bit of any planner, of the layer or
+//! of the crowd fails here; if the change is meant to, re-run the study and commit its
+//! results (`results/open-space/REPORT.md`).
 
 #![cfg(feature = "studies")]
 
@@ -11,13 +13,21 @@ use world_sim::scenario::Scenario;
 
 #[test]
 fn open_space_smoke_rows_are_the_committed_rows() {
-    let committed = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../results/open-space/runs.csv"
-    ))
-    .expect("the committed study");
+    smoke_rows_are_committed("open-space", false);
+}
+
+#[test]
+fn open_space_smoke_rows_under_the_safety_layer_are_the_committed_rows() {
+    smoke_rows_are_committed("open-space-safety", true);
+}
+
+fn smoke_rows_are_committed(dir: &str, safety: bool) {
+    let path = format!("{}/../results/{dir}/runs.csv", env!("CARGO_MANIFEST_DIR"));
+    let committed = std::fs::read_to_string(&path).expect("the committed study");
+    let mut scenario = Scenario::builtin("open-space").expect("built-in");
+    scenario.robot.safety = safety;
     let plan = StudyPlan {
-        scenario: Scenario::builtin("open-space").expect("built-in"),
+        scenario,
         algorithms: PLANNERS.iter().map(|a| a.parse().expect("known")).collect(),
         densities: vec![0.1, 0.5, 1.0],
         seeds: 2,

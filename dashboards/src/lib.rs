@@ -73,6 +73,31 @@ pub struct RobotView {
     pub alive: bool,
 }
 
+/// Which of a robot's safety fields acted on its newest command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FieldState {
+    /// Neither (or no layer).
+    #[default]
+    Clear,
+    /// The warning field slowed it.
+    Warning,
+    /// The protective field slowed it further or stopped it.
+    Protective,
+}
+
+/// A robot's protective and warning fields as outlines on the floor.
+#[derive(Debug, Clone)]
+pub struct FieldView {
+    /// Robot id.
+    pub robot: u32,
+    /// The protective field's outline (closed).
+    pub protective: Vec<P>,
+    /// The warning field's outline (closed).
+    pub warning: Vec<P>,
+    /// Which field acted on the robot's newest command.
+    pub state: FieldState,
+}
+
 /// A robot's announced intent.
 #[derive(Debug, Clone)]
 pub struct IntentView {
@@ -123,6 +148,8 @@ pub struct Frame {
     pub intents: Vec<IntentView>,
     /// Candidate fans (empty unless a planner shares them).
     pub fans: Vec<FanView>,
+    /// Safety fields of the robots that run the layer.
+    pub fields: Vec<FieldView>,
     /// Events since the last frame.
     pub events: Vec<EventView>,
     /// Fleet-wide series: name → value.
@@ -324,6 +351,13 @@ fn blueprint() -> rerun::blueprint::Blueprint {
                 Horizontal::new([
                     plot("min human distance (m)", "min_human_distance").into(),
                     plot("social force", "social_force").into(),
+                    TimeSeriesView::new("contacts with people: robot-caused, person-caused")
+                        .with_contents([
+                            "/metrics/robot_caused_contacts/**",
+                            "/metrics/person_caused_contacts/**",
+                            "/metrics/protective_robots/**",
+                        ])
+                        .into(),
                     TimeSeriesView::new("delay / extra path robots cause people (per min)")
                         .with_contents([
                             "/metrics/human_delay_s_per_min/**",
@@ -417,6 +451,42 @@ fn run(
     }
 }
 
+/// The fields: outlines always, in the colour of the field that acted (amber warning, red
+/// protective), grey otherwise.
+fn log_fields(
+    rec: &rerun::RecordingStream,
+    fields: &[FieldView],
+) -> rerun::RecordingStreamResult<()> {
+    let grey = rerun::Color::from_rgb(170, 170, 170);
+    let colour = |acting: bool, on: rerun::Color| if acting { on } else { grey };
+    rec.log(
+        "world/safety/protective",
+        &rerun::LineStrips2D::new(fields.iter().map(|f| f.protective.clone()))
+            .with_colors(fields.iter().map(|f| {
+                colour(
+                    f.state == FieldState::Protective,
+                    rerun::Color::from_rgb(230, 30, 30),
+                )
+            }))
+            .with_labels(fields.iter().map(|f| match f.state {
+                FieldState::Protective => format!("{} protective", f.robot),
+                _ => String::new(),
+            })),
+    )?;
+    rec.log(
+        "world/safety/warning",
+        &rerun::LineStrips2D::new(fields.iter().map(|f| f.warning.clone())).with_colors(
+            fields.iter().map(|f| {
+                colour(
+                    f.state == FieldState::Warning,
+                    rerun::Color::from_rgb(240, 170, 0),
+                )
+            }),
+        ),
+    )?;
+    Ok(())
+}
+
 fn log_frame(
     rec: &rerun::RecordingStream,
     f: &Frame,
@@ -466,6 +536,9 @@ fn log_frame(
             .with_radii([0.12])
             .with_colors([rerun::Color::from_rgb(255, 0, 255)]),
     )?;
+    if !f.fields.is_empty() {
+        log_fields(rec, &f.fields)?;
+    }
     for fan in &f.fans {
         rec.log(
             format!("world/fan/{}", fan.robot),

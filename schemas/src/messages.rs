@@ -139,6 +139,24 @@ pub struct CommandMsg {
     pub motion: Motion,
     /// True when the agent stopped the robot on its own (observations timed out or shutdown).
     pub safe_stop: bool,
+    /// Which field of the agent's safety layer acted on this command (absent: `clear`, as
+    /// from an agent without the layer).
+    #[serde(default)]
+    pub safety: SafetyZone,
+}
+
+/// The safety layer's verdict on a command. On the wire a string: `"clear"`, `"warning"`,
+/// `"protective"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SafetyZone {
+    /// Neither field acted (or no layer ran).
+    #[default]
+    Clear,
+    /// The warning field slowed the command.
+    Warning,
+    /// The protective field slowed it further or stopped the robot.
+    Protective,
 }
 
 /// Agent → fleet, key `…/robot/<id>/info`, once a second: who the agent is and how it fares.

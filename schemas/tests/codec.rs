@@ -68,6 +68,7 @@ fn command() -> CommandMsg {
         stamp: 12.5,
         motion: Motion::Velocity(P2(0.5, -0.1)),
         safe_stop: false,
+        safety: SafetyZone::Clear,
     }
 }
 
@@ -166,6 +167,11 @@ fn every_message_round_trips() {
     round_trip(CommandMsg {
         motion: Motion::Unicycle(0.5, -0.2),
         safe_stop: true,
+        safety: SafetyZone::Clear,
+        ..command()
+    });
+    round_trip(CommandMsg {
+        safety: SafetyZone::Protective,
         ..command()
     });
     round_trip(info());
@@ -212,6 +218,45 @@ fn wire_shape_is_the_documented_one() {
     for name in ["human", "robot", "drop", "neighbours", "intent", "sigma"] {
         assert!(text.contains(name), "{name} missing on the wire");
     }
+}
+
+#[test]
+fn a_command_without_a_safety_zone_is_clear_and_unknown_zones_are_rejected() {
+    // What an agent without the layer (or from before the field) sends.
+    #[derive(Serialize)]
+    struct Older {
+        robot_id: u32,
+        obs_seq: u64,
+        stamp: f64,
+        motion: Motion,
+        safe_stop: bool,
+    }
+    let older = Older {
+        robot_id: 3,
+        obs_seq: 9,
+        stamp: 1.5,
+        motion: Motion::Velocity(P2(0.5, -0.1)),
+        safe_stop: false,
+    };
+    let decoded: CommandMsg = decode(&with_version(SCHEMA_VERSION, &older)).expect("decodes");
+    assert_eq!(decoded.safety, SafetyZone::Clear);
+    let text = String::from_utf8_lossy(&encode(&CommandMsg {
+        safety: SafetyZone::Warning,
+        ..command()
+    }))
+    .into_owned();
+    assert!(text.contains("warning"), "the zone travels as a string");
+    #[derive(Serialize)]
+    struct Odd<'a> {
+        #[serde(flatten)]
+        older: &'a Older,
+        safety: &'static str,
+    }
+    let odd = Odd {
+        older: &older,
+        safety: "amber",
+    };
+    assert!(decode::<CommandMsg>(&with_version(SCHEMA_VERSION, &odd)).is_err());
 }
 
 #[derive(Serialize)]

@@ -81,6 +81,11 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/metrics/human_delay_s_per_min/fleet",
         "/metrics/human_extra_path_m_per_min/fleet",
         "/metrics/human_delay_s_per_min/robot/0",
+        "/world/safety/protective",
+        "/world/safety/warning",
+        "/metrics/robot_caused_contacts/fleet",
+        "/metrics/person_caused_contacts/fleet",
+        "/metrics/protective_robots/fleet",
     ] {
         assert!(
             listing.contains(entity),

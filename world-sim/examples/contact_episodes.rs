@@ -2,10 +2,12 @@
 //! `warehouse`, 12 robots, 40 people, `pgp+orca`, 300 s; `run_fleet`'s loop), with both
 //! robots' state, command, goal and PGP subgoal, and the people and robots within 3 m:
 //!
-//!     cargo run --release -p world-sim --example contact_episodes -- <seed> [on|off]
+//!     cargo run --release -p world-sim --example contact_episodes -- <seed> [on|off] [--no-safety]
 //!
-//! Written to look at the contact episodes that decide the study's contact test (see
-//! results/intent-sharing/REPORT.md).
+//! `on|off` switches intent sharing; the safety layer runs under every planner, as in the
+//! study, unless `--no-safety` (how the study ran before it, session 10). Written to look at
+//! the contact episodes that decide the study's contact test (see
+//! results/intent-sharing/REPORT.md); ends with the number of pair-steps in contact.
 use agent::model::Command;
 use agent::planner::PlannerStack;
 use world_sim::fleet::{Fleet, plan_all};
@@ -18,18 +20,22 @@ fn main() -> Result<(), String> {
         .map_or(Ok(53), |s| s.parse())
         .map_err(|e| format!("{e}"))?;
     let share = args.get(1).is_none_or(|s| s != "off");
+    let safety = !args.iter().any(|a| a == "--no-safety");
     let robots = 12;
     let mut scenario = Scenario::builtin("warehouse").map_err(|e| e.to_string())?;
     scenario.seed = seed;
     let w = scenario.warehouse.as_mut().ok_or("no warehouse")?;
     w.robots = robots;
     w.humans = 40;
+    scenario.robot.safety = safety;
     let mut fleet = Fleet::new(&scenario).map_err(|e| e.to_string())?;
     fleet.share_intents = share;
     let planner = "pgp+orca".parse().map_err(|e| format!("{e}"))?;
     let mut stacks: Vec<PlannerStack> = (0..robots).map(|_| PlannerStack::new(planner)).collect();
     let mut commands = vec![Command::STOP; robots];
     let mut subgoals = vec![None; robots];
+    let mut guards = world_sim::episode::guards(&scenario, robots);
+    let mut pair_steps = 0;
     for step in 0..3000 {
         fleet.dispatch();
         for (i, subgoal) in subgoals.iter_mut().enumerate() {
@@ -38,8 +44,11 @@ fn main() -> Result<(), String> {
             }
         }
         plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
-            let plan = stack.plan(input);
+            let mut plan = stack.plan(input);
             subgoals[i] = Some(plan.intent.subgoal);
+            if let Some(guard) = &mut guards[i] {
+                plan.command = guard.check(plan.command, input).command;
+            }
             plan
         });
         fleet.step(&commands);
@@ -49,6 +58,7 @@ fn main() -> Result<(), String> {
                 let d = (r[i].state.position - r[j].state.position).norm();
                 let gap = d - r[i].state.radius - r[j].state.radius;
                 if gap < 0.0 {
+                    pair_steps += 1;
                     let s = |k: usize| {
                         let st = &r[k].state;
                         format!(
@@ -104,5 +114,10 @@ fn main() -> Result<(), String> {
             }
         }
     }
+    println!(
+        "seed {seed}, sharing {}, safety {}: {pair_steps} pair-steps in contact",
+        if share { "on" } else { "off" },
+        if safety { "on" } else { "off" }
+    );
     Ok(())
 }

@@ -16,7 +16,9 @@ use crate::map::StaticMap;
 use crate::model::Command;
 use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use crate::safety::{Guard, SafetyLimits, Zone};
-use schemas::{AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, decode, encode};
+use schemas::{
+    AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, SafetyZone, decode, encode,
+};
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -198,18 +200,26 @@ pub async fn run_agent(
                             dt: obs.dt,
                         };
                         let mut plan = stack.plan(&input);
+                        let mut zone = SafetyZone::Clear;
                         if let Some(guard) = &mut guard {
                             let guarded = guard.check(plan.command, &input);
                             plan.command = guarded.command;
-                            match guarded.zone {
-                                Zone::Clear => {}
-                                Zone::Warning => _ = counters.warned.fetch_add(1, Ordering::Relaxed),
-                                Zone::Protective => _ = counters.protective.fetch_add(1, Ordering::Relaxed),
-                            }
+                            zone = match guarded.zone {
+                                Zone::Clear => SafetyZone::Clear,
+                                Zone::Warning => {
+                                    counters.warned.fetch_add(1, Ordering::Relaxed);
+                                    SafetyZone::Warning
+                                }
+                                Zone::Protective => {
+                                    counters.protective.fetch_add(1, Ordering::Relaxed);
+                                    SafetyZone::Protective
+                                }
+                            };
                         }
                         plan_times_us.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
                         counters.plans.fetch_add(1, Ordering::Relaxed);
-                        let (cmd, intent) = wire::answer(&obs, &planner_name, &plan);
+                        let (mut cmd, intent) = wire::answer(&obs, &planner_name, &plan);
+                        cmd.safety = zone;
                         let fan = plan.fan.as_ref().filter(|_| config.share_fan).map(|f| wire::fan(&obs, f));
                         (cmd, Some((intent, fan)))
                     }
@@ -221,6 +231,7 @@ pub async fn run_agent(
                             stamp: obs.sim_time,
                             motion: wire::motion(Command::STOP),
                             safe_stop: false,
+                            safety: SafetyZone::Clear,
                         },
                         None,
                     ),
@@ -353,6 +364,7 @@ async fn safe_stop(
         stamp,
         motion: wire::motion(Command::STOP),
         safe_stop: true,
+        safety: SafetyZone::Clear,
     };
     counters.safe_stops.fetch_add(1, Ordering::Relaxed);
     if let Err(e) = publisher.put(encode(&stop)).await {

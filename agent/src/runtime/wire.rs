@@ -114,6 +114,7 @@ pub fn answer(obs: &Observation, planner: &str, plan: &Plan) -> (CommandMsg, Int
         stamp: obs.sim_time,
         motion: motion(plan.command),
         safe_stop: false,
+        safety: schemas::SafetyZone::Clear,
     };
     let intent = IntentMsg {
         robot_id: obs.robot_id,

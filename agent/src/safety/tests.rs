@@ -388,3 +388,13 @@ fn a_person_swerving_across_from_beside_the_robot_is_never_hit() {
     );
     assert!(sim.zones.contains(&Zone::Protective));
 }
+
+#[test]
+fn field_reach_is_the_stopping_budget() {
+    let p = SafetyParams::default();
+    // At rest both fields are the margin; at 1 m/s: 0.2 m before braking, 1/3 m braking.
+    assert_eq!(field_reach(0.0, &limits(), &p), (p.margin, p.margin));
+    let (protective, warning) = field_reach(1.0, &limits(), &p);
+    assert!((protective - (0.2 + 1.0 / 3.0 + 0.05)).abs() < 1e-12);
+    assert!((warning - protective - 1.0).abs() < 1e-12);
+}

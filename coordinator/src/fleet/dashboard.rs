@@ -1,12 +1,18 @@
 //! Feeds a running coordinator's fleet to a Rerun [`Dashboard`]: one [`Frame`] per tick,
-//! events (agents joining, leaving, crashing, tasks done, collisions and near misses at their
-//! onset) and the social metrics, fleet-wide and per robot.
+//! events (agents joining, leaving, crashing, tasks done, contacts at their onset with who
+//! caused them, near misses, protective stops), each robot's safety fields, and the social
+//! metrics, fleet-wide and per robot.
 
 use super::status::{Event, Observer, Status};
-use dashboards::{Dashboard, EventView, FanView, Frame, IntentView, MapFrame, P, RobotView, Sinks};
+use agent::safety::{SafetyLimits, SafetyParams, field_reach};
+use dashboards::{
+    Dashboard, EventView, FanView, FieldState, FieldView, Frame, IntentView, MapFrame, P,
+    RobotView, Sinks,
+};
+use schemas::SafetyZone;
 use std::collections::HashSet;
 use world_sim::fleet::{Fleet, FleetEvent};
-use world_sim::metrics::NEAR_MISS_GAP;
+use world_sim::metrics::{ContactCause, NEAR_MISS_GAP, contact_cause};
 
 fn p(v: agent::math::Vec2) -> P {
     [v.x as f32, v.y as f32]
@@ -48,6 +54,8 @@ pub struct DashboardObserver {
     planner: String,
     contacts: Contacts,
     seen_events: usize,
+    /// The zone of each robot's previous command, for protective stops at their onset.
+    zones: Vec<SafetyZone>,
 }
 
 /// Dashboards show the delay and extra path robots cause people over windows this long (s);
@@ -68,6 +76,7 @@ impl DashboardObserver {
             planner: planner.to_owned(),
             contacts: Contacts::default(),
             seen_events: 0,
+            zones: Vec::new(),
         })
     }
 
@@ -103,8 +112,15 @@ impl DashboardObserver {
         }
         let at = |i: usize| p(world.robots[i].state.position);
         for &(i, h) in now.human.difference(&self.contacts.human) {
+            let r = &world.robots[i].state;
+            let text = match contact_cause(r.position, r.velocity, crowd.positions[h]) {
+                ContactCause::Robot => format!("collision: robot {i} drove into person {h}"),
+                ContactCause::Other => {
+                    format!("contact: person {h} walked into robot {i} (stopped or moving away)")
+                }
+            };
             out.push(EventView {
-                text: format!("collision: robot {i} touched person {h}"),
+                text,
                 position: Some(at(i)),
                 warning: true,
             });
@@ -125,6 +141,88 @@ impl DashboardObserver {
         }
         self.contacts = now;
     }
+}
+
+impl DashboardObserver {
+    /// A protective stop at its onset: the robot's newest command was slowed or stopped by its
+    /// protective field, and the one before was not.
+    fn safety_events(&mut self, fleet: &Fleet, status: &Status, out: &mut Vec<EventView>) {
+        self.zones.resize(status.safety.len(), SafetyZone::Clear);
+        for (i, (&now, before)) in status.safety.iter().zip(&mut self.zones).enumerate() {
+            if now == SafetyZone::Protective && *before != SafetyZone::Protective {
+                out.push(EventView {
+                    text: format!("protective stop: robot {i}'s safety layer slowed or stopped it"),
+                    position: fleet.world.robots.get(i).map(|r| p(r.state.position)),
+                    warning: false,
+                });
+            }
+            *before = now;
+        }
+    }
+}
+
+/// Each robot's protective and warning fields at its current speed, as the layer's default
+/// parameters size them (`agent::safety::field_reach`): capsules from the robot along its
+/// direction of travel, as wide as the robot plus the margin.
+fn safety_fields(fleet: &Fleet, status: &Status) -> Vec<FieldView> {
+    let params = SafetyParams::default();
+    let dt = fleet.world.dt;
+    fleet
+        .world
+        .robots
+        .iter()
+        .enumerate()
+        // Robots whose scenario runs the layer (`[robot] safety`; agents started with
+        // `--no-safety` report every command clear, so their fields stay grey).
+        .filter(|(_, r)| r.spec.safety)
+        .map(|(i, r)| {
+            let limits: SafetyLimits = r.spec.safety_limits(dt);
+            let s = &r.state;
+            let speed = s.velocity.norm();
+            let direction = if speed > 1e-3 {
+                s.velocity / speed
+            } else {
+                agent::math::unit(s.heading)
+            };
+            let (protective, warning) = field_reach(speed, &limits, &params);
+            let width = s.radius + params.margin;
+            let state = match status.safety.get(i) {
+                Some(SafetyZone::Warning) => FieldState::Warning,
+                Some(SafetyZone::Protective) => FieldState::Protective,
+                _ => FieldState::Clear,
+            };
+            FieldView {
+                robot: i as u32,
+                protective: capsule(s.position, direction, protective, width),
+                warning: capsule(s.position, direction, warning, width),
+                state,
+            }
+        })
+        .collect()
+}
+
+/// A closed outline: a half circle of `width` behind `from`, straight sides `length` long
+/// along `direction`, and a half circle in front.
+fn capsule(
+    from: agent::math::Vec2,
+    direction: agent::math::Vec2,
+    length: f64,
+    width: f64,
+) -> Vec<P> {
+    const HALF: usize = 8;
+    let normal = agent::math::vec2(-direction.y, direction.x);
+    let tip = from + direction * length;
+    let arc = |centre: agent::math::Vec2, start: f64| {
+        (0..=HALF).map(move |k| {
+            let a = start + std::f64::consts::PI * k as f64 / HALF as f64;
+            centre + (normal * a.cos() + direction * a.sin()) * width
+        })
+    };
+    // From the right side behind, round the back, then round the front.
+    let mut points: Vec<P> = arc(from, std::f64::consts::PI).map(p).collect();
+    points.extend(arc(tip, 0.0).map(p));
+    points.push(points[0]);
+    points
 }
 
 impl Observer for DashboardObserver {
@@ -184,6 +282,7 @@ impl Observer for DashboardObserver {
         }
         self.seen_events = status.events.len();
         self.contact_events(fleet, &mut events);
+        self.safety_events(fleet, status, &mut events);
 
         let per_robot: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
         let n = per_robot.len().max(1) as f64;
@@ -203,6 +302,28 @@ impl Observer for DashboardObserver {
             ("live_agents", status.alive as f64),
             ("planner_p99_us", status.planner_p99_us),
             ("stale_commands", status.stale_commands as f64),
+            (
+                "robot_caused_contacts",
+                per_robot
+                    .iter()
+                    .map(|m| m.robot_caused_contacts)
+                    .sum::<u64>() as f64,
+            ),
+            (
+                "person_caused_contacts",
+                per_robot
+                    .iter()
+                    .map(|m| m.person_caused_contacts)
+                    .sum::<u64>() as f64,
+            ),
+            (
+                "protective_robots",
+                status
+                    .safety
+                    .iter()
+                    .filter(|z| **z == SafetyZone::Protective)
+                    .count() as f64,
+            ),
         ];
         if min_human.is_finite() {
             fleet_metrics.push(("min_human_distance", min_human));
@@ -239,6 +360,7 @@ impl Observer for DashboardObserver {
             human_radius: world.humans.radius as f32,
             robots,
             intents,
+            fields: safety_fields(fleet, status),
             fans: status
                 .fans
                 .iter()

@@ -5,7 +5,7 @@
 use super::status::{CoordinatorConfig, Event, RoundTrip, Status};
 use agent::model::Command;
 use agent::runtime::{percentile, wire};
-use schemas::{CommandMsg, Keys, decode};
+use schemas::{CommandMsg, Keys, SafetyZone, decode};
 use std::collections::VecDeque;
 use std::time::Instant;
 use world_sim::fleet::Fleet;
@@ -163,6 +163,8 @@ pub(super) fn take_commands(
                 }
                 if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
                     link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
+                    status.safety.resize(n, SafetyZone::Clear);
+                    status.safety[cmd.robot_id as usize] = cmd.safety;
                 }
             }
             Ok(_) => status.rejected += 1,

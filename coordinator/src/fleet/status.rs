@@ -109,6 +109,9 @@ pub struct Status {
     pub fans: Vec<Option<schemas::FanMsg>>,
     /// Robots flagged (agent crashed or left), by id.
     pub flagged: Vec<u32>,
+    /// Which field of each robot's safety layer acted on its newest command (index = robot
+    /// id; `Clear` before any command and for agents without the layer).
+    pub safety: Vec<schemas::SafetyZone>,
 }
 
 /// Why the coordinator could not run.
