@@ -134,9 +134,8 @@ const LADDER: [Real; 8] = [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05];
 #[derive(Debug, Clone, Default)]
 pub struct SafetyLayer {
     params: SafetyParams,
-    /// Bodies that can come within reach during the rollout: position, velocity, the centre
-    /// distance kept (both radii and the margin), and how hard it may swerve (a_h or 0).
-    near: Vec<(Vec2, Vec2, Real, Real)>,
+    /// Bodies that can come within reach during the rollouts.
+    near: Vec<Body>,
     /// Walls and shelves within reach.
     local: LocalMap,
     /// Per body of `near` and hypothesis (walking on, stopping dead): if it has come within
@@ -146,6 +145,21 @@ pub struct SafetyLayer {
     /// keeping only the part of its velocity that does not close on the robot, and stays an
     /// obstacle the robot may not move toward later in the rollout.
     arrived: Vec<[Option<Arrival>; 2]>,
+}
+
+/// A perceived body as the rollouts see it.
+#[derive(Debug, Clone, Copy)]
+struct Body {
+    position: Vec2,
+    velocity: Vec2,
+    /// The centre distance kept: both radii and the margin.
+    within: Real,
+    /// How hard it may swerve in the protective check (a_h for people, 0 for robots).
+    accel: Real,
+    /// Per check (warning, protective) and hypothesis (walking on, stopping dead): whether it
+    /// can come within `within` of the robot at all in that check's rollout. Those that
+    /// cannot are skipped; the result is the same.
+    relevant: [[bool; 2]; 2],
 }
 
 /// Where and when a body came to the robot in a rollout, and its velocity from then on.
@@ -197,6 +211,7 @@ impl SafetyLayer {
         let horizon = dt + p.reaction_time + p.warning_time + top / braking.max(1e-9);
         let reach = top * horizon;
         self.gather(ego, bodies, map, reach, horizon);
+        self.mark_relevant(ego, limits);
         if self.near.is_empty() && self.local.is_empty() {
             return Guarded {
                 command,
@@ -257,13 +272,16 @@ impl SafetyLayer {
                         + 0.5 * self.params.person_accel * horizon * horizon;
                     (b.position - ego.position).norm() < travel + ego.radius + b.radius + m
                 })
-                .map(|b| {
-                    let accel = if b.kind == AgentKind::Human {
+                .map(|b| Body {
+                    position: b.position,
+                    velocity: b.velocity,
+                    within: ego.radius + b.radius + m,
+                    accel: if b.kind == AgentKind::Human {
                         self.params.person_accel
                     } else {
                         0.0
-                    };
-                    (b.position, b.velocity, ego.radius + b.radius + m, accel)
+                    },
+                    relevant: [[true; 2]; 2],
                 }),
         );
         let r = vec2(reach, reach);
@@ -273,6 +291,50 @@ impl SafetyLayer {
             ego.radius + m,
             &mut self.local,
         );
+    }
+
+    /// The rollout of a check: its sub-step and how many sub-steps it takes at most.
+    fn rollout_steps(&self, ego: &EgoState, limits: &SafetyLimits, extra: Real) -> (Real, usize) {
+        let h = limits.control_period / self.params.substeps.max(1) as Real;
+        let drive_steps = ((limits.control_period + extra) / h).ceil() as usize;
+        let braking = limits.max_braking.min(limits.max_accel);
+        // Until the robot stands (at most its speed over the deceleration, plus the drive).
+        let max_steps = drive_steps
+            + (limits.max_speed.max(ego.velocity.norm()) / (braking * h)).ceil() as usize
+            + 1;
+        (h, max_steps)
+    }
+
+    /// Marks, per check and hypothesis, the bodies that can come within reach at all: the
+    /// robot stays within its top speed times the rollout's length of where it is, a body
+    /// walking on stays on its line, a swerving person within ½·a_h·T² of it.
+    fn mark_relevant(&mut self, ego: &EgoState, limits: &SafetyLimits) {
+        let top = limits.max_speed.max(ego.velocity.norm());
+        let extras = [self.params.warning_time, self.params.reaction_time];
+        for (check, extra) in extras.into_iter().enumerate() {
+            let (h, steps) = self.rollout_steps(ego, limits, extra);
+            let duration = h * steps as Real;
+            let robot_reach = top * duration;
+            let swerve = check == 1;
+            for b in &mut self.near {
+                let stray = if swerve {
+                    0.5 * b.accel * duration * duration
+                } else {
+                    0.0
+                };
+                let from = b.position - ego.position;
+                let speed_sq = b.velocity.norm_squared();
+                let closest_t = if speed_sq > 0.0 {
+                    (-from.dot(&b.velocity) / speed_sq).clamp(0.0, duration)
+                } else {
+                    0.0
+                };
+                let walking = (from + b.velocity * closest_t).norm();
+                let standing = from.norm();
+                let reach = robot_reach + b.within + stray;
+                b.relevant[check] = [walking < reach, standing < reach];
+            }
+        }
     }
 
     /// Whether the robot, executing `command` for one control period plus `extra` seconds and
@@ -287,8 +349,8 @@ impl SafetyLayer {
         extra: Real,
         swerve: bool,
     ) -> bool {
+        let (h, max_steps) = self.rollout_steps(ego, limits, extra);
         let p = &self.params;
-        let h = limits.control_period / p.substeps.max(1) as Real;
         let drive_steps = ((limits.control_period + extra) / h).ceil() as usize;
         let braking = limits.max_braking.min(limits.max_accel);
         let mut m = Motion {
@@ -301,10 +363,7 @@ impl SafetyLayer {
         let mut wall = self.local.distance(map, &m.position);
         self.arrived.clear();
         self.arrived.resize(self.near.len(), [None; 2]);
-        // Until the robot stands (at most its speed over the deceleration, plus the drive).
-        let max_steps = drive_steps
-            + (limits.max_speed.max(ego.velocity.norm()) / (braking * h)).ceil() as usize
-            + 1;
+        let check = usize::from(swerve);
         for k in 0..max_steps {
             let driving = k < drive_steps;
             if driving {
@@ -321,15 +380,18 @@ impl SafetyLayer {
             // People may swerve in the protective check (a_h, `person_accel`); the warning field
             // looks ahead on the hypotheses alone.
             let half_tt = if swerve { 0.5 * t * t } else { 0.0 };
-            for (&(position, velocity, within, accel), arrived) in
-                self.near.iter().zip(&mut self.arrived)
-            {
-                let within_sq = (within + accel * half_tt).powi(2);
+            for (b, arrived) in self.near.iter().zip(&mut self.arrived) {
+                let within_sq = (b.within + b.accel * half_tt).powi(2);
                 let hypotheses = [
-                    (position + velocity * t, velocity),
-                    (position, vec2(0.0, 0.0)),
+                    (b.position + b.velocity * t, b.velocity),
+                    (b.position, vec2(0.0, 0.0)),
                 ];
-                for ((at, moving), arrival) in hypotheses.into_iter().zip(arrived) {
+                for (((at, moving), arrival), relevant) in
+                    hypotheses.into_iter().zip(arrived).zip(b.relevant[check])
+                {
+                    if !relevant {
+                        continue;
+                    }
                     let at = arrival.map_or(at, |a| a.at + a.sliding * (t - a.t));
                     let d = at - m.position;
                     // The gap is under the margin: no square root needed.
