@@ -151,7 +151,9 @@ impl DashboardObserver {
         for (i, (&now, before)) in status.safety.iter().zip(&mut self.zones).enumerate() {
             if now == SafetyZone::Protective && *before != SafetyZone::Protective {
                 out.push(EventView {
-                    text: format!("protective stop: robot {i}'s safety layer slowed or stopped it"),
+                    text: format!(
+                        "robot {i}: protective stop (slowed or stopped by its safety layer)"
+                    ),
                     position: fleet.world.robots.get(i).map(|r| p(r.state.position)),
                     warning: false,
                 });
