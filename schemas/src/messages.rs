@@ -262,6 +262,13 @@ pub struct FleetMetrics {
     pub svr: f64,
     /// Robot–robot near misses: robot-steps with another robot within 0.3 m surface gap.
     pub near_misses: u64,
+    /// Contacts with people the robots caused so far (onsets: the robot moving toward the
+    /// person at more than 0.05 m/s along the line of centres); absent from older senders.
+    #[serde(default)]
+    pub robot_caused_contacts: u64,
+    /// Contacts people caused so far (a person walked into a robot stopped or moving away).
+    #[serde(default)]
+    pub person_caused_contacts: u64,
     /// Commands that arrived too late or out of order and were dropped.
     pub dropped_commands: u64,
     /// Per-robot rows.

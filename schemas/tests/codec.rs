@@ -106,6 +106,8 @@ fn metrics() -> FleetMetrics {
         collision_rate: 0.01,
         svr: 0.2,
         near_misses: 1,
+        robot_caused_contacts: 0,
+        person_caused_contacts: 2,
         dropped_commands: 0,
         per_robot: vec![RobotRow {
             robot_id: 0,

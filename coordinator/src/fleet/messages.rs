@@ -90,6 +90,8 @@ pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> F
         collision_rate: mean(&|r| r.collision_rate),
         svr: mean(&|r| r.svr),
         near_misses: metrics.iter().map(|m| m.robot_near_misses).sum(),
+        robot_caused_contacts: metrics.iter().map(|m| m.robot_caused_contacts).sum(),
+        person_caused_contacts: metrics.iter().map(|m| m.person_caused_contacts).sum(),
         dropped_commands: status.stale_commands,
         per_robot,
     }
