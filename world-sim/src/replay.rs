@@ -15,8 +15,9 @@ use crate::robot::RobotBody;
 use crate::scenario::RobotSpec;
 use agent::map::{MapError, Obstacle, StaticMap};
 use agent::math::{Real, Vec2, angle_of, clamp_norm};
-use agent::model::{AgentKind, Command, Neighbour};
+use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::planner::PlanningInput;
+use agent::safety::{SafetyLayer, SafetyParams, Zone};
 use std::fmt;
 use std::str::FromStr;
 
@@ -190,7 +191,10 @@ pub struct RunOutcome {
     /// How many plans were made (0 for the person).
     pub replans: usize,
     /// Contacts (bodies overlapping) begun while the robot moved toward the person
-    /// ([`contact_cause`]); for the person's own row, while they moved toward the other.
+    /// ([`contact_cause`]); for the person's own row, while they moved toward the other. A
+    /// contact under way when the run starts is not counted (it began before the robot was
+    /// put in the person's place), nor one with a person whose annotated track begins inside
+    /// the robot (they appear there).
     pub robot_caused_contacts: u64,
     /// Contacts begun otherwise: a recorded person, who does not react, walked into the robot.
     pub person_caused_contacts: u64,
@@ -216,6 +220,9 @@ struct Exposure {
     /// The people touching now.
     touching: Vec<u64>,
     was_touching: Vec<u64>,
+    /// Everyone in the recording at this sample and at the one before.
+    present: Vec<u64>,
+    was_present: Vec<u64>,
     robot_caused: u64,
     person_caused: u64,
 }
@@ -232,6 +239,8 @@ impl Exposure {
             contact,
             touching: Vec::new(),
             was_touching: Vec::new(),
+            present: Vec::new(),
+            was_present: Vec::new(),
             robot_caused: 0,
             person_caused: 0,
         }
@@ -241,8 +250,11 @@ impl Exposure {
     fn record(&mut self, recording: &Recording, t: Real, at: Vec2, velocity: Vec2, skip: u64) {
         let mut near = 0usize;
         std::mem::swap(&mut self.touching, &mut self.was_touching);
+        std::mem::swap(&mut self.present, &mut self.was_present);
         self.touching.clear();
+        self.present.clear();
         for (id, p, _) in recording.people_at(t, Some(skip)) {
+            self.present.push(id);
             let d = (p - at).norm();
             if d < self.min_distance {
                 self.min_distance = d;
@@ -253,7 +265,10 @@ impl Exposure {
             }
             if d < self.contact {
                 self.touching.push(id);
-                if !self.was_touching.contains(&id) {
+                // A contact under way at the first sample (the run's start, where the robot
+                // is put in the person's place before it has acted) began before it, and a
+                // person whose track begins inside the robot appeared there: no onsets.
+                if self.was_present.contains(&id) && !self.was_touching.contains(&id) {
                     match contact_cause(at, velocity, p) {
                         ContactCause::Robot => self.robot_caused += 1,
                         ContactCause::Other => self.person_caused += 1,
@@ -369,6 +384,40 @@ pub fn perceived<'a>(
         .map(|(id, p, v)| Neighbour::new(id, p, v, options.person_radius_m, AgentKind::Human))
 }
 
+/// The largest fraction of `velocity` (on the safety layer's ladder, down to 0) at which a
+/// robot entering at `ego`'s place and holding it passes the layer's protective check among
+/// the people it perceives there.
+fn safe_entry_fraction(
+    recording: &Recording,
+    map: &StaticMap,
+    run: &ReplayRun,
+    options: &ReplayOptions,
+    ego: &EgoState,
+    velocity: Vec2,
+) -> Real {
+    let seen: Vec<Neighbour> = perceived(
+        recording,
+        run.t_start,
+        run.pedestrian,
+        ego.position,
+        options,
+    )
+    .collect();
+    let limits = options.robot.safety_limits(options.replan_period);
+    let mut layer = SafetyLayer::new(SafetyParams::default());
+    [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05]
+        .into_iter()
+        .find(|&s| {
+            let entering = EgoState {
+                velocity: velocity * s,
+                ..*ego
+            };
+            let command = Command::Velocity(velocity * s);
+            layer.guard(command, &entering, &limits, &seen, map).zone != Zone::Protective
+        })
+        .unwrap_or(0.0)
+}
+
 /// Plays one run with the robot in the person's place; `plan` is called every replan period
 /// with what the robot perceives and returns the command it holds until the next plan.
 pub fn replay(
@@ -383,12 +432,18 @@ pub fn replay(
         .expect("runs come from this recording's tracks");
     let mut robot = RobotBody::new(run.start, run.goal, options.robot);
     // It arrives in the person's place walking as they were (within its limits), so that the
-    // people walking with them do not run into a robot starting from rest.
+    // people walking with them do not run into a robot starting from rest; under the safety
+    // layer, at the largest part of that speed from which the layer could still stop it (a
+    // robot under the layer would not have been walking faster there).
     if let Some((_, velocity)) = track.state_at(run.t_start) {
         let velocity = clamp_norm(velocity, options.robot.max_speed);
         if velocity.norm() > 1e-3 {
-            robot.state.velocity = velocity;
             robot.state.heading = angle_of(&velocity);
+            robot.state.velocity = if options.robot.safety {
+                velocity * safe_entry_fraction(recording, map, run, options, &robot.state, velocity)
+            } else {
+                velocity
+            };
         }
     }
     let mut exposure = Exposure::new(
