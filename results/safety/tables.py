@@ -71,7 +71,7 @@ def open_space():
 
 
 def intent_sharing():
-    path_off = os.path.join(ROOT, "safety/intent-sharing-no-safety.json")
+    path_off = os.path.join(ROOT, "intent-sharing/runs.json")
     path_on = os.path.join(ROOT, "safety/intent-sharing.json")
     if not (os.path.exists(path_off) and os.path.exists(path_on)):
         print("(intent-sharing runs missing)\n")
