@@ -104,7 +104,9 @@ mod tests {
 
     #[test]
     fn every_planner_drives_down_a_hallway_with_two_way_traffic() {
-        let s = Scenario::builtin("hallway").expect("valid");
+        // The planners as the papers run them; with the layer, below.
+        let mut s = Scenario::builtin("hallway").expect("valid");
+        s.robot.safety = false;
         for spec in PlannerSpec::STUDY {
             let m = run_episode(&s, spec)[0];
             println!("{spec}: {m:?}");
@@ -112,6 +114,21 @@ mod tests {
             // Start and goal are 24 m apart; arriving means getting within 0.5 m.
             assert!(m.path_length_m >= 24.0 - 0.5, "{spec}: {m:?}");
         }
+    }
+
+    #[test]
+    fn under_the_safety_layer_no_planner_drives_into_anyone_in_the_hallway() {
+        let s = Scenario::builtin("hallway").expect("valid");
+        assert!(s.robot.safety, "on by default");
+        for spec in PlannerSpec::STUDY {
+            let m = run_episode(&s, spec)[0];
+            println!("{spec}: {m:?}");
+            assert_eq!(m.robot_caused_contacts, 0, "{spec}: {m:?}");
+            assert_eq!(m.wall_contacts, 0, "{spec}: {m:?}");
+        }
+        // The default stack still gets through the two-way traffic.
+        let m = run_episode(&s, "pgp+orca".parse().expect("known"))[0];
+        assert!(m.success, "{m:?}");
     }
 
     #[test]
