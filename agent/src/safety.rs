@@ -129,7 +129,7 @@ pub struct Guarded {
 }
 
 /// Fractions of a command the protective field tries, largest first, before a stop.
-const LADDER: [Real; 8] = [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05];
+pub const LADDER: [Real; 8] = [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05];
 
 /// The safety layer: its parameters and scratch buffers reused between calls (it keeps no
 /// other state; the same input gives the same bits).

@@ -17,7 +17,7 @@ use agent::map::{MapError, Obstacle, StaticMap};
 use agent::math::{Real, Vec2, angle_of, clamp_norm};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::planner::PlanningInput;
-use agent::safety::{SafetyLayer, SafetyParams, Zone};
+use agent::safety::{LADDER, SafetyLayer, SafetyParams, Zone};
 use std::fmt;
 use std::str::FromStr;
 
@@ -405,7 +405,7 @@ fn safe_entry_fraction(
     .collect();
     let limits = options.robot.safety_limits(options.replan_period);
     let mut layer = SafetyLayer::new(SafetyParams::default());
-    [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05]
+    LADDER
         .into_iter()
         .find(|&s| {
             let entering = EgoState {
