@@ -56,6 +56,12 @@ impl SafetyLimits {
         max_yaw_accel: 1.5,
         control_period: 0.1,
     };
+
+    /// The deceleration a stop may count on: the guaranteed braking, never more than the
+    /// base's acceleration limit (which is how it executes a stop command).
+    pub fn braking(&self) -> Real {
+        self.max_braking.min(self.max_accel)
+    }
 }
 
 /// The layer's own parameters. None comes from the papers; each is named with its source or
@@ -164,6 +170,15 @@ struct Body {
     relevant: [[bool; 2]; 2],
 }
 
+/// A check's rollout: its sub-step (s), the sub-steps driving the command, and the most
+/// sub-steps it takes until the robot stands.
+#[derive(Debug, Clone, Copy)]
+struct Rollout {
+    h: Real,
+    drive_steps: usize,
+    max_steps: usize,
+}
+
 /// Where and when a body came to the robot in a rollout, and its velocity from then on.
 #[derive(Debug, Clone, Copy)]
 struct Arrival {
@@ -207,7 +222,7 @@ impl SafetyLayer {
     ) -> Guarded {
         let p = self.params;
         let dt = limits.control_period;
-        let braking = limits.max_braking.min(limits.max_accel);
+        let braking = limits.braking();
         // The farthest the robot can get before it stands, at any fraction of the command.
         let top = limits.max_speed.max(ego.velocity.norm());
         let horizon = dt + p.reaction_time + p.warning_time + top / braking.max(1e-9);
@@ -295,8 +310,8 @@ impl SafetyLayer {
         );
     }
 
-    /// The rollout of a check: its sub-step and how many sub-steps it takes at most.
-    fn rollout_steps(&self, ego: &EgoState, limits: &SafetyLimits, extra: Real) -> (Real, usize) {
+    /// The rollout of a check that drives the command for one control period plus `extra`.
+    fn rollout_steps(&self, ego: &EgoState, limits: &SafetyLimits, extra: Real) -> Rollout {
         // As many equal sub-steps per control period as it takes (the small slack keeps an
         // exact multiple from rounding up to one more).
         let substeps = (limits.control_period / self.params.check_step - 1e-9)
@@ -304,12 +319,15 @@ impl SafetyLayer {
             .max(1.0);
         let h = limits.control_period / substeps;
         let drive_steps = ((limits.control_period + extra) / h).ceil() as usize;
-        let braking = limits.max_braking.min(limits.max_accel);
         // Until the robot stands (at most its speed over the deceleration, plus the drive).
         let max_steps = drive_steps
-            + (limits.max_speed.max(ego.velocity.norm()) / (braking * h)).ceil() as usize
+            + (limits.max_speed.max(ego.velocity.norm()) / (limits.braking() * h)).ceil() as usize
             + 1;
-        (h, max_steps)
+        Rollout {
+            h,
+            drive_steps,
+            max_steps,
+        }
     }
 
     /// Marks, per check and hypothesis, the bodies that can come within reach at all: the
@@ -319,8 +337,8 @@ impl SafetyLayer {
         let top = limits.max_speed.max(ego.velocity.norm());
         let extras = [self.params.warning_time, self.params.reaction_time];
         for (check, extra) in extras.into_iter().enumerate() {
-            let (h, steps) = self.rollout_steps(ego, limits, extra);
-            let duration = h * steps as Real;
+            let Rollout { h, max_steps, .. } = self.rollout_steps(ego, limits, extra);
+            let duration = h * max_steps as Real;
             let robot_reach = top * duration;
             let swerve = check == 1;
             for b in &mut self.near {
@@ -356,10 +374,13 @@ impl SafetyLayer {
         extra: Real,
         swerve: bool,
     ) -> bool {
-        let (h, max_steps) = self.rollout_steps(ego, limits, extra);
+        let Rollout {
+            h,
+            drive_steps,
+            max_steps,
+        } = self.rollout_steps(ego, limits, extra);
         let p = &self.params;
-        let drive_steps = ((limits.control_period + extra) / h).ceil() as usize;
-        let braking = limits.max_braking.min(limits.max_accel);
+        let braking = limits.braking();
         let mut m = Motion {
             position: ego.position,
             velocity: ego.velocity,
@@ -433,7 +454,7 @@ impl SafetyLayer {
 /// layer itself checks the commanded motion against each body, and dashboards draw these.
 pub fn field_reach(speed: Real, limits: &SafetyLimits, params: &SafetyParams) -> (Real, Real) {
     let speed = speed.abs();
-    let braking = limits.max_braking.min(limits.max_accel).max(1e-9);
+    let braking = limits.braking().max(1e-9);
     let protective = speed * (limits.control_period + params.reaction_time)
         + speed * speed / (2.0 * braking)
         + params.margin;
