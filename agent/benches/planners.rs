@@ -29,6 +29,7 @@ fn planners(c: &mut Criterion) {
                 map: &map,
                 goal,
                 dt: 0.1,
+                visibility: None,
             };
             group.bench_with_input(BenchmarkId::new(spec.to_string(), n), &input, |b, input| {
                 b.iter(|| black_box(stack.plan(black_box(input))))
@@ -52,6 +53,7 @@ fn planners(c: &mut Criterion) {
         map: &map,
         goal,
         dt: 0.1,
+        visibility: None,
     };
     group.bench_function(BenchmarkId::new("orca", 5), |b| {
         b.iter(|| black_box(orca.plan(black_box(&input))))

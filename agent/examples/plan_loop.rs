@@ -43,6 +43,7 @@ fn main() -> Result<(), String> {
         map: &map,
         goal: vec2(20.0, 0.0),
         dt: 0.1,
+        visibility: None,
     };
     let mut micros = Vec::with_capacity(plans);
     let mut last = None;

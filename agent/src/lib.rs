@@ -24,3 +24,4 @@ pub mod risk;
 pub mod runtime;
 pub mod safety;
 pub mod social_force;
+pub mod visibility;

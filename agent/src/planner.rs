@@ -13,6 +13,7 @@ use crate::orca::{Body, Orca, OrcaParams, V};
 use crate::pgp::{Pgp, PgpParams};
 use crate::prediction::SigmaModel;
 use crate::social_force::{SfAgentParams, SocialForceAgent};
+use crate::visibility::Visibility;
 use std::fmt;
 use std::str::FromStr;
 
@@ -40,6 +41,10 @@ pub struct PlanningInput<'a> {
     pub goal: Vec2,
     /// Control period: time until the next plan (s).
     pub dt: Real,
+    /// What the sensor sees and what it cannot, when the world reports it (body occlusion
+    /// on); planners that reason about hidden people compute it from `map` and `neighbours`
+    /// otherwise.
+    pub visibility: Option<&'a Visibility>,
 }
 
 /// The short-term planners.

@@ -60,6 +60,7 @@ fn run(robots: &mut [Robot], map: &StaticMap, seconds: Real) -> (Real, bool) {
                 map,
                 goal: r.goal,
                 dt: DT,
+                visibility: None,
             };
             commands.push(if arrived {
                 Command::STOP
@@ -151,6 +152,7 @@ fn robot_meets_person(spec: PlannerSpec, lateral_offset: Real) -> Encounter {
             map: &map,
             goal: r.goal,
             dt: DT,
+            visibility: None,
         };
         let command = r.stack.plan(&input).command;
         let force = desired_force(

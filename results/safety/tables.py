@@ -111,13 +111,13 @@ def replay():
             continue
         off, on = rows(f"{off_dir}/runs.csv"), rows(f"{on_dir}/runs.csv")
         print(f"### Replay, {seq}, partial runs (recorded people do not react)\n")
-        print("| planner | runs | reached | robot-caused | person-caused | μ(s) (m) | μ(d_r) (m) "
-              "| μ(duration) (s) |")
-        print("|---|---|---|---|---|---|---|---|")
+        print("| planner | runs | reached | robot-caused | person-caused | appeared too close "
+              "| μ(s) (m) | μ(d_r) (m) | μ(duration) (s) |")
+        print("|---|---|---|---|---|---|---|---|---|")
         planners = list(dict.fromkeys(x["planner"] for x in off))
         for p in planners:
             cells = []
-            for col in ("runs", "reached", "robot", "person", "s", "path", "duration"):
+            for col in ("runs", "reached", "robot", "person", "appeared", "s", "path", "duration"):
                 pair = []
                 for data in (off, on):
                     r = [x for x in data if x["planner"] == p]
@@ -129,6 +129,8 @@ def replay():
                         pair.append(str(sum(int(x["robot_caused_contacts"]) for x in r)))
                     elif col == "person":
                         pair.append(str(sum(int(x["person_caused_contacts"]) for x in r)))
+                    elif col == "appeared":
+                        pair.append(str(sum(int(x["appeared_contacts"]) for x in r)))
                     elif col == "s":
                         pair.append(f"{mean(float(x['s_m']) for x in r if x['s_m'] not in ('', 'inf')):.2f}")
                     elif col == "path":

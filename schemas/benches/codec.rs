@@ -6,7 +6,9 @@
 //!     cargo bench -p schemas --bench codec
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use schemas::{IntentMsg, Kind, Observation, P2, Perceived, Sample, decode, encode};
+use schemas::{
+    IntentMsg, Kind, Observation, P2, Perceived, Sample, VisibilityProfile, decode, encode,
+};
 use std::hint::black_box;
 
 fn trajectory() -> Vec<Sample> {
@@ -54,6 +56,7 @@ fn observation() -> Observation {
         goal: Some(P2(40.0, 12.0)),
         task: None,
         neighbours,
+        visibility: None,
     }
 }
 
@@ -80,6 +83,20 @@ fn codec(c: &mut Criterion) {
     g.bench_function(format!("decode/observation-{}B", obs_bytes.len()), |b| {
         b.iter(|| decode::<Observation>(black_box(&obs_bytes)).expect("valid"))
     });
+    // The same with a hallway robot's visibility profile (body occlusion on): 360 rays.
+    let seeing = Observation {
+        visibility: Some(VisibilityProfile {
+            bearing0: 0.0,
+            range: 10.0,
+            ranges: (0..360).map(|k| 2.0 + (k % 37) as f32 * 0.2).collect(),
+        }),
+        ..obs.clone()
+    };
+    let seeing_bytes = encode(&seeing);
+    g.bench_function(
+        format!("decode/observation-with-visibility-{}B", seeing_bytes.len()),
+        |b| b.iter(|| decode::<Observation>(black_box(&seeing_bytes)).expect("valid")),
+    );
     g.bench_function(format!("encode/intent-{}B", int_bytes.len()), |b| {
         b.iter(|| encode(black_box(&int)))
     });

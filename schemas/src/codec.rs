@@ -17,6 +17,10 @@ pub const MAX_NEIGHBOURS: usize = 512;
 pub const MAX_SAMPLES: usize = 128;
 /// Longest planner name.
 pub const MAX_NAME: usize = 64;
+/// Most rays in a visibility profile (a quarter of a degree apart).
+pub const MAX_RAYS: usize = 1440;
+/// Largest sensor range a visibility profile may state (m).
+pub const MAX_SENSOR_RANGE: f64 = 1000.0;
 /// Most robots in one metrics frame.
 pub const MAX_ROBOTS: usize = 4096;
 /// Most obstacles (and most vertices of one polygon) in a map.
@@ -224,6 +228,32 @@ impl Message for Observation {
             positive("neighbours.radius", n.radius)?;
             if let Some(intent) = &n.intent {
                 trajectory("neighbours.intent", intent)?;
+            }
+        }
+        if let Some(v) = &self.visibility {
+            finite("visibility.bearing0", v.bearing0)?;
+            positive("visibility.range", v.range)?;
+            if v.range > MAX_SENSOR_RANGE {
+                return Err(DecodeError::Invalid {
+                    field: "visibility.range",
+                    reason: "beyond 1000 m",
+                });
+            }
+            if v.ranges.is_empty() {
+                return Err(DecodeError::Invalid {
+                    field: "visibility.ranges",
+                    reason: "must not be empty",
+                });
+            }
+            bounded("visibility.ranges", v.ranges.len(), MAX_RAYS)?;
+            for &r in &v.ranges {
+                finite("visibility.ranges", f64::from(r))?;
+                if r < 0.0 || f64::from(r) > v.range * (1.0 + 1e-6) {
+                    return Err(DecodeError::Invalid {
+                        field: "visibility.ranges",
+                        reason: "outside [0, range]",
+                    });
+                }
             }
         }
         Ok(())

@@ -94,6 +94,24 @@ pub struct Observation {
     pub task: Option<TaskRef>,
     /// Bodies within sensor range and line of sight.
     pub neighbours: Vec<Perceived>,
+    /// What the sensor sees and what it cannot: present when the world hides bodies behind
+    /// bodies (a scenario's `body_occlusion`); absent from older senders.
+    #[serde(default)]
+    pub visibility: Option<VisibilityProfile>,
+}
+
+/// The free range along evenly spaced bearings around the robot, as a 2-D laser scan reports
+/// it: ray `k` points at world-frame bearing `bearing0 + k·2π/ranges.len()` and is free for
+/// `ranges[k]` metres from the robot's centre, ended by a wall, a shelf or a body, or by the
+/// sensor's `range`. Everything beyond is unobserved.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VisibilityProfile {
+    /// Bearing of ray 0 (rad, world frame).
+    pub bearing0: f64,
+    /// The sensor's range (m): a ray that meets nothing reports it.
+    pub range: f64,
+    /// Free range per ray (m), each in [0, `range`]; at most [`crate::codec::MAX_RAYS`].
+    pub ranges: Vec<f32>,
 }
 
 /// Agent → fleet, key `…/robot/<id>/intent`: where the robot is heading and how it expects to

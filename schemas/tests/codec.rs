@@ -1,6 +1,6 @@
 //! Round trip and malformed input for every message.
 
-use schemas::codec::{MAX_NEIGHBOURS, MAX_SAMPLES};
+use schemas::codec::{MAX_NEIGHBOURS, MAX_RAYS, MAX_SAMPLES};
 use schemas::*;
 use serde::Serialize;
 
@@ -47,6 +47,11 @@ fn observation() -> Observation {
                 intent: Some(vec![sample(0.25), sample(0.5)]),
             },
         ],
+        visibility: Some(VisibilityProfile {
+            bearing0: -0.5,
+            range: 10.0,
+            ranges: vec![10.0, 2.5, 2.5, 10.0, 0.0, 9.5],
+        }),
     }
 }
 
@@ -389,6 +394,85 @@ fn non_finite_numbers_are_rejected_everywhere() {
             Err(DecodeError::NonFinite("obstacles.wall"))
         );
     }
+}
+
+#[test]
+fn an_observation_without_a_visibility_profile_decodes_and_bad_profiles_are_rejected() {
+    // What a coordinator from before the field (or without body occlusion) sends.
+    #[derive(Serialize)]
+    struct Older {
+        robot_id: u32,
+        seq: u64,
+        sim_time: f64,
+        dt: f64,
+        map_version: u32,
+        p: P2,
+        heading: f64,
+        vel: P2,
+        yaw_rate: f64,
+        radius: f64,
+        goal: Option<P2>,
+        task: Option<TaskRef>,
+        neighbours: Vec<Perceived>,
+    }
+    let o = observation();
+    let older = Older {
+        robot_id: o.robot_id,
+        seq: o.seq,
+        sim_time: o.sim_time,
+        dt: o.dt,
+        map_version: o.map_version,
+        p: o.p,
+        heading: o.heading,
+        vel: o.vel,
+        yaw_rate: o.yaw_rate,
+        radius: o.radius,
+        goal: o.goal,
+        task: o.task.clone(),
+        neighbours: o.neighbours.clone(),
+    };
+    let decoded: Observation = decode(&with_version(SCHEMA_VERSION, &older)).expect("decodes");
+    assert_eq!(
+        decoded,
+        Observation {
+            visibility: None,
+            ..observation()
+        }
+    );
+
+    let with = |edit: &dyn Fn(&mut VisibilityProfile)| {
+        let mut o = observation();
+        edit(o.visibility.as_mut().expect("the fixture has one"));
+        decode::<Observation>(&encode(&o))
+    };
+    let invalid = |field: &'static str, r: Result<Observation, DecodeError>| {
+        assert!(
+            matches!(r, Err(DecodeError::Invalid { field: f, .. }) if f == field),
+            "{field}: {r:?}"
+        );
+    };
+    invalid("visibility.ranges", with(&|v| v.ranges[2] = -0.1));
+    invalid("visibility.ranges", with(&|v| v.ranges[2] = 10.5));
+    invalid("visibility.ranges", with(&|v| v.ranges.clear()));
+    invalid("visibility.range", with(&|v| v.range = 0.0));
+    invalid("visibility.range", with(&|v| v.range = 5000.0));
+    assert_eq!(
+        with(&|v| v.ranges[0] = f32::NAN),
+        Err(DecodeError::NonFinite("visibility.ranges"))
+    );
+    assert_eq!(
+        with(&|v| v.bearing0 = f64::INFINITY),
+        Err(DecodeError::NonFinite("visibility.bearing0"))
+    );
+    assert!(matches!(
+        with(&|v| v.ranges = vec![1.0; MAX_RAYS + 1]),
+        Err(DecodeError::TooMany {
+            field: "visibility.ranges",
+            ..
+        })
+    ));
+    // The largest profile decodes.
+    assert!(with(&|v| v.ranges = vec![1.0; MAX_RAYS]).is_ok());
 }
 
 #[test]

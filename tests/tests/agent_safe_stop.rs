@@ -32,6 +32,7 @@ fn observation(seq: u64) -> Observation {
         goal: None,
         task: None,
         neighbours: Vec::new(),
+        visibility: None,
     }
 }
 

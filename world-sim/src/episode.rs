@@ -5,6 +5,7 @@ use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::world::World;
+use agent::map::LocalMap;
 use agent::model::Command;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use agent::safety::Guard;
@@ -35,6 +36,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
     let mut impact = HumanImpact::new(&world, EPISODE_IMPACT_WINDOW_S);
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let mut commands = vec![Command::STOP; world.robots.len()];
+    let mut local = LocalMap::default();
     for _ in 0..steps {
         if recorders.iter().all(MetricsRecorder::arrived) {
             break;
@@ -44,6 +46,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
                 Command::STOP
             } else {
                 let (ego, seen) = world.observe(i);
+                let profile = world.visibility(i, &mut local);
                 let goal = world.robots[i].goal;
                 let input = PlanningInput {
                     ego: &ego,
@@ -51,6 +54,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
                     map: &world.map,
                     goal,
                     dt: world.dt,
+                    visibility: profile.as_ref(),
                 };
                 let command = stack.plan(&input).command;
                 guard

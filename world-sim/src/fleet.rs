@@ -13,6 +13,7 @@ use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::warehouse::{Site, StationKind};
 use crate::world::{ROBOT_ID_BIT, World};
+use agent::map::LocalMap;
 use agent::math::{Real, Vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use agent::planner::Plan;
@@ -373,12 +374,14 @@ pub fn plan_all(
     commands: &mut [Command],
     mut plan: impl FnMut(usize, &mut PlannerStack, &PlanningInput<'_>) -> Plan,
 ) {
+    let mut local = LocalMap::default();
     for (i, stack) in stacks.iter_mut().enumerate() {
         let Some(goal) = fleet.goal(i) else {
             commands[i] = Command::STOP;
             continue;
         };
         let (ego, seen) = fleet.observe(i);
+        let profile = fleet.world.visibility(i, &mut local);
         let planned = plan(
             i,
             stack,
@@ -388,6 +391,7 @@ pub fn plan_all(
                 map: &fleet.world.map,
                 goal,
                 dt: fleet.world.dt,
+                visibility: profile.as_ref(),
             },
         );
         let now = fleet.world.time;

@@ -218,6 +218,11 @@ pub struct RobotSpec {
     /// Whether walls and shelves hide what is behind them (line of sight to a body's centre).
     #[serde(default = "yes")]
     pub occlusion: bool,
+    /// Whether people and robots hide what is behind them too (line of sight to a body's
+    /// centre past every other body's disc), and observations carry the sensor's visibility
+    /// profile (`agent::visibility`). Off by default; on in the hallway studies.
+    #[serde(default)]
+    pub body_occlusion: bool,
     /// Whether `agent::safety` checks every command the planner gives (on unless a scenario
     /// says `safety = false`, as the papers' studies ran; `--no-safety` on the commands).
     #[serde(default = "yes")]

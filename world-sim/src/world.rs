@@ -5,10 +5,11 @@ use crate::crowd::{Crowd, Walls};
 use crate::robot::RobotBody;
 use crate::scenario::{Scenario, WallModel};
 use crate::warehouse::Site;
-use agent::map::{Obstacle, StaticMap};
+use agent::map::{LocalMap, Obstacle, StaticMap};
 use agent::math::{Real, Vec2, unit, vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::social_force::SfParams;
+use agent::visibility::{DEFAULT_RAYS, Visibility};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
@@ -376,9 +377,51 @@ impl World {
         }
     }
 
+    /// Every body but robot `index`'s: (centre, radius), people first.
+    fn bodies_except(&self, index: usize) -> impl Iterator<Item = (Vec2, Real)> + '_ {
+        let radius = self.humans.radius;
+        let people = self
+            .humans
+            .crowd
+            .positions
+            .iter()
+            .map(move |&p| (p, radius));
+        let robots = self
+            .robots
+            .iter()
+            .enumerate()
+            .filter(move |&(j, _)| j != index)
+            .map(|(_, r)| (r.state.position, r.state.radius));
+        people.chain(robots)
+    }
+
+    /// What robot `index`'s sensor sees around it, when its scenario has `body_occlusion`:
+    /// the free range along [`agent::visibility::DEFAULT_RAYS`] bearings, ended by walls and
+    /// shelves (unless occlusion is off) and by every other body. `None` otherwise.
+    pub fn visibility(&self, index: usize, local: &mut LocalMap) -> Option<Visibility> {
+        let robot = &self.robots[index];
+        if !robot.spec.body_occlusion {
+            return None;
+        }
+        let empty = StaticMap::empty();
+        let walls = if robot.spec.occlusion {
+            &self.map
+        } else {
+            &empty
+        };
+        Some(Visibility::scan(
+            robot.state.position,
+            robot.spec.sensor_range_m,
+            DEFAULT_RAYS,
+            walls,
+            self.bodies_except(index),
+            local,
+        ))
+    }
+
     /// What robot `index` perceives: itself, and every person and other robot within its
-    /// sensor range whose centre it can see past walls and shelves (unless occlusion is off),
-    /// with the scenario's noise.
+    /// sensor range whose centre it can see past walls and shelves (unless occlusion is off)
+    /// and, with `body_occlusion`, past every other body, with the scenario's noise.
     pub fn observe(&mut self, index: usize) -> (EgoState, Vec<Neighbour>) {
         let robot = &self.robots[index];
         let ego = robot.state;
@@ -387,10 +430,9 @@ impl World {
         let mut seen = Vec::new();
         let crowd = &self.humans.crowd;
         let occlusion = robot.spec.occlusion && !self.map.is_empty();
-        let visible = |p: Vec2| {
-            (p - ego.position).norm() <= range
-                && (!occlusion || self.map.line_of_sight(ego.position, p))
-        };
+        let in_range = |p: Vec2| (p - ego.position).norm() <= range;
+        let visible =
+            |p: Vec2| in_range(p) && (!occlusion || self.map.line_of_sight(ego.position, p));
         for i in 0..crowd.len() {
             if visible(crowd.positions[i]) {
                 seen.push(Neighbour::new(
@@ -414,6 +456,15 @@ impl World {
                 ));
             }
         }
+        if robot.spec.body_occlusion {
+            // Every body within range blocks, seen or not (one hidden behind a wall hides
+            // nothing in view).
+            let blockers: Vec<(Vec2, Real)> = self
+                .bodies_except(index)
+                .filter(|&(p, r)| (p - ego.position).norm() <= range + r)
+                .collect();
+            seen.retain(|n| !hidden_by(ego.position, n.position, &blockers));
+        }
         if pos_noise > 0.0 || vel_noise > 0.0 {
             for n in &mut seen {
                 n.position += gaussian2(&mut self.noise_rng) * pos_noise;
@@ -422,6 +473,22 @@ impl World {
         }
         (ego, seen)
     }
+}
+
+/// Whether a body between `eye` and `target` (and not around `eye`) crosses the line of sight
+/// to `target`. The target's own disc, centred on `target`, never blocks it.
+fn hidden_by(eye: Vec2, target: Vec2, blockers: &[(Vec2, Real)]) -> bool {
+    let line = target - eye;
+    let len_sq = line.norm_squared();
+    blockers.iter().any(|&(c, r)| {
+        let w = c - eye;
+        if c == target || w.norm_squared() <= r * r || len_sq == 0.0 {
+            return false;
+        }
+        let s = w.dot(&line) / len_sq;
+        // Only bodies between the eye and the target's centre, whose disc the line cuts.
+        s > 0.0 && s < 1.0 && (w - line * s).norm_squared() < r * r
+    })
 }
 
 /// People keep this far from a hallway's open ends (m); robots start and stop there too.
@@ -720,6 +787,61 @@ mod tests {
         let mut transparent = World::from_scenario(&s);
         transparent.humans.crowd.positions[0] = ego + vec2(2.0, -2.0);
         assert!(seen(&mut transparent), "without occlusion they are seen");
+    }
+
+    #[test]
+    fn in_a_hallway_a_person_behind_another_is_perceived_only_once_they_step_out() {
+        let mut s = Scenario::builtin("hallway").expect("valid");
+        s.robot.body_occlusion = true;
+        let mut w = World::from_scenario(&s);
+        let ego = w.robots[0].state.position;
+        let ahead = unit(w.robots[0].state.heading);
+        let aside = vec2(-ahead.y, ahead.x);
+        // Person 0 walks 2 m ahead of the robot; person 1 4 m ahead steps out sideways.
+        w.humans.crowd.positions[0] = ego + ahead * 2.0;
+        for p in &mut w.humans.crowd.positions[2..] {
+            *p = ego - ahead * 30.0;
+        }
+        let mut first_seen = None;
+        for k in 0..=10 {
+            let offset = 0.1 * k as Real;
+            w.humans.crowd.positions[1] = ego + ahead * 4.0 + aside * offset;
+            let (_, seen) = w.observe(0);
+            assert!(
+                seen.iter().any(|n| n.id == 0),
+                "the near person is always seen"
+            );
+            let seen_1 = seen.iter().any(|n| n.id == 1);
+            if seen_1 {
+                first_seen.get_or_insert(offset);
+            } else {
+                assert!(first_seen.is_none(), "hidden again at {offset}");
+            }
+            // The profile (1° rays) agrees away from the edge of the shadow: the near side
+            // of their body is in view exactly when they are seen.
+            if (offset - 0.65).abs() >= 0.25 - 1e-9 {
+                let profile = w.visibility(0, &mut LocalMap::default()).expect("on");
+                let centre = w.humans.crowd.positions[1];
+                let near_side = centre - (centre - ego).normalize() * 0.35;
+                assert_eq!(profile.sees(near_side), seen_1, "at {offset}");
+            }
+        }
+        // The line of sight to their centre clears person 0's disc (half-way along it) once
+        // its distance from person 0's centre, 2·o / √(16 + o²) at offset o, exceeds the radius.
+        let r = w.humans.radius;
+        let clears = |o: Real| 2.0 * o / (16.0 + o * o).sqrt() > r;
+        let first = first_seen.expect("they step out within 1 m");
+        assert!(
+            clears(first) && !clears(first - 0.1),
+            "first seen at {first}, radius {r}"
+        );
+        // Without body occlusion they are seen from the start.
+        s.robot.body_occlusion = false;
+        let mut clear = World::from_scenario(&s);
+        clear.humans.crowd.positions = w.humans.crowd.positions.clone();
+        clear.humans.crowd.positions[1] = ego + ahead * 4.0;
+        assert!(clear.observe(0).1.iter().any(|n| n.id == 1));
+        assert!(clear.visibility(0, &mut LocalMap::default()).is_none());
     }
 
     #[test]

@@ -191,6 +191,7 @@ pub async fn run_agent(
                     (Some((_, m)), Some(goal)) => {
                         let ego = wire::ego(&obs);
                         let neighbours = wire::neighbours(&obs);
+                        let profile = wire::visibility(&obs);
                         let started = Instant::now();
                         let input = PlanningInput {
                             ego: &ego,
@@ -198,6 +199,7 @@ pub async fn run_agent(
                             map: m,
                             goal: wire::vec(goal),
                             dt: obs.dt,
+                            visibility: profile.as_ref(),
                         };
                         let mut plan = stack.plan(&input);
                         let mut zone = SafetyZone::Clear;

@@ -2,11 +2,13 @@
 //! messages are already validated (finite numbers, positive radii), so these are plain maps.
 
 use crate::map::{MapError, Obstacle, StaticMap};
-use crate::math::{Vec2, vec2};
+use crate::math::{Real, Vec2, vec2};
 use crate::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use crate::planner::Plan;
+use crate::visibility::Visibility;
 use schemas::{
     CommandMsg, IntentMsg, Kind, MapMsg, Motion, Observation, ObstacleMsg, P2, Perceived, Sample,
+    VisibilityProfile,
 };
 
 /// A wire point as a vector.
@@ -73,6 +75,25 @@ pub fn neighbours(obs: &Observation) -> Vec<Neighbour> {
             }),
         })
         .collect()
+}
+
+/// The sensor's visibility profile of an observation, if it carries one.
+pub fn visibility(obs: &Observation) -> Option<Visibility> {
+    obs.visibility.as_ref().map(|v| Visibility {
+        origin: vec(obs.p),
+        bearing0: v.bearing0,
+        range: v.range,
+        ranges: v.ranges.iter().map(|&r| Real::from(r)).collect(),
+    })
+}
+
+/// A visibility profile on the wire (ranges as `f32`: a tenth of a millimetre at 1 km).
+pub fn visibility_to_wire(v: &Visibility) -> VisibilityProfile {
+    VisibilityProfile {
+        bearing0: v.bearing0,
+        range: v.range,
+        ranges: v.ranges.iter().map(|&r| r as f32).collect(),
+    }
 }
 
 /// A neighbour as a perceived body on the wire.

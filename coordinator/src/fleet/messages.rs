@@ -3,7 +3,7 @@
 
 use super::links::Link;
 use super::status::Status;
-use agent::map::StaticMap;
+use agent::map::{LocalMap, StaticMap};
 use agent::math::{Real, vec2};
 use agent::runtime::wire;
 use schemas::{FleetMetrics, Observation, RobotRow, StationMsg, TaskRef, TaskStage};
@@ -36,6 +36,11 @@ pub fn observation(fleet: &mut Fleet, i: usize, seq: u64) -> Observation {
         goal: fleet.goal(i).map(wire::p2),
         task,
         neighbours: seen.iter().map(wire::perceived).collect(),
+        visibility: fleet
+            .world
+            .visibility(i, &mut LocalMap::default())
+            .as_ref()
+            .map(wire::visibility_to_wire),
     }
 }
 

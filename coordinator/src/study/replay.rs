@@ -156,6 +156,7 @@ struct RunRecord {
     closest_t_s: Option<f64>,
     robot_caused_contacts: u64,
     person_caused_contacts: u64,
+    appeared_contacts: u64,
 }
 
 impl From<&ReplayRow> for RunRecord {
@@ -181,6 +182,7 @@ impl From<&ReplayRow> for RunRecord {
             closest_t_s: o.closest.map(|c| c.1),
             robot_caused_contacts: o.robot_caused_contacts,
             person_caused_contacts: o.person_caused_contacts,
+            appeared_contacts: o.appeared_contacts,
         }
     }
 }
@@ -231,6 +233,9 @@ pub struct TableRow {
     pub robot_caused_contacts: u64,
     /// Contacts begun otherwise (a recorded person, who does not react, walked in), summed.
     pub person_caused_contacts: u64,
+    /// Contacts with people who appeared in the recording too close for the robot to stop
+    /// ([`RunOutcome::appeared_contacts`]), summed; 0 for the human row.
+    pub appeared_contacts: u64,
 }
 
 /// Mean and standard deviation (population), through `stats::mean`; NaN for no values.
@@ -300,6 +305,7 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
                 mean_max_density,
                 robot_caused_contacts: outcomes.clone().map(|o| o.robot_caused_contacts).sum(),
                 person_caused_contacts: outcomes.clone().map(|o| o.person_caused_contacts).sum(),
+                appeared_contacts: outcomes.clone().map(|o| o.appeared_contacts).sum(),
             }
         })
         .collect()
@@ -308,14 +314,14 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
 /// The table as Markdown, laid out like the paper's Tables 1 and 2.
 pub fn table_markdown(table: &[TableRow]) -> String {
     let mut out = String::from(
-        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) | contacts caused / suffered |\n\
+        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) | contacts caused / suffered / appeared |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let na = |v: Option<f64>, f: &dyn Fn(f64) -> String| v.map_or("NA".to_string(), f);
     for r in table {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} | {} / {} |",
+            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} | {} / {} / {} |",
             r.planner,
             r.runs,
             r.runs_alone,
@@ -334,6 +340,7 @@ pub fn table_markdown(table: &[TableRow]) -> String {
             r.mean_max_density,
             r.robot_caused_contacts,
             r.person_caused_contacts,
+            r.appeared_contacts,
         );
     }
     out
