@@ -18,6 +18,7 @@ pub mod obstacle_points;
 pub mod orca;
 pub mod pgp;
 pub mod planner;
+pub mod pnp;
 pub mod prediction;
 pub mod risk;
 #[cfg(feature = "runtime")]

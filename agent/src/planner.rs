@@ -11,6 +11,7 @@ use crate::math::{Real, Vec2, clamp_norm};
 use crate::model::{Command, EgoState, Intent, Neighbour, TrajectorySample};
 use crate::orca::{Body, Orca, OrcaParams, V};
 use crate::pgp::{Pgp, PgpParams};
+use crate::pnp::{Pnp, PnpParams};
 use crate::prediction::SigmaModel;
 use crate::social_force::{SfAgentParams, SocialForceAgent};
 use crate::visibility::Visibility;
@@ -58,6 +59,12 @@ pub enum LocalKind {
     SocialForce,
     /// First-order interacting Gaussian processes (the foIGP paper's planners).
     Igp(IgpVariant),
+    /// Peek-and-pass (the "Look Before You Leap" paper's hallway planner), with peeking on
+    /// (`pnp`) or off (`pnp-nopeek`: c3 high).
+    Pnp {
+        /// Whether c3 is at the laned study's optimum (true) or high.
+        peek: bool,
+    },
 }
 
 /// Which planners a stack runs.
@@ -110,8 +117,8 @@ impl PlannerSpec {
 /// A planner name that is not one of ours.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin or mc, each \
-     optionally behind pgp+ (e.g. pgp+orca)"
+    "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin, mc, pnp or \
+     pnp-nopeek, each optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
 
@@ -132,6 +139,8 @@ impl FromStr for PlannerSpec {
             "igp-diag" => LocalKind::Igp(IgpVariant::Diagonal),
             "igp-lin" => LocalKind::Igp(IgpVariant::Linear),
             "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
+            "pnp" | "peek-and-pass" => LocalKind::Pnp { peek: true },
+            "pnp-nopeek" => LocalKind::Pnp { peek: false },
             _ => return Err(UnknownPlanner(s.to_string())),
         };
         Ok(Self { pgp, local })
@@ -148,6 +157,8 @@ impl fmt::Display for PlannerSpec {
             LocalKind::Igp(IgpVariant::Diagonal) => "igp-diag",
             LocalKind::Igp(IgpVariant::Linear) => "igp-lin",
             LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
+            LocalKind::Pnp { peek: true } => "pnp",
+            LocalKind::Pnp { peek: false } => "pnp-nopeek",
         };
         if self.pgp {
             write!(f, "pgp+{local}")
@@ -310,6 +321,28 @@ impl LocalPlanner for IgpPlanner {
     }
 }
 
+impl LocalPlanner for Pnp {
+    /// The robot's reach over the horizon at top speed.
+    fn subgoal_distance(&self) -> Real {
+        self.params().v_max * self.params().horizon
+    }
+
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
+        let d = Pnp::plan(
+            self,
+            input.ego,
+            input.neighbours,
+            input.map,
+            target,
+            input.visibility,
+        );
+        LocalPlan {
+            command: d.command,
+            trajectory: d.trajectory,
+        }
+    }
+}
+
 /// A constant-velocity trajectory with σ growth, t = dt..=horizon.
 fn straight(
     start: Vec2,
@@ -381,6 +414,11 @@ impl PlannerStack {
                     None => d,
                 };
                 Box::new(IgpPlanner::new(variant, params))
+            }
+            LocalKind::Pnp { peek } => {
+                let d = PnpParams::peeking(peek);
+                let v_max = max_speed.unwrap_or(d.v_max);
+                Box::new(Pnp::new(PnpParams { v_max, ..d }))
             }
         };
         let pgp = spec.pgp.then(|| {
@@ -455,7 +493,15 @@ mod tests {
         for spec in PlannerSpec::STUDY {
             assert_eq!(spec.to_string().parse::<PlannerSpec>(), Ok(spec));
         }
-        for name in ["foigp", "igp-diag", "igp-lin", "mc", "pgp+foigp"] {
+        for name in [
+            "foigp",
+            "igp-diag",
+            "igp-lin",
+            "mc",
+            "pgp+foigp",
+            "pnp",
+            "pnp-nopeek",
+        ] {
             let spec: PlannerSpec = name.parse().expect("known");
             assert_eq!(spec.to_string(), name);
         }

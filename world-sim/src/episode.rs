@@ -23,8 +23,9 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
         .robots
         .iter()
         .map(|_| {
-            // Batch runs draw nothing: no fan recording.
-            let mut stack = PlannerStack::new(planner);
+            // Batch runs draw nothing: no fan recording. The planners drive at the robot's
+            // top speed (their defaults are the scenarios' 1 m/s).
+            let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
             stack.set_record_fan(false);
             stack
         })

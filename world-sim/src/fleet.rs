@@ -413,7 +413,7 @@ pub fn run_fleet(
     fleet.share_intents = share_intents;
     let mut stacks: Vec<PlannerStack> = (0..fleet.robots())
         .map(|_| {
-            let mut stack = PlannerStack::new(planner);
+            let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
             stack.set_record_fan(false);
             stack
         })

@@ -1,0 +1,88 @@
+//! Peek-and-pass in a hallway (issue 20): one plan with 20 tracked people and 64 Ψ samples,
+//! and the visibility scan behind it.
+//!
+//! Target: one plan ≤ 1 ms median.
+//!
+//!     cargo bench -p agent --bench pnp
+
+use agent::map::{LocalMap, Obstacle, StaticMap};
+use agent::math::{Real, vec2};
+use agent::model::{AgentKind, EgoState, Neighbour};
+use agent::pnp::{Pnp, PnpParams};
+use agent::visibility::{DEFAULT_RAYS, Visibility};
+use criterion::{Criterion, criterion_group, criterion_main};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::hint::black_box;
+
+/// A 3 m wide hallway from x = −30 to 30, the robot at the origin driving +x at 2 m/s, and
+/// 20 people walking both ways within 12 m of it (seeded), none within 1 m.
+fn scene() -> (StaticMap, EgoState, Vec<Neighbour>) {
+    let map = StaticMap::new(vec![
+        Obstacle::Wall(vec2(-30.0, -1.5), vec2(30.0, -1.5)),
+        Obstacle::Wall(vec2(-30.0, 1.5), vec2(30.0, 1.5)),
+    ])
+    .expect("valid walls");
+    let ego = EgoState {
+        position: vec2(0.0, 0.0),
+        heading: 0.0,
+        velocity: vec2(2.0, 0.0),
+        yaw_rate: 0.0,
+        radius: 0.3,
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(20);
+    let mut people: Vec<Neighbour> = Vec::new();
+    while people.len() < 20 {
+        let p = vec2(rng.random_range(-12.0..12.0), rng.random_range(-1.1..1.1));
+        let clear = p.norm() > 1.0 && people.iter().all(|o| (o.position - p).norm() > 0.6);
+        if clear {
+            let way: Real = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            let v = vec2(way * rng.random_range(0.5..1.5), 0.0);
+            people.push(Neighbour::new(
+                people.len() as u64,
+                p,
+                v,
+                0.3,
+                AgentKind::Human,
+            ));
+        }
+    }
+    (map, ego, people)
+}
+
+fn pnp(c: &mut Criterion) {
+    let (map, ego, people) = scene();
+    let mut local = LocalMap::default();
+    let bodies = || people.iter().map(|b| (b.position, b.radius));
+    let seen = Visibility::scan(ego.position, 12.0, DEFAULT_RAYS, &map, bodies(), &mut local);
+    let mut planner = Pnp::new(PnpParams {
+        v_max: 3.0,
+        a_max: 2.0,
+        psi_samples: 64,
+        ..PnpParams::default()
+    });
+    let goal = vec2(25.0, 0.0);
+    let d = planner.plan(&ego, &people, &map, goal, Some(&seen));
+    assert!(d.edges > 0, "the people cast shadows");
+    let mut g = c.benchmark_group("pnp");
+    g.bench_function(
+        format!("plan-20-people-64-psi-{}-candidates", planner.candidates()),
+        |b| b.iter(|| black_box(planner.plan(&ego, black_box(&people), &map, goal, Some(&seen)))),
+    );
+    g.bench_function("visibility-scan-360-rays-20-people", |b| {
+        b.iter(|| {
+            black_box(Visibility::scan(
+                ego.position,
+                12.0,
+                DEFAULT_RAYS,
+                &map,
+                bodies(),
+                &mut local,
+            ))
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, pnp);
+criterion_main!(benches);

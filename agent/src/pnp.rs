@@ -1,0 +1,724 @@
+//! Peek-and-pass: the hallway planner of "Look Before You Leap" (Sharma et al.), Sec. IV.
+//!
+//! A motion-primitive planner for a unicycle (Eq. 1). Every candidate is a sequence of
+//! constant (v, ω) segments over the horizon t_f, executed within the base's speed,
+//! acceleration and turn limits. The candidate minimising Eq. 3 wins:
+//!
+//! J = c1·‖x(t_f) − x_g‖² + c2·p_coll + c3·ρ,
+//!
+//! - p_coll = Σ_i p_coll^i (Eq. 5): p_coll⁰ is 1 if the path comes within the robot's radius of
+//!   a wall or shelf (the static map inflated by the robot's radius), else 0; such candidates
+//!   are dropped, since the paper avoids static obstacles deterministically (if all are, the
+//!   robot brakes). p_coll^i for each perceived body is CVaR_α of collision over samples of its
+//!   predicted trajectory.
+//! - ρ = max(0, CVaR_{α_peek}(Ψ) − ε_peek) (Eq. 6): Ψ is a set of hypothetical people stepping
+//!   out of the space the robot cannot see, sampled uniformly: positions on the occlusion
+//!   edges of its visibility profile ([`crate::visibility`]), headings into view, speeds up to
+//!   the walking speed.
+//!
+//! The paper predicts people with an S-GAN; this planner samples **constant-velocity
+//! predictions with PGP's σ growth** ([`SigmaModel`], the PGP paper's σ0, β, γ, δ): sample j
+//! of body i is its constant-velocity track shifted by ε_j·σ_i(t), with ε_j fixed standard
+//! normal offsets. Every value the paper leaves open is a field of [`PnpParams`], with the
+//! reason for its value.
+//!
+//! A sampled future's loss is 0 without collision and 1 − t_c/t_f with a first contact at t_c
+//! (the sooner, the worse; [`cvar`] takes the mean of the worst (1 − α) of them).
+
+use crate::map::{LocalMap, StaticMap};
+use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
+use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
+use crate::prediction::{SigmaModel, Track, predict};
+use crate::visibility::Visibility;
+
+/// The planner's parameters. The paper gives the cost's form and its tunable names; it gives
+/// none of their values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PnpParams {
+    /// The robot's top speed (m/s). The paper's robot: 3 m/s.
+    pub v_max: Real,
+    /// Largest linear acceleration the primitives use (m/s²): the simulated base's 1.5 m/s².
+    pub a_max: Real,
+    /// Largest turn rate (rad/s): the simulated base's 1 rad/s.
+    pub omega_max: Real,
+    /// Largest turn acceleration (rad/s²): the simulated base's 1.5 rad/s².
+    pub yaw_accel_max: Real,
+    /// t_f, the horizon (s). 3 s: a 3 m/s robot looks 9 m ahead, about what a person walking
+    /// toward it covers in the time it needs to stop and more.
+    pub horizon: Real,
+    /// Speeds each segment may hold, as fractions of `v_max`.
+    pub speeds: Vec<Real>,
+    /// Turn rates each segment may hold, as fractions of `omega_max`.
+    pub turns: Vec<Real>,
+    /// Constant segments per candidate: 2 (turn out, then straighten or hold), so that a
+    /// candidate can change lanes within the horizon.
+    pub segments: usize,
+    /// The time grid on which paths are compared (s): PGP's 0.25 s, the step its σ growth δ is
+    /// stated for. Collisions are checked exactly between grid points, each body moving
+    /// straight in between (a 3 m/s robot turning at 1 rad/s strays 2 cm from the chord).
+    pub step: Real,
+    /// c1: weight of the squared distance to the local goal (1/m²); the unit.
+    pub c1: Real,
+    /// c2: weight of the collision risk. 1000: more than ten times the goal term of a
+    /// standing 3 m/s robot (81 m²), so that a candidate with a likely collision never wins
+    /// over a slower one.
+    pub c2: Real,
+    /// c3: weight of the peeking risk ρ. Chosen by the laned study (`results/peek-and-pass`).
+    pub c3: Real,
+    /// α of p_coll^i's CVaR: the worst tenth of a body's predicted futures.
+    pub alpha: Real,
+    /// α_peek of ρ's CVaR: the worst tenth of Ψ.
+    pub alpha_peek: Real,
+    /// ε_peek: peeking risk tolerated without cost (CVaR below it costs nothing).
+    pub epsilon_peek: Real,
+    /// Predicted-trajectory samples per perceived body: 32, so that α = 0.9's tail holds
+    /// 3.2 of them.
+    pub prediction_samples: usize,
+    /// |Ψ|: hypothetical hidden people per plan (the benchmark uses 64).
+    pub psi_samples: usize,
+    /// The fastest a hidden person walks (m/s): the hallway's walking speed. 1.6 m/s, ISO
+    /// 13855's approach speed, unless the study sets the trial's speed.
+    pub hidden_speed: Real,
+    /// A hidden person's radius (m): the simulated people's 0.3 m.
+    pub hidden_radius: Real,
+    /// Neighbouring rays whose ranges differ by more than this bound an occlusion edge (m):
+    /// a person's width, the least a shadow must have to hide one.
+    pub edge_jump: Real,
+    /// Sensor range used when the input carries no visibility profile (m).
+    pub sensor_range: Real,
+    /// x_g, the local goal: the goal, or the point this far toward it (m); `None` for
+    /// v_max·t_f (the farthest a candidate reaches). The paper plans in a local costmap, and
+    /// a goal 100 m away would make every other term negligible.
+    pub goal_distance: Option<Real>,
+    /// σ growth of the predictions (the PGP paper's values).
+    pub sigma: SigmaModel,
+}
+
+impl Default for PnpParams {
+    fn default() -> Self {
+        Self {
+            v_max: 1.0,
+            a_max: 1.5,
+            omega_max: 1.0,
+            yaw_accel_max: 1.5,
+            horizon: 3.0,
+            speeds: vec![0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0],
+            turns: vec![-1.0, -0.5, 0.0, 0.5, 1.0],
+            segments: 2,
+            step: 0.25,
+            c1: 1.0,
+            c2: 1000.0,
+            c3: PEEK_C3,
+            alpha: 0.9,
+            alpha_peek: 0.9,
+            epsilon_peek: 0.1,
+            prediction_samples: 32,
+            psi_samples: 64,
+            hidden_speed: 1.6,
+            hidden_radius: 0.3,
+            edge_jump: 0.6,
+            sensor_range: 10.0,
+            goal_distance: None,
+            sigma: SigmaModel::default(),
+        }
+    }
+}
+
+/// c3 with peeking on (the laned study's choice).
+pub const PEEK_C3: Real = 10.0;
+/// c3 with peeking off ("c3 high", as the paper turns it off).
+pub const NO_PEEK_C3: Real = 10_000.0;
+
+impl PnpParams {
+    /// The defaults with peeking on or off.
+    pub fn peeking(on: bool) -> Self {
+        Self {
+            c3: if on { PEEK_C3 } else { NO_PEEK_C3 },
+            ..Self::default()
+        }
+    }
+}
+
+/// The cost terms of one candidate.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Cost {
+    /// ‖x(t_f) − x_g‖² (m²).
+    pub goal: Real,
+    /// p_coll = p_coll⁰ + Σ_i p_coll^i.
+    pub collision: Real,
+    /// ρ.
+    pub peek: Real,
+    /// J.
+    pub total: Real,
+}
+
+/// The decision of one plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PnpDecision {
+    /// The first segment of the best candidate.
+    pub command: Command,
+    /// Its path on the time grid, at most 0.25 s apart (t from then to t_f).
+    pub trajectory: Vec<TrajectorySample>,
+    /// Its cost terms.
+    pub cost: Cost,
+    /// How many occlusion edges Ψ was sampled on.
+    pub edges: usize,
+}
+
+/// A hypothetical hidden person: where they step out and how they walk.
+#[derive(Debug, Clone, Copy)]
+struct Hidden {
+    start: Vec2,
+    velocity: Vec2,
+}
+
+/// One perceived body's prediction on the grid.
+#[derive(Debug, Clone, Default)]
+struct Predicted {
+    track: Track,
+    /// Centre distance that counts as collision.
+    contact: Real,
+}
+
+/// The peek-and-pass planner: its parameters, fixed sample sets and scratch.
+#[derive(Debug, Clone)]
+pub struct Pnp {
+    params: PnpParams,
+    /// (v, ω) fractions per segment, per candidate.
+    primitives: Vec<Vec<(Real, Real)>>,
+    /// Standard normal offsets ε_j of the prediction samples.
+    offsets: Vec<Vec2>,
+    /// Points of the unit cube for Ψ (edge position, heading, speed).
+    psi_units: Vec<[Real; 3]>,
+    // Scratch, reused between plans.
+    paths: Vec<Vec2>,
+    predicted: Vec<Predicted>,
+    hidden: Vec<Hidden>,
+    losses: Vec<Real>,
+    local: LocalMap,
+    own: Visibility,
+}
+
+impl Pnp {
+    /// A planner with `params`.
+    pub fn new(params: PnpParams) -> Self {
+        let per_segment: Vec<(Real, Real)> = params
+            .speeds
+            .iter()
+            .flat_map(|&v| params.turns.iter().map(move |&w| (v, w)))
+            .collect();
+        let mut primitives: Vec<Vec<(Real, Real)>> = vec![Vec::new()];
+        for _ in 0..params.segments.max(1) {
+            primitives = primitives
+                .iter()
+                .flat_map(|prefix| {
+                    per_segment.iter().map(move |&seg| {
+                        let mut p = prefix.clone();
+                        p.push(seg);
+                        p
+                    })
+                })
+                .collect();
+        }
+        let offsets = (0..params.prediction_samples)
+            .map(|j| {
+                // Box–Muller on a Halton (2, 3) point: fixed, evenly spread normals.
+                let (u1, u2) = (halton(j + 1, 2), halton(j + 1, 3));
+                let r = (-2.0 * u1.ln()).sqrt();
+                let a = std::f64::consts::TAU * u2;
+                vec2(r * a.cos(), r * a.sin())
+            })
+            .collect();
+        let psi_units = (0..params.psi_samples)
+            .map(|j| [halton(j + 1, 2), halton(j + 1, 3), halton(j + 1, 5)])
+            .collect();
+        Self {
+            params,
+            primitives,
+            offsets,
+            psi_units,
+            paths: Vec::new(),
+            predicted: Vec::new(),
+            hidden: Vec::new(),
+            losses: Vec::new(),
+            local: LocalMap::default(),
+            own: Visibility::default(),
+        }
+    }
+
+    /// The parameters in use.
+    pub fn params(&self) -> &PnpParams {
+        &self.params
+    }
+
+    /// How many candidates each plan weighs.
+    pub fn candidates(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// One plan toward `goal`. `visibility` is what the sensor saw; without it the planner
+    /// derives the shadows of the map and of the bodies it perceives.
+    pub fn plan(
+        &mut self,
+        ego: &EgoState,
+        neighbours: &[Neighbour],
+        map: &StaticMap,
+        goal: Vec2,
+        visibility: Option<&Visibility>,
+    ) -> PnpDecision {
+        let p = &self.params;
+        let n = (p.horizon / p.step).round().max(1.0) as usize;
+        let dt = p.horizon / n as Real;
+        self.roll_out(ego, n, dt);
+        self.predict(ego, neighbours, n, dt);
+        let visibility = match visibility {
+            Some(v) => v,
+            None => {
+                self.own = Visibility::scan(
+                    ego.position,
+                    self.params.sensor_range,
+                    crate::visibility::DEFAULT_RAYS,
+                    map,
+                    neighbours.iter().map(|b| (b.position, b.radius)),
+                    &mut self.local,
+                );
+                &self.own
+            }
+        };
+        let edges = sample_hidden(
+            &self.params,
+            &self.psi_units,
+            visibility,
+            map,
+            neighbours,
+            ego,
+            &mut self.hidden,
+        );
+        let p = &self.params;
+        let reach = p.goal_distance.unwrap_or(p.v_max * p.horizon);
+        let local_goal = ego.position + clamp_norm(goal - ego.position, reach);
+        let r = vec2(reach + 1.0, reach + 1.0);
+        map.gather(
+            ego.position - r,
+            ego.position + r,
+            ego.radius,
+            &mut self.local,
+        );
+
+        let mut best = (Real::INFINITY, 0, Cost::default());
+        for c in 0..self.primitives.len() {
+            let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
+            let goal_term = (path[n] - local_goal).norm_squared();
+            // A candidate that cannot beat the best even without risk is skipped.
+            if p.c1 * goal_term >= best.0 {
+                continue;
+            }
+            // Static obstacles are avoided deterministically (the paper's aim): p_coll⁰ = 1
+            // rules a candidate out.
+            if path
+                .windows(2)
+                .any(|w| near_any_segment(w[0], w[1], self.local.segments(), ego.radius))
+            {
+                continue;
+            }
+            let mut collision = 0.0;
+            for body in &self.predicted {
+                collision += body_risk(path, body, &self.offsets, p.alpha, &mut self.losses);
+            }
+            let contact = ego.radius + p.hidden_radius;
+            let psi = hidden_risk(
+                path,
+                &self.hidden,
+                dt,
+                contact,
+                p.alpha_peek,
+                &mut self.losses,
+            );
+            let peek = (psi - p.epsilon_peek).max(0.0);
+            let total = p.c1 * goal_term + p.c2 * collision + p.c3 * peek;
+            if total < best.0 {
+                best = (
+                    total,
+                    c,
+                    Cost {
+                        goal: goal_term,
+                        collision,
+                        peek,
+                        total,
+                    },
+                );
+            }
+        }
+        let (total, c, cost) = best;
+        if total == Real::INFINITY {
+            // Every candidate meets a wall or shelf: brake, holding the heading.
+            return PnpDecision {
+                command: Command::Unicycle {
+                    speed: 0.0,
+                    yaw_rate: 0.0,
+                },
+                trajectory: Vec::new(),
+                cost: Cost {
+                    collision: 1.0,
+                    total,
+                    ..Cost::default()
+                },
+                edges,
+            };
+        }
+        let (v, w) = self.primitives[c][0];
+        let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
+        // Samples at most 0.25 s apart, on the grid.
+        let every = ((0.25 / dt + 1e-9).floor() as usize).max(1);
+        let speed = (v * p.v_max).abs();
+        let trajectory = path
+            .iter()
+            .enumerate()
+            .skip(every)
+            .step_by(every)
+            .zip(p.sigma.constant_speed(speed))
+            .map(|((k, &position), sigma)| TrajectorySample {
+                t: k as Real * dt,
+                position,
+                sigma,
+            })
+            .collect();
+        PnpDecision {
+            command: Command::Unicycle {
+                speed: v * p.v_max,
+                yaw_rate: w * p.omega_max,
+            },
+            trajectory,
+            cost,
+            edges,
+        }
+    }
+
+    /// Every candidate's path on the grid, executed as the base executes unicycle commands
+    /// (speed and turn rate approach each segment's within the acceleration limits).
+    fn roll_out(&mut self, ego: &EgoState, n: usize, dt: Real) {
+        let p = &self.params;
+        let segments = self.primitives.first().map_or(1, Vec::len);
+        let per_segment = n.div_ceil(segments);
+        // Integrated at 50 ms, at most (the simulator steps at 0.1 s).
+        let substeps = (dt / 0.05 - 1e-9).ceil().max(1.0) as usize;
+        let h = dt / substeps as Real;
+        self.paths.clear();
+        self.paths.reserve(self.primitives.len() * (n + 1));
+        // Candidates come prefix-major: one that shares its first segments with the one before
+        // starts from where that one stood at the end of them (same bits, half the work).
+        let start = (
+            ego.position,
+            ego.heading,
+            ego.velocity.dot(&unit(ego.heading)),
+            ego.yaw_rate,
+        );
+        let mut boundary = vec![start; segments + 1];
+        for (c, primitive) in self.primitives.iter().enumerate() {
+            let shared = if c == 0 {
+                0
+            } else {
+                let before = &self.primitives[c - 1];
+                primitive
+                    .iter()
+                    .zip(before)
+                    .take_while(|(a, b)| a == b)
+                    .count()
+            };
+            // Shared segments end at grid point `from`; copy the path up to it.
+            let from = (shared * per_segment).min(n);
+            let base = self.paths.len();
+            if c == 0 || from == 0 {
+                self.paths.push(ego.position);
+            } else {
+                let previous = base - (n + 1);
+                self.paths.extend_from_within(previous..previous + from + 1);
+            }
+            let (mut position, mut heading, mut v, mut w) = boundary[shared.min(segments)];
+            for k in from..n {
+                let segment = (k / per_segment).min(segments - 1);
+                if k % per_segment == 0 {
+                    boundary[segment] = (position, heading, v, w);
+                }
+                let (fv, fw) = primitive[segment];
+                let (tv, tw) = (fv * p.v_max, fw * p.omega_max);
+                for _ in 0..substeps {
+                    v += (tv - v).clamp(-p.a_max * h, p.a_max * h);
+                    w += (tw - w).clamp(-p.yaw_accel_max * h, p.yaw_accel_max * h);
+                    heading += w * h;
+                    position += unit(heading) * (v * h);
+                }
+                self.paths.push(position);
+            }
+        }
+    }
+
+    /// Each perceived body's mean track and σ on the grid.
+    fn predict(&mut self, ego: &EgoState, neighbours: &[Neighbour], n: usize, dt: Real) {
+        self.predicted
+            .resize_with(neighbours.len(), Predicted::default);
+        for (slot, body) in self.predicted.iter_mut().zip(neighbours) {
+            predict(body, dt, n, &self.params.sigma, &mut slot.track);
+            slot.contact = ego.radius + body.radius;
+        }
+    }
+}
+
+/// Whether the chord `a`–`b` passes within `radius` of any of `segments`.
+fn near_any_segment(a: Vec2, b: Vec2, segments: &[(Vec2, Vec2)], radius: Real) -> bool {
+    segments
+        .iter()
+        .any(|&(c, d)| segment_distance(a, b, c, d) < radius)
+}
+
+/// The distance between segments `a`–`b` and `c`–`d` (0 if they cross).
+fn segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Real {
+    let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
+    let (r, s) = (b - a, d - c);
+    let denom = cross(r, s);
+    if denom != 0.0 {
+        let t = cross(c - a, s) / denom;
+        let u = cross(c - a, r) / denom;
+        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+            return 0.0;
+        }
+    }
+    point_segment(a, c, d)
+        .min(point_segment(b, c, d))
+        .min(point_segment(c, a, b))
+        .min(point_segment(d, a, b))
+}
+
+fn point_segment(p: Vec2, a: Vec2, b: Vec2) -> Real {
+    let e = b - a;
+    let len_sq = e.norm_squared();
+    let t = if len_sq > 0.0 {
+        ((p - a).dot(&e) / len_sq).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + e * t - p).norm()
+}
+
+/// p_coll^i: CVaR_α of the collision loss over body i's prediction samples, for one path.
+fn body_risk(
+    path: &[Vec2],
+    body: &Predicted,
+    offsets: &[Vec2],
+    alpha: Real,
+    losses: &mut Vec<Real>,
+) -> Real {
+    let track = &body.track;
+    let grown = track.sigma.iter().copied().fold(0.0, Real::max) - track.sigma[0];
+    let spread = offsets.iter().map(|o| o.norm()).fold(0.0, Real::max) * grown;
+    // No sample can come closer than the mean minus the largest offset.
+    if first_contact(path, body.contact + spread, |k| track.positions[k]).is_none() {
+        return 0.0;
+    }
+    let n = path.len() - 1;
+    losses.clear();
+    losses.extend(offsets.iter().map(|&o| {
+        loss(
+            first_contact(path, body.contact, |k| {
+                track.positions[k] + o * (track.sigma[k] - track.sigma[0])
+            }),
+            n,
+        )
+    }));
+    cvar(losses, alpha)
+}
+
+/// ρ before its threshold: CVaR_α of the collision loss over Ψ.
+fn hidden_risk(
+    path: &[Vec2],
+    hidden: &[Hidden],
+    dt: Real,
+    contact: Real,
+    alpha: Real,
+    losses: &mut Vec<Real>,
+) -> Real {
+    let n = path.len() - 1;
+    // The box around the path, widened by the contact distance: hidden people whose whole
+    // walk stays outside it cannot meet the robot.
+    let (lo, hi) = bounds(path);
+    let (lo, hi) = (lo - vec2(contact, contact), hi + vec2(contact, contact));
+    let horizon = n as Real * dt;
+    losses.clear();
+    losses.extend(hidden.iter().map(|h| {
+        let end = h.start + h.velocity * horizon;
+        let outside = h.start.x.max(end.x) < lo.x
+            || h.start.x.min(end.x) > hi.x
+            || h.start.y.max(end.y) < lo.y
+            || h.start.y.min(end.y) > hi.y;
+        if outside {
+            return 0.0;
+        }
+        loss(
+            first_contact(path, contact, |k| h.start + h.velocity * (k as Real * dt)),
+            n,
+        )
+    }));
+    cvar(losses, alpha)
+}
+
+/// The smallest box holding `points`.
+fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+    points.iter().fold(
+        (
+            vec2(Real::INFINITY, Real::INFINITY),
+            vec2(Real::NEG_INFINITY, Real::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
+}
+
+/// The loss of one sampled future: 0 without collision, else 1 − t_c/t_f for a first contact
+/// at t_c (1 at once, falling to 0 at the horizon). The paper does not say how it scores a
+/// collision; a plain 0/1 indicator makes every candidate equally bad once the predictions
+/// fill a hallway (the robot standing is run into as surely as one driving on), and the
+/// choice among them then falls to progress alone. Imminence keeps "later" better than
+/// "sooner", which a replanning robot can still avoid.
+fn loss(first_contact: Option<Real>, n: usize) -> Real {
+    first_contact.map_or(0.0, |k| 1.0 - k / n as Real)
+}
+
+/// CVaR_α of equally likely `losses` (reordered): the mean of the worst (1 − α) of them, the
+/// last counted in part (Rockafellar–Uryasev for a discrete distribution).
+pub fn cvar(losses: &mut [Real], alpha: Real) -> Real {
+    let n = losses.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let tail = ((1.0 - alpha) * n as Real).max(1e-12);
+    if losses.iter().all(|&l| l == 0.0) {
+        return 0.0;
+    }
+    losses.sort_unstable_by(|a, b| b.total_cmp(a));
+    let mut mass = tail;
+    let mut sum = 0.0;
+    for &l in losses.iter() {
+        if mass <= 0.0 || l == 0.0 {
+            break;
+        }
+        let w = mass.min(1.0);
+        sum += w * l;
+        mass -= w;
+    }
+    sum / tail
+}
+
+/// When (in grid steps, fractional) the path first comes within `contact` of another body at
+/// `other(k)` on the same grid, both moving straight between grid points; `None` if never.
+fn first_contact(path: &[Vec2], contact: Real, other: impl Fn(usize) -> Vec2) -> Option<Real> {
+    let c2 = contact * contact;
+    let mut d0 = other(0) - path[0];
+    if d0.norm_squared() < c2 {
+        return Some(0.0);
+    }
+    for (k, &at) in path.iter().enumerate().skip(1) {
+        let d1 = other(k) - at;
+        let e = d1 - d0;
+        // |d0 + e·s|² = c² for s in [0, 1]: the smaller root.
+        let a = e.norm_squared();
+        let b = d0.dot(&e);
+        let c = d0.norm_squared() - c2;
+        if a > 0.0 {
+            let disc = b * b - a * c;
+            if disc >= 0.0 {
+                let s = (-b - disc.sqrt()) / a;
+                if (0.0..=1.0).contains(&s) {
+                    return Some((k - 1) as Real + s);
+                }
+            }
+        }
+        d0 = d1;
+    }
+    None
+}
+
+/// Fills `out` with Ψ: hypothetical people stepping out of the shadows of `visibility`,
+/// spread uniformly over the occlusion edges within reach (their length), headings into view
+/// (uniform over the half-plane facing away from the shadow), speeds uniform up to the
+/// walking speed. Samples that would stand in a wall, behind one, or inside a perceived body
+/// are dropped. Returns the number of edges.
+fn sample_hidden(
+    p: &PnpParams,
+    units: &[[Real; 3]],
+    visibility: &Visibility,
+    map: &StaticMap,
+    neighbours: &[Neighbour],
+    ego: &EgoState,
+    out: &mut Vec<Hidden>,
+) -> usize {
+    out.clear();
+    // Edges farther than the robot and a hidden person can close within the horizon are
+    // out of reach.
+    let reach = (p.v_max + p.hidden_speed) * p.horizon + ego.radius + p.hidden_radius;
+    let edges: Vec<_> = visibility
+        .edges(p.edge_jump)
+        .filter_map(|e| {
+            let near = e.near + p.hidden_radius;
+            let far = e.far.min(reach);
+            (far > near).then_some((e, near, far))
+        })
+        .collect();
+    let total: Real = edges.iter().map(|(_, near, far)| far - near).sum();
+    if edges.is_empty() || total <= 0.0 {
+        return 0;
+    }
+    for u in units {
+        // The edge and the distance along it: u[0] over the edges' total length.
+        let mut at = u[0] * total;
+        let mut chosen = edges[edges.len() - 1];
+        for &e in &edges {
+            let len = e.2 - e.1;
+            if at < len {
+                chosen = e;
+                break;
+            }
+            at -= len;
+        }
+        let (edge, near, far) = chosen;
+        let s = (near + at).min(far);
+        let along = visibility.direction(edge.ray);
+        // The shadow lies to the `side` of the ray: counter-clockwise normal times side.
+        let into_shadow = vec2(-along.y, along.x) * edge.side;
+        let on_edge = visibility.origin + along * s;
+        let start = on_edge + into_shadow * p.hidden_radius;
+        // Heading into view: uniform over the half-plane facing out of the shadow.
+        let out_of_shadow = -into_shadow;
+        let angle = (u[1] - 0.5) * std::f64::consts::PI;
+        let (sin, cos) = angle.sin_cos();
+        let heading = vec2(
+            out_of_shadow.x * cos - out_of_shadow.y * sin,
+            out_of_shadow.x * sin + out_of_shadow.y * cos,
+        );
+        let speed = u[2] * p.hidden_speed;
+        let free_of_walls = map.is_empty()
+            || (map.distance(&start) >= p.hidden_radius && map.line_of_sight(start, on_edge));
+        let free_of_bodies = neighbours
+            .iter()
+            .all(|b| (b.position - start).norm() >= b.radius + p.hidden_radius);
+        if free_of_walls && free_of_bodies {
+            out.push(Hidden {
+                start,
+                velocity: heading * speed,
+            });
+        }
+    }
+    edges.len()
+}
+
+/// The radical inverse of `i` in `base`: the Halton sequence's i-th coordinate in (0, 1).
+fn halton(mut i: usize, base: usize) -> Real {
+    let (mut f, mut r) = (1.0, 0.0);
+    while i > 0 {
+        f /= base as Real;
+        r += f * (i % base) as Real;
+        i /= base;
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,213 @@
+use super::*;
+use crate::map::Obstacle;
+use crate::model::AgentKind;
+
+fn ego(position: Vec2, heading: Real, speed: Real) -> EgoState {
+    EgoState {
+        position,
+        heading,
+        velocity: unit(heading) * speed,
+        yaw_rate: 0.0,
+        radius: 0.3,
+    }
+}
+
+fn person(id: u64, position: Vec2, velocity: Vec2) -> Neighbour {
+    Neighbour::new(id, position, velocity, 0.3, AgentKind::Human)
+}
+
+/// A hallway 3 m wide along +x: walls at y = ±1.5 from x = −10 to 100.
+fn hallway() -> StaticMap {
+    StaticMap::new(vec![
+        Obstacle::Wall(vec2(-10.0, -1.5), vec2(100.0, -1.5)),
+        Obstacle::Wall(vec2(-10.0, 1.5), vec2(100.0, 1.5)),
+    ])
+    .expect("valid walls")
+}
+
+fn fast(peek: bool) -> Pnp {
+    Pnp::new(PnpParams {
+        v_max: 3.0,
+        a_max: 2.0,
+        ..PnpParams::peeking(peek)
+    })
+}
+
+#[test]
+fn cvar_is_the_mean_of_the_worst_tail() {
+    // 0/1 losses: k of n collide, CVaR_α = min(1, k / (n·(1 − α))).
+    for n in [1usize, 16, 64] {
+        for k in 0..=n {
+            for alpha in [0.0, 0.5, 0.9, 0.95] {
+                let mut losses: Vec<Real> = (0..n).map(|i| if i < k { 1.0 } else { 0.0 }).collect();
+                let want = (k as Real / (n as Real * (1.0 - alpha))).min(1.0);
+                assert!(
+                    (cvar(&mut losses, alpha) - want).abs() < 1e-12,
+                    "{k}/{n} at {alpha}"
+                );
+            }
+        }
+    }
+    // Graded: the worst 25 % of [0.2, 0.9, 0.5, 0.1, 0.4, 0.0, 0.3, 0.8] is {0.9, 0.8}.
+    let mut losses = vec![0.2, 0.9, 0.5, 0.1, 0.4, 0.0, 0.3, 0.8];
+    assert!((cvar(&mut losses, 0.75) - 0.85).abs() < 1e-12);
+    // A tail of 1.5 samples: (0.9 + 0.5·0.8) / 1.5.
+    let mut losses = vec![0.2, 0.9, 0.5, 0.1, 0.4, 0.0, 0.3, 0.8];
+    assert!((cvar(&mut losses, 1.0 - 1.5 / 8.0) - 1.3 / 1.5).abs() < 1e-12);
+    // α = 0: the mean.
+    let mut losses = vec![0.2, 0.9, 0.5, 0.1];
+    assert!((cvar(&mut losses, 0.0) - 0.425).abs() < 1e-12);
+}
+
+#[test]
+fn sooner_collisions_cost_more() {
+    // A body standing 2 m ahead: met at once by a fast path, later by a slow one.
+    let stand = |x: Real| -> Vec<Vec2> { (0..=12).map(|_| vec2(x, 0.0)).collect() };
+    let other = stand(2.0);
+    let path =
+        |v: Real| -> Vec<Vec2> { (0..=12).map(|k| vec2(v * 0.25 * k as Real, 0.0)).collect() };
+    let fast = first_contact(&path(3.0), 0.6, |k| other[k]).expect("meets");
+    let slow = first_contact(&path(1.0), 0.6, |k| other[k]).expect("meets");
+    // Contact at 1.4 m: 1.4 / 0.75 and 1.4 / 0.25 steps.
+    assert!((fast - 1.4 / 0.75).abs() < 1e-9 && (slow - 1.4 / 0.25).abs() < 1e-9);
+    assert!(loss(Some(fast), 12) > loss(Some(slow), 12));
+    assert_eq!(first_contact(&path(0.0), 0.6, |k| other[k]), None);
+    assert_eq!(loss(None, 12), 0.0);
+}
+
+#[test]
+fn with_nothing_around_it_drives_straight_at_top_speed() {
+    let mut pnp = fast(true);
+    let d = pnp.plan(
+        &ego(vec2(0.0, 0.0), 0.0, 3.0),
+        &[],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+    );
+    assert_eq!(
+        d.command,
+        Command::Unicycle {
+            speed: 3.0,
+            yaw_rate: 0.0
+        }
+    );
+    assert_eq!((d.cost.collision, d.cost.peek, d.edges), (0.0, 0.0, 0));
+    // 12 samples 0.25 s (0.75 m) apart, to t_f = 3 s.
+    assert_eq!(d.trajectory.len(), 12);
+    assert!((d.trajectory[11].t - 3.0).abs() < 1e-9);
+    assert!((d.trajectory[11].position.x - 9.0).abs() < 1e-9);
+}
+
+#[test]
+fn paths_keep_the_bases_limits() {
+    let mut pnp = fast(true);
+    let e = ego(vec2(0.0, 0.0), 0.3, 1.0);
+    pnp.plan(&e, &[], &StaticMap::empty(), vec2(50.0, 0.0), None);
+    let n = 12;
+    let dt = 0.25;
+    // The farthest a path can reach: from 1 m/s at 2 m/s² up to 3 m/s, in 50 ms steps that
+    // set the speed, then move (as the simulated base does).
+    let (mut v, mut reach) = (1.0, 0.0);
+    for _ in 0..60 {
+        v = Real::min(v + 2.0 * 0.05, 3.0);
+        reach += v * 0.05;
+    }
+    for path in pnp.paths.chunks(n + 1) {
+        let chords: Vec<Real> = path.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+        assert!(chords.iter().all(|&c| c <= 3.0 * dt + 1e-9));
+        // The first 0.25 s: within 1 ± 0.5 m/s.
+        assert!(
+            (chords[0] / dt - 1.0).abs() <= 0.5 + 1e-9,
+            "{}",
+            chords[0] / dt
+        );
+        assert!(chords.iter().sum::<Real>() <= reach + 1e-9);
+    }
+}
+
+#[test]
+fn it_keeps_off_walls_and_people() {
+    // A wall across the way 4 m ahead.
+    let wall = StaticMap::new(vec![Obstacle::Wall(vec2(4.0, -5.0), vec2(4.0, 5.0))]).unwrap();
+    let mut pnp = fast(true);
+    let d = pnp.plan(
+        &ego(vec2(0.0, 0.0), 0.0, 1.0),
+        &[],
+        &wall,
+        vec2(50.0, 0.0),
+        None,
+    );
+    assert_eq!(d.cost.collision, 0.0, "{d:?}");
+    assert!(d.trajectory.iter().all(|s| s.position.x < 4.0 - 0.3));
+    // A person walking head-on.
+    let mut pnp = fast(true);
+    let d = pnp.plan(
+        &ego(vec2(0.0, 0.0), 0.0, 2.0),
+        &[person(1, vec2(6.0, 0.0), vec2(-1.5, 0.0))],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+    );
+    assert_eq!(d.cost.collision, 0.0, "{d:?}");
+}
+
+#[test]
+fn the_same_input_gives_the_same_bits() {
+    let e = ego(vec2(0.0, 0.0), 0.0, 2.0);
+    let people = [
+        person(1, vec2(2.0, 0.0), vec2(0.5, 0.0)),
+        person(2, vec2(8.0, 0.8), vec2(-1.2, 0.0)),
+    ];
+    let a = fast(true).plan(&e, &people, &hallway(), vec2(50.0, 0.0), None);
+    let mut pnp = fast(true);
+    pnp.plan(&e, &people[..1], &hallway(), vec2(50.0, 0.0), None);
+    let b = pnp.plan(&e, &people, &hallway(), vec2(50.0, 0.0), None);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn behind_a_slow_person_the_hidden_space_ahead_of_them_has_a_price() {
+    // The robot follows a person walking 0.5 m/s 2 m ahead in a 3 m hallway.
+    let e = ego(vec2(0.0, 0.0), 0.0, 0.5);
+    let people = [person(1, vec2(2.0, 0.0), vec2(0.5, 0.0))];
+    let on = fast(true).plan(&e, &people, &hallway(), vec2(50.0, 0.0), None);
+    let off = fast(false).plan(&e, &people, &hallway(), vec2(50.0, 0.0), None);
+    assert!(on.edges >= 2, "the person casts a shadow: {on:?}");
+    eprintln!("on {on:?}\noff {off:?}");
+    // Without peeking the robot takes no peeking risk at all, and goes no farther.
+    assert_eq!(off.cost.peek, 0.0, "{off:?}");
+    assert!(off.cost.goal >= on.cost.goal, "{on:?} {off:?}");
+}
+
+#[test]
+fn shared_first_segments_give_the_same_paths_as_rolling_each_candidate_out_alone() {
+    let mut pnp = fast(true);
+    let e = EgoState {
+        yaw_rate: 0.4,
+        ..ego(vec2(1.0, -0.5), 0.3, 1.2)
+    };
+    pnp.plan(&e, &[], &StaticMap::empty(), vec2(50.0, 0.0), None);
+    let p = pnp.params().clone();
+    let (n, substeps, h) = (12, 5, 0.05);
+    for (c, primitive) in pnp.primitives.iter().enumerate() {
+        let (mut position, mut heading) = (e.position, e.heading);
+        let (mut v, mut w) = (e.velocity.dot(&unit(e.heading)), e.yaw_rate);
+        let mut path = vec![position];
+        for k in 0..n {
+            let (fv, fw) = primitive[k / (n / primitive.len())];
+            for _ in 0..substeps {
+                v += (fv * p.v_max - v).clamp(-p.a_max * h, p.a_max * h);
+                w += (fw * p.omega_max - w).clamp(-p.yaw_accel_max * h, p.yaw_accel_max * h);
+                heading += w * h;
+                position += unit(heading) * (v * h);
+            }
+            path.push(position);
+        }
+        assert_eq!(
+            &pnp.paths[c * (n + 1)..(c + 1) * (n + 1)],
+            &path[..],
+            "candidate {c}"
+        );
+    }
+}
