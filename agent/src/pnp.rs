@@ -79,6 +79,10 @@ pub struct PnpParams {
     /// The fastest a hidden person walks (m/s): the hallway's walking speed. 1.6 m/s, ISO
     /// 13855's approach speed, unless the study sets the trial's speed.
     pub hidden_speed: Real,
+    /// Gap counted as contact between the robot and a body (m), beyond their radii: 0.1 m.
+    /// Not in the paper; without it a path grazing a person at 0 m gap is "free", and people
+    /// who step aside by a few centimetres (as the simulated ones do) are touched.
+    pub clearance: Real,
     /// A hidden person's radius (m): the simulated people's 0.3 m.
     pub hidden_radius: Real,
     /// Neighbouring rays whose ranges differ by more than this bound an occlusion edge (m):
@@ -90,6 +94,12 @@ pub struct PnpParams {
     /// v_max·t_f (the farthest a candidate reaches). The paper plans in a local costmap, and
     /// a goal 100 m away would make every other term negligible.
     pub goal_distance: Option<Real>,
+    /// Weight of the same squared distance at t_f/2, added to the goal term. Not in the
+    /// paper: Eq. 3 scores only where a candidate ends, so within reach of the goal "wait,
+    /// then drive" ends as close as "drive now" and a receding horizon keeps waiting (seen in
+    /// the hallway: the robot stood 3 m from its goal). A quarter breaks the tie toward
+    /// arriving sooner; 0 is Eq. 3 as written.
+    pub midway_weight: Real,
     /// σ growth of the predictions (the PGP paper's values).
     pub sigma: SigmaModel,
 }
@@ -115,10 +125,12 @@ impl Default for PnpParams {
             prediction_samples: 32,
             psi_samples: 64,
             hidden_speed: 1.6,
+            clearance: 0.1,
             hidden_radius: 0.3,
             edge_jump: 0.6,
             sensor_range: 10.0,
             goal_distance: None,
+            midway_weight: 0.25,
             sigma: SigmaModel::default(),
         }
     }
@@ -305,10 +317,13 @@ impl Pnp {
             &mut self.local,
         );
 
+        // The fastest closing of note, per grid step (the losses' unit).
+        let reference = (p.v_max + p.hidden_speed) * dt;
         let mut best = (Real::INFINITY, 0, Cost::default());
         for c in 0..self.primitives.len() {
             let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
-            let goal_term = (path[n] - local_goal).norm_squared();
+            let goal_term = (path[n] - local_goal).norm_squared()
+                + p.midway_weight * (path[n / 2] - local_goal).norm_squared();
             // A candidate that cannot beat the best even without risk is skipped.
             if p.c1 * goal_term >= best.0 {
                 continue;
@@ -323,15 +338,23 @@ impl Pnp {
             }
             let mut collision = 0.0;
             for body in &self.predicted {
-                collision += body_risk(path, body, &self.offsets, p.alpha, &mut self.losses);
+                collision += body_risk(
+                    path,
+                    body,
+                    &self.offsets,
+                    p.alpha,
+                    reference,
+                    &mut self.losses,
+                );
             }
-            let contact = ego.radius + p.hidden_radius;
+            let contact = ego.radius + p.hidden_radius + p.clearance;
             let psi = hidden_risk(
                 path,
                 &self.hidden,
                 dt,
                 contact,
                 p.alpha_peek,
+                reference,
                 &mut self.losses,
             );
             let peek = (psi - p.epsilon_peek).max(0.0);
@@ -459,7 +482,7 @@ impl Pnp {
             .resize_with(neighbours.len(), Predicted::default);
         for (slot, body) in self.predicted.iter_mut().zip(neighbours) {
             predict(body, dt, n, &self.params.sigma, &mut slot.track);
-            slot.contact = ego.radius + body.radius;
+            slot.contact = ego.radius + body.radius + self.params.clearance;
         }
     }
 }
@@ -506,6 +529,7 @@ fn body_risk(
     body: &Predicted,
     offsets: &[Vec2],
     alpha: Real,
+    reference: Real,
     losses: &mut Vec<Real>,
 ) -> Real {
     let track = &body.track;
@@ -523,6 +547,7 @@ fn body_risk(
                 track.positions[k] + o * (track.sigma[k] - track.sigma[0])
             }),
             n,
+            reference,
         )
     }));
     cvar(losses, alpha)
@@ -535,6 +560,7 @@ fn hidden_risk(
     dt: Real,
     contact: Real,
     alpha: Real,
+    reference: Real,
     losses: &mut Vec<Real>,
 ) -> Real {
     let n = path.len() - 1;
@@ -556,6 +582,7 @@ fn hidden_risk(
         loss(
             first_contact(path, contact, |k| h.start + h.velocity * (k as Real * dt)),
             n,
+            reference,
         )
     }));
     cvar(losses, alpha)
@@ -572,14 +599,29 @@ fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
     )
 }
 
-/// The loss of one sampled future: 0 without collision, else 1 − t_c/t_f for a first contact
-/// at t_c (1 at once, falling to 0 at the horizon). The paper does not say how it scores a
-/// collision; a plain 0/1 indicator makes every candidate equally bad once the predictions
-/// fill a hallway (the robot standing is run into as surely as one driving on), and the
-/// choice among them then falls to progress alone. Imminence keeps "later" better than
-/// "sooner", which a replanning robot can still avoid.
-fn loss(first_contact: Option<Real>, n: usize) -> Real {
-    first_contact.map_or(0.0, |k| 1.0 - k / n as Real)
+/// How fast relative position `d` shrinks when it changes by `e` per step (≥ 0).
+fn closing(d: Vec2, e: Vec2) -> Real {
+    let n = d.norm();
+    if n > 0.0 {
+        (-d.dot(&e) / n).max(0.0)
+    } else {
+        e.norm()
+    }
+}
+
+/// The loss of one sampled future: 0 without collision; with a first contact at t_c closing
+/// at speed u, (1 − t_c/t_f)·min(1, u / u_ref): the sooner and the harder, the worse (u_ref,
+/// the fastest closing of note, is the robot's top speed plus the walking speed). The paper
+/// does not say how it scores a collision. A 0/1 indicator, and imminence alone, were tried
+/// first: once a person's predicted path runs into the robot wherever it goes (a constant-
+/// velocity prediction does not give way), every candidate scores alike and progress decides,
+/// so the robot drove into people it could have waited for. Closing speed tells "walked into
+/// while standing" from "drove into", and still counts a fast walker from behind (the paper's
+/// "rear-end panic").
+fn loss(contact: Option<Contact>, n: usize, reference: Real) -> Real {
+    contact.map_or(0.0, |c| {
+        (1.0 - c.at / n as Real) * (c.closing / reference.max(1e-9)).min(1.0)
+    })
 }
 
 /// CVaR_α of equally likely `losses` (reordered): the mean of the worst (1 − α) of them, the
@@ -607,13 +649,26 @@ pub fn cvar(losses: &mut [Real], alpha: Real) -> Real {
     sum / tail
 }
 
-/// When (in grid steps, fractional) the path first comes within `contact` of another body at
-/// `other(k)` on the same grid, both moving straight between grid points; `None` if never.
-fn first_contact(path: &[Vec2], contact: Real, other: impl Fn(usize) -> Vec2) -> Option<Real> {
+/// A first contact: when (in grid steps, fractional) and how fast the two close then (m per
+/// grid step, along the line of centres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Contact {
+    at: Real,
+    closing: Real,
+}
+
+/// When the path first comes within `contact` of another body at `other(k)` on the same grid,
+/// both moving straight between grid points; `None` if never.
+fn first_contact(path: &[Vec2], contact: Real, other: impl Fn(usize) -> Vec2) -> Option<Contact> {
     let c2 = contact * contact;
     let mut d0 = other(0) - path[0];
     if d0.norm_squared() < c2 {
-        return Some(0.0);
+        // Touching already: closing as over the first step.
+        let e = (other(1.min(path.len() - 1)) - path[1.min(path.len() - 1)]) - d0;
+        return Some(Contact {
+            at: 0.0,
+            closing: closing(d0, e),
+        });
     }
     for (k, &at) in path.iter().enumerate().skip(1) {
         let d1 = other(k) - at;
@@ -627,7 +682,10 @@ fn first_contact(path: &[Vec2], contact: Real, other: impl Fn(usize) -> Vec2) ->
             if disc >= 0.0 {
                 let s = (-b - disc.sqrt()) / a;
                 if (0.0..=1.0).contains(&s) {
-                    return Some((k - 1) as Real + s);
+                    return Some(Contact {
+                        at: (k - 1) as Real + s,
+                        closing: closing(d0 + e * s, e),
+                    });
                 }
             }
         }

@@ -60,7 +60,7 @@ fn cvar_is_the_mean_of_the_worst_tail() {
 }
 
 #[test]
-fn sooner_collisions_cost_more() {
+fn sooner_and_harder_collisions_cost_more() {
     // A body standing 2 m ahead: met at once by a fast path, later by a slow one.
     let stand = |x: Real| -> Vec<Vec2> { (0..=12).map(|_| vec2(x, 0.0)).collect() };
     let other = stand(2.0);
@@ -68,11 +68,21 @@ fn sooner_collisions_cost_more() {
         |v: Real| -> Vec<Vec2> { (0..=12).map(|k| vec2(v * 0.25 * k as Real, 0.0)).collect() };
     let fast = first_contact(&path(3.0), 0.6, |k| other[k]).expect("meets");
     let slow = first_contact(&path(1.0), 0.6, |k| other[k]).expect("meets");
-    // Contact at 1.4 m: 1.4 / 0.75 and 1.4 / 0.25 steps.
-    assert!((fast - 1.4 / 0.75).abs() < 1e-9 && (slow - 1.4 / 0.25).abs() < 1e-9);
-    assert!(loss(Some(fast), 12) > loss(Some(slow), 12));
+    // Contact at 1.4 m: 1.4 / 0.75 and 1.4 / 0.25 steps, closing 0.75 and 0.25 m per step.
+    assert!((fast.at - 1.4 / 0.75).abs() < 1e-9 && (fast.closing - 0.75).abs() < 1e-12);
+    assert!((slow.at - 1.4 / 0.25).abs() < 1e-9 && (slow.closing - 0.25).abs() < 1e-12);
+    let reference = 4.6 * 0.25;
+    assert!(loss(Some(fast), 12, reference) > loss(Some(slow), 12, reference));
     assert_eq!(first_contact(&path(0.0), 0.6, |k| other[k]), None);
-    assert_eq!(loss(None, 12), 0.0);
+    assert_eq!(loss(None, 12, reference), 0.0);
+    // A standing robot walked into at 0.5 m/s loses less than one driving 3 m/s into a
+    // standing person at the same moment.
+    let walker: Vec<Vec2> = (0..=12)
+        .map(|k| vec2(1.0 - 0.5 * 0.25 * k as Real, 0.0))
+        .collect();
+    let hit = first_contact(&path(0.0), 0.6, |k| walker[k]).expect("walks in");
+    assert!((hit.closing - 0.125).abs() < 1e-12);
+    assert!(loss(Some(hit), 12, reference) < loss(Some(fast), 12, reference));
 }
 
 #[test]
