@@ -18,12 +18,30 @@
 //! extra path are shared among the robots that were their nearest robot within
 //! [`ATTRIBUTION_RANGE_M`] during the window, in proportion to the steps each one was. What
 //! reaches people only through other people (nobody's nearest robot) stays in the fleet total.
+//!
+//! **Path changes** count how often people change their path because of robots, the social
+//! metric of the peek-and-pass paper (Sharma et al., Sec. V-B: "the number of times a human
+//! has to change their path to avoid the robot", given there without an operational
+//! definition). Ours: a person changes path when their velocity departs from their shadow
+//! self's by more than [`PATH_CHANGE_MPS`] (a 15° swerve at walking speed, or slowing by a
+//! quarter), and the change counts once per avoidance: a new one only after their velocity has
+//! stayed within that of the shadow's for [`PATH_CHANGE_SETTLE_S`]. Each is attributed to the
+//! nearest robot within [`ATTRIBUTION_RANGE_M`] at its onset; changes with no robot that near
+//! (knock-on effects through other people) count in the fleet total only.
 
 use crate::world::World;
 use agent::math::{Real, Vec2};
 
 /// A person's delay is attributed to robots that came at least this close (m).
 pub const ATTRIBUTION_RANGE_M: Real = 3.0;
+
+/// A person's velocity departing from their shadow self's by more than this (m/s) is a path
+/// change: a 15° swerve at 1 m/s departs by 0.26 m/s.
+pub const PATH_CHANGE_MPS: Real = 0.25;
+
+/// A new path change counts only after the person's velocity has stayed within
+/// [`PATH_CHANGE_MPS`] of their shadow self's for this long (s): one avoidance, one change.
+pub const PATH_CHANGE_SETTLE_S: Real = 1.0;
 
 /// One finished window.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +60,10 @@ pub struct ImpactWindow {
     pub robot_delay_s: Vec<Real>,
     /// The extra path attributed to each robot (m).
     pub robot_extra_path_m: Vec<Real>,
+    /// Path changes begun in the window (everyone).
+    pub path_changes: u64,
+    /// Those attributed to each robot, by robot index.
+    pub robot_path_changes: Vec<u64>,
 }
 
 impl ImpactWindow {
@@ -78,6 +100,12 @@ pub struct HumanImpact {
     last: Vec<Vec2>,
     /// Per person: (robot, steps it was their nearest robot within range).
     exposure: Vec<Vec<(usize, u32)>>,
+    /// Per person: steps since their velocity last departed from the shadow's (`None`: settled
+    /// since the last change, or never departed). Kept across windows.
+    departed: Vec<Option<u64>>,
+    settle_steps: u64,
+    path_changes: u64,
+    robot_path_changes: Vec<u64>,
     windows: Vec<ImpactWindow>,
 }
 
@@ -101,6 +129,10 @@ impl HumanImpact {
             shadow_path: Vec::new(),
             last: Vec::new(),
             exposure: Vec::new(),
+            departed: vec![None; world.humans.crowd.positions.len()],
+            settle_steps: ((PATH_CHANGE_SETTLE_S / world.dt).round() as u64).max(1),
+            path_changes: 0,
+            robot_path_changes: vec![0; world.robots.len()],
             windows: Vec::new(),
         };
         impact.restart(world);
@@ -121,6 +153,9 @@ impl HumanImpact {
         self.shadow_path = vec![0.0; crowd.positions.len()];
         self.last.clone_from(&crowd.positions);
         self.exposure = vec![Vec::new(); crowd.positions.len()];
+        self.departed.resize(crowd.positions.len(), None);
+        self.path_changes = 0;
+        self.robot_path_changes = vec![0; world.robots.len()];
         self.steps = 0;
     }
 
@@ -149,6 +184,24 @@ impl HumanImpact {
                     None => self.exposure[i].push((r, 1)),
                 }
             }
+            let departs = (crowd.velocities[i] - shadow.velocities[i]).norm() > PATH_CHANGE_MPS;
+            match (&mut self.departed[i], departs) {
+                (Some(since), true) => *since = 0,
+                (Some(since), false) => {
+                    *since += 1;
+                    if *since >= self.settle_steps {
+                        self.departed[i] = None;
+                    }
+                }
+                (None, true) => {
+                    self.departed[i] = Some(0);
+                    self.path_changes += 1;
+                    if let Some((r, _)) = nearest {
+                        self.robot_path_changes[r] += 1;
+                    }
+                }
+                (None, false) => {}
+            }
         }
         self.steps += 1;
         if self.steps >= self.window_steps {
@@ -174,6 +227,14 @@ impl HumanImpact {
         })
     }
 
+    /// The path changes attributed to robot `i` over every finished window.
+    pub fn robot_path_changes(&self, i: usize) -> u64 {
+        self.windows
+            .iter()
+            .map(|w| w.robot_path_changes.get(i).copied().unwrap_or(0))
+            .sum()
+    }
+
     fn close_window(&mut self, world: &World) {
         let crowd = &world.humans.crowd;
         let shadow = &self.shadow.humans.crowd;
@@ -185,6 +246,8 @@ impl HumanImpact {
             extra_path_m: 0.0,
             robot_delay_s: vec![0.0; world.robots.len()],
             robot_extra_path_m: vec![0.0; world.robots.len()],
+            path_changes: self.path_changes,
+            robot_path_changes: self.robot_path_changes.clone(),
         };
         for i in 0..crowd.positions.len() {
             let goal = self.goals[i];
@@ -252,6 +315,54 @@ mod tests {
             impact.record(&world);
         }
         impact.windows().to_vec()
+    }
+
+    /// One person walking +x along the middle of the hallway from x = 3 m, robots parked on
+    /// their line at `robots_x` (the hallway's own robot, and a copy for each further x); the
+    /// path changes over 14 s, in total and attributed per robot.
+    fn walk_past(robots_x: &[Real], react: bool) -> (u64, Vec<u64>) {
+        let mut s = Scenario::builtin("hallway").expect("builtin");
+        if let Some(h) = s.hallway.as_mut() {
+            h.humans = 1;
+        }
+        s.humans.react_to_robots = react;
+        let mut world = World::from_scenario(&s);
+        let mid = 0.5 * s.hallway.as_ref().expect("a hallway").width_m;
+        let crowd = &mut world.humans.crowd;
+        crowd.positions[0] = Vec2::new(3.0, mid);
+        crowd.velocities[0] = Vec2::new(1.0, 0.0);
+        crowd.goals[0] = Vec2::new(24.0, mid);
+        let parked = world.robots[0].clone();
+        world.robots.clear();
+        for &x in robots_x {
+            let mut robot = parked.clone();
+            robot.state.position = Vec2::new(x, mid);
+            robot.state.velocity = Vec2::zeros();
+            world.robots.push(robot);
+        }
+        let mut impact = HumanImpact::new(&world, 5.0);
+        let stop = vec![Command::STOP; world.robots.len()];
+        for _ in 0..140 {
+            world.step(&stop);
+            impact.record(&world);
+        }
+        impact.flush(&world);
+        let total = impact.windows().iter().map(|w| w.path_changes).sum();
+        let per_robot = (0..robots_x.len())
+            .map(|i| impact.robot_path_changes(i))
+            .collect();
+        (total, per_robot)
+    }
+
+    #[test]
+    fn a_person_who_steps_around_a_robot_changes_path_once_per_robot() {
+        // A robot parked on their line: one avoidance, the robot's.
+        assert_eq!(walk_past(&[8.0], true), (1, vec![1]));
+        // Two robots 7 m apart: two avoidances, one each.
+        assert_eq!(walk_past(&[8.0, 15.0], true), (2, vec![1, 1]));
+        // A robot off their way, or people who ignore robots: none.
+        assert_eq!(walk_past(&[-100.0], true), (0, vec![0]));
+        assert_eq!(walk_past(&[8.0], false), (0, vec![0]));
     }
 
     #[test]
