@@ -27,8 +27,9 @@
 
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
-use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
+use crate::model::{AgentKind, Command, EgoState, Neighbour, TrajectorySample};
 use crate::prediction::{SigmaModel, Track, predict};
+use crate::social_force::{SfParams, capped_velocity, social_force_pair};
 use crate::visibility::Visibility;
 
 /// The planner's parameters. The paper gives the cost's form and its tunable names; it gives
@@ -102,6 +103,22 @@ pub struct PnpParams {
     pub midway_weight: Real,
     /// σ growth of the predictions (the PGP paper's values).
     pub sigma: SigmaModel,
+    /// How people's mean futures are predicted.
+    pub prediction: Prediction,
+}
+
+/// How perceived people's mean futures are predicted (the paper uses an S-GAN, which is not
+/// available here). Robots are extrapolated at constant velocity, or along their shared
+/// intents, either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Prediction {
+    /// Each person walks on at their perceived velocity.
+    ConstantVelocity,
+    /// A Social Force rollout (PySocialForce's force law, `social_force`): each person relaxes
+    /// toward their perceived velocity (0.5 s) and is pushed by the others and by the robot,
+    /// which is assumed to keep its present velocity; walls are left out. On the 0.25 s grid
+    /// (PySocialForce's own effective step is 0.4 s).
+    SocialForce,
 }
 
 impl Default for PnpParams {
@@ -132,6 +149,7 @@ impl Default for PnpParams {
             goal_distance: None,
             midway_weight: 0.25,
             sigma: SigmaModel::default(),
+            prediction: Prediction::ConstantVelocity,
         }
     }
 }
@@ -484,6 +502,72 @@ impl Pnp {
             predict(body, dt, n, &self.params.sigma, &mut slot.track);
             slot.contact = ego.radius + body.radius + self.params.clearance;
         }
+        if self.params.prediction == Prediction::SocialForce {
+            social_force_rollout(
+                ego,
+                neighbours,
+                n,
+                dt,
+                &self.params.sigma,
+                &mut self.predicted,
+            );
+        }
+    }
+}
+
+/// Replaces the people's tracks in `predicted` with a Social Force rollout
+/// ([`Prediction::SocialForce`]); σ grows with each step's speed as PGP's does.
+fn social_force_rollout(
+    ego: &EgoState,
+    neighbours: &[Neighbour],
+    n: usize,
+    dt: Real,
+    sigma: &SigmaModel,
+    predicted: &mut [Predicted],
+) {
+    let sf = SfParams::default();
+    let people: Vec<usize> = (0..neighbours.len())
+        .filter(|&i| neighbours[i].kind == AgentKind::Human)
+        .collect();
+    if people.is_empty() {
+        return;
+    }
+    let mut pos: Vec<Vec2> = people.iter().map(|&i| neighbours[i].position).collect();
+    let mut vel: Vec<Vec2> = people.iter().map(|&i| neighbours[i].velocity).collect();
+    // Each keeps walking the way they walk: the desired velocity is the perceived one.
+    let desired: Vec<Vec2> = vel.clone();
+    // Per person, the speed at each grid point (the first, at t = 0, is not used by σ).
+    let mut speeds = vec![vec![0.0]; people.len()];
+    let mut force = vec![vec2(0.0, 0.0); people.len()];
+    for (slot, &i) in people.iter().enumerate() {
+        predicted[i].track.positions.clear();
+        predicted[i].track.positions.push(pos[slot]);
+    }
+    for k in 1..=n {
+        let robot = ego.position + ego.velocity * ((k - 1) as Real * dt);
+        for a in 0..people.len() {
+            let mut f = (desired[a] - vel[a]) / sf.desired.relaxation_time * sf.desired.factor;
+            let mut social = social_force_pair(pos[a], vel[a], robot, ego.velocity, &sf.social);
+            for b in 0..people.len() {
+                if b != a {
+                    social += social_force_pair(pos[a], vel[a], pos[b], vel[b], &sf.social);
+                }
+            }
+            f += social * sf.social.factor;
+            force[a] = f;
+        }
+        for a in 0..people.len() {
+            let cap = desired[a].norm() * sf.max_speed_multiplier;
+            vel[a] = capped_velocity(vel[a] + force[a] * dt, cap);
+            pos[a] += vel[a] * dt;
+            speeds[a].push(vel[a].norm());
+            predicted[people[a]].track.positions.push(pos[a]);
+        }
+    }
+    for (slot, &i) in people.iter().enumerate() {
+        let track = &mut predicted[i].track;
+        track.sigma.resize(n + 1, 0.0);
+        sigma.fill(&speeds[slot], &mut track.sigma);
     }
 }
 

@@ -76,6 +76,7 @@ pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetric
         .map(|(i, r)| {
             let mut m = r.finish();
             (m.human_delay_s, m.human_extra_path_m) = impact.robot_totals(i);
+            m.human_path_changes = impact.robot_path_changes(i);
             m
         })
         .collect()

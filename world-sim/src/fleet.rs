@@ -336,6 +336,7 @@ impl Fleet {
         let mut m = self.recorders[i].finish();
         if let Some(impact) = &self.impact {
             (m.human_delay_s, m.human_extra_path_m) = impact.robot_totals(i);
+            m.human_path_changes = impact.robot_path_changes(i);
         }
         m
     }

@@ -40,6 +40,10 @@ pub const SVR_DISTANCE: Real = 1.0;
 pub const INTIMATE_GAP: Real = 0.45;
 /// Hall's personal zone, body to body (m).
 pub const PERSONAL_GAP: Real = 1.2;
+/// The peek-and-pass paper's personal space (Sec. V-B: "defined here as 0.5 m"), taken as
+/// the gap between the bodies' surfaces (their centres cannot come within 0.5 m without
+/// overlapping).
+pub const PERSONAL_SPACE_ENTRY_GAP: Real = 0.5;
 /// Robot–robot near miss, body to body (m).
 pub const NEAR_MISS_GAP: Real = 0.3;
 /// A contact is the robot's when, at its onset, the robot moves toward the other body faster
@@ -117,6 +121,12 @@ pub struct RobotMetrics {
     pub robot_robot_contacts: u64,
     /// Contacts with walls and shelves (onsets).
     pub wall_contacts: u64,
+    /// Times the robot entered a person's personal space: onsets of a gap under
+    /// [`PERSONAL_SPACE_ENTRY_GAP`], counted per person.
+    pub personal_space_entries: u64,
+    /// Times people changed their path because of the robot (`impact::HumanImpact`, where it
+    /// is measured; 0 elsewhere).
+    pub human_path_changes: u64,
 }
 
 /// Accumulates one robot's metrics step by step.
@@ -138,6 +148,8 @@ pub struct MetricsRecorder {
     /// Contact onsets by cause, and who is touching the robot now (people, robots, a wall).
     contacts: ContactCounts,
     touching_people: Vec<bool>,
+    in_personal_space: Vec<bool>,
+    personal_space_entries: u64,
     touching_robots: Vec<bool>,
     touching_wall: bool,
     path_length: Real,
@@ -167,6 +179,8 @@ impl MetricsRecorder {
             robot_contact_steps: 0,
             contacts: ContactCounts::default(),
             touching_people: vec![false; world.humans.crowd.len()],
+            in_personal_space: vec![false; world.humans.crowd.len()],
+            personal_space_entries: 0,
             touching_robots: vec![false; world.robots.len()],
             touching_wall: false,
             path_length: 0.0,
@@ -220,6 +234,9 @@ impl MetricsRecorder {
             violation |= d < SVR_DISTANCE;
             intimate |= gap < INTIMATE_GAP;
             personal |= gap < PERSONAL_GAP;
+            let inside = gap < PERSONAL_SPACE_ENTRY_GAP;
+            self.personal_space_entries += u64::from(inside && !self.in_personal_space[i]);
+            self.in_personal_space[i] = inside;
             force += social_force_pair(
                 ego.position,
                 ego.velocity,
@@ -311,6 +328,8 @@ impl MetricsRecorder {
             person_caused_contacts: self.contacts.person_caused,
             robot_robot_contacts: self.contacts.robot,
             wall_contacts: self.contacts.wall,
+            personal_space_entries: self.personal_space_entries,
+            human_path_changes: 0,
         }
     }
 }
@@ -431,6 +450,41 @@ mod tests {
             contact_cause(at, east * 0.07, diagonal),
             ContactCause::Other
         );
+    }
+
+    #[test]
+    fn entries_into_personal_space_are_counted_per_person_at_their_onset() {
+        // The robot drives past a standing person 0.8 m to its side (a 0.15 m gap between
+        // the bodies at the closest): one entry, however long it lasts.
+        let start = vec2(0.0, 5.0);
+        let mut w = world_with_one_person(start + vec2(2.0, 0.8));
+        w.humans.crowd.max_speeds[0] = 0.0;
+        let mut m = MetricsRecorder::new(&w, 0);
+        for _ in 0..40 {
+            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+            m.record(&w);
+        }
+        assert_eq!(m.finish().personal_space_entries, 1);
+        // Passing 1.5 m to its side (a 0.85 m gap): none.
+        let mut w = world_with_one_person(start + vec2(2.0, 1.5));
+        w.humans.crowd.max_speeds[0] = 0.0;
+        let mut m = MetricsRecorder::new(&w, 0);
+        for _ in 0..40 {
+            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+            m.record(&w);
+        }
+        assert_eq!(m.finish().personal_space_entries, 0);
+        // Out and back in: two.
+        let mut w = world_with_one_person(start + vec2(2.0, 0.8));
+        w.humans.crowd.max_speeds[0] = 0.0;
+        let mut m = MetricsRecorder::new(&w, 0);
+        for v in [1.0, -1.0] {
+            for _ in 0..40 {
+                w.step(&[Command::Velocity(vec2(v, 0.0))]);
+                m.record(&w);
+            }
+        }
+        assert_eq!(m.finish().personal_space_entries, 2);
     }
 
     #[test]

@@ -393,8 +393,9 @@ impl Scenario {
             }
         }
         let h = &self.humans;
-        if !positive(h.speed) || h.speed > 3.0 {
-            return bad("humans.speed", "must be in (0, 3] m/s");
+        // 0 (people stand) to 3.5 m/s: the peek-and-pass paper's hallway study's range.
+        if !(h.speed.is_finite() && (0.0..=3.5).contains(&h.speed)) {
+            return bad("humans.speed", "must be in [0, 3.5] m/s");
         }
         if !positive(h.radius_m) || h.radius_m > 1.0 {
             return bad("humans.radius_m", "must be in (0, 1] m");

@@ -221,3 +221,29 @@ fn shared_first_segments_give_the_same_paths_as_rolling_each_candidate_out_alone
         );
     }
 }
+
+#[test]
+fn social_force_predictions_give_way_to_the_robot_and_constant_velocity_ones_do_not() {
+    // A person walking head-on at a standing robot, 2.5 m away, slightly off its line.
+    let e = ego(vec2(0.0, 0.0), 0.0, 0.0);
+    let walker = [person(1, vec2(2.5, 0.05), vec2(-1.0, 0.0))];
+    let closest = |prediction: Prediction| {
+        let mut pnp = Pnp::new(PnpParams {
+            prediction,
+            ..PnpParams::default()
+        });
+        pnp.plan(&e, &walker, &StaticMap::empty(), vec2(50.0, 0.0), None);
+        let track = &pnp.predicted[0].track;
+        assert_eq!(track.positions.len(), 13);
+        assert_eq!(track.sigma.len(), 13);
+        track
+            .positions
+            .iter()
+            .map(|p| p.norm())
+            .fold(Real::INFINITY, Real::min)
+    };
+    // Constant velocity walks straight through the robot; Social Force steps around it.
+    assert!(closest(Prediction::ConstantVelocity) < 0.1);
+    let sf = closest(Prediction::SocialForce);
+    assert!(sf > 0.3, "{sf}");
+}

@@ -9,6 +9,7 @@
 //! (`--no-default-features`) links no plotting, font or CSV, and has no `gapfleet experiment`.
 
 pub mod csv_fields;
+pub mod hallway;
 pub mod intent_sharing;
 pub mod open_space;
 pub mod output;

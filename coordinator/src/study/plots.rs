@@ -242,3 +242,61 @@ pub fn write_replay_figure(
     }
     root.present().map_err(err)
 }
+
+/// One named line: (x, y) points in order of x.
+pub type Series = (String, Vec<(f64, f64)>);
+
+/// One panel of [`write_lines`]: x label, y label, the lines.
+pub type LinePanel<'a> = (&'a str, &'a str, Vec<Series>);
+
+/// A figure of `panels` stacked vertically, each a line (with markers) per series.
+pub fn write_lines(path: &Path, title: &str, panels: &[LinePanel<'_>]) -> Result<(), PlotError> {
+    register_font();
+    let err = |e| plot_error(path, e);
+    let height = 80 + 380 * panels.len().max(1) as u32;
+    let root = BitMapBackend::new(path, (900, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
+    for (area, (x_label, y_label, lines)) in root
+        .split_evenly((panels.len().max(1), 1))
+        .iter()
+        .zip(panels)
+    {
+        let points = || lines.iter().flat_map(|(_, p)| p.iter());
+        let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-9) * 1.05;
+        let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-9) * 1.1;
+        let mut chart = ChartBuilder::on(area)
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc(*x_label)
+            .y_desc(*y_label)
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(err)?;
+        for (k, (name, pts)) in lines.iter().enumerate() {
+            let style = Palette99::pick(k).stroke_width(2);
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), style))
+                .map_err(err)?
+                .label(name.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 3, style.filled())))
+                .map_err(err)?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 13))
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.85))
+            .draw()
+            .map_err(err)?;
+    }
+    root.present().map_err(err)
+}

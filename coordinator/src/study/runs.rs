@@ -114,6 +114,9 @@ impl From<RunRecord> for RunRow {
                 robot_caused_contacts: r.robot_caused_contacts,
                 person_caused_contacts: r.person_caused_contacts,
                 wall_contacts: r.wall_contacts,
+                // Not in the open-space study's runs.csv.
+                personal_space_entries: 0,
+                human_path_changes: 0,
             },
         }
     }

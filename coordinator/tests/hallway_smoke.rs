@@ -1,0 +1,68 @@
+//! A small version of the hallway study: the whole pipeline runs, its outputs are complete,
+//! and they do not depend on the number of threads.
+
+#![cfg(feature = "studies")]
+
+use coordinator::study::csv_fields::to_csv;
+use coordinator::study::hallway::{HallwayStudy, summarize, write_outputs};
+use world_sim::scenario::Scenario;
+
+fn study() -> HallwayStudy {
+    let mut scenario = Scenario::builtin("hallway").expect("built-in scenario");
+    scenario.robot.max_speed = 3.0;
+    scenario.robot.body_occlusion = true;
+    HallwayStudy {
+        scenario,
+        planners: ["pnp", "orca"]
+            .iter()
+            .map(|p| p.parse().expect("known planner"))
+            .collect(),
+        lengths: vec![12.0],
+        width_m: 4.0,
+        speeds: vec![0.5, 1.5],
+        seeds: 2,
+    }
+}
+
+fn run_with(threads: usize) -> String {
+    let study = study();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    to_csv(pool.install(|| study.execute(&|| {})))
+}
+
+#[test]
+fn hallway_smoke_is_complete_and_thread_count_independent() {
+    let (one, two) = (run_with(1), run_with(2));
+    assert_eq!(one, two, "runs.csv must not depend on --jobs");
+    let lines: Vec<&str> = one.lines().collect();
+    assert_eq!(lines.len(), 1 + 2 * 2 * 2, "header plus one row per run");
+    assert!(lines[0].starts_with("planner,length_m,human_speed,seed,reached,time_to_goal_s"));
+    assert!(lines[1].starts_with("pnp,12.0,0.5,1,"), "{}", lines[1]);
+
+    let study = study();
+    let rows = study.execute(&|| {});
+    let out = std::env::temp_dir().join(format!("gapfleet-hallway-smoke-{}", std::process::id()));
+    let summary = write_outputs(&out, &study, &rows).expect("outputs written");
+    assert_eq!(summary, summarize(&study, &rows));
+    assert_eq!(summary.cells.len(), 2 * 2);
+    assert!(summary.cells.iter().all(|c| c.runs == 2));
+    for file in [
+        "runs.csv",
+        "summary.json",
+        "time_vs_length.png",
+        "social.png",
+    ] {
+        let len = std::fs::metadata(out.join(file))
+            .map(|m| m.len())
+            .unwrap_or(0);
+        assert!(len > 0, "{file} written");
+    }
+    // Without a 50 m hallway there is no speed figure.
+    assert!(!out.join("time_vs_human_speed_50m.png").exists());
+    // Every run drove somewhere: the robot moves off its start in a 12 m hallway.
+    assert!(rows.iter().all(|r| r.path_m > 1.0), "{rows:?}");
+    let _ = std::fs::remove_dir_all(&out);
+}
