@@ -208,6 +208,10 @@ struct Predicted {
     track: Track,
     /// Centre distance that counts as collision.
     contact: Real,
+    /// How far a sample strays from the mean at most (m).
+    spread: Real,
+    /// The box around the mean track, widened by `contact + spread`.
+    reach: (Vec2, Vec2),
 }
 
 /// The peek-and-pass planner: its parameters, fixed sample sets and scratch.
@@ -225,6 +229,8 @@ pub struct Pnp {
     predicted: Vec<Predicted>,
     hidden: Vec<Hidden>,
     losses: Vec<Real>,
+    /// (goal term, candidate), in scoring order.
+    order: Vec<(Real, usize)>,
     local: LocalMap,
     own: Visibility,
 }
@@ -271,6 +277,7 @@ impl Pnp {
             predicted: Vec::new(),
             hidden: Vec::new(),
             losses: Vec::new(),
+            order: Vec::new(),
             local: LocalMap::default(),
             own: Visibility::default(),
         }
@@ -337,13 +344,30 @@ impl Pnp {
 
         // The fastest closing of note, per grid step (the losses' unit).
         let reference = (p.v_max + p.hidden_speed) * dt;
-        let mut best = (Real::INFINITY, 0, Cost::default());
+        // Candidates are scored in order of their goal term, so that a good one is found
+        // early and the rest are mostly cut short; ties in J go to the lower index, as they
+        // would scoring them in index order.
+        self.order.clear();
         for c in 0..self.primitives.len() {
             let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
             let goal_term = (path[n] - local_goal).norm_squared()
                 + p.midway_weight * (path[n / 2] - local_goal).norm_squared();
-            // A candidate that cannot beat the best even without risk is skipped.
-            if p.c1 * goal_term >= best.0 {
+            self.order.push((goal_term, c));
+        }
+        self.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut best = (Real::INFINITY, usize::MAX, Cost::default());
+        // Whether a candidate whose cost is at least `partial` cannot win.
+        let loses = |partial: Real, c: usize, best: &(Real, usize, Cost)| {
+            partial > best.0 || (partial == best.0 && c > best.1)
+        };
+        for &(goal_term, c) in &self.order {
+            let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
+            // The rest cannot beat the best even without risk.
+            if loses(p.c1 * goal_term, c, &best) {
+                if p.c1 * goal_term > best.0 {
+                    break;
+                }
                 continue;
             }
             // Static obstacles are avoided deterministically (the paper's aim): p_coll⁰ = 1
@@ -354,7 +378,10 @@ impl Pnp {
             {
                 continue;
             }
+            // Every term is ≥ 0: once the sum so far reaches the best total, the candidate
+            // cannot win (the choice, and its bits, are the same as scoring it in full).
             let mut collision = 0.0;
+            let mut beaten = false;
             for body in &self.predicted {
                 collision += body_risk(
                     path,
@@ -364,6 +391,13 @@ impl Pnp {
                     reference,
                     &mut self.losses,
                 );
+                if loses(p.c1 * goal_term + p.c2 * collision, c, &best) {
+                    beaten = true;
+                    break;
+                }
+            }
+            if beaten {
+                continue;
             }
             let contact = ego.radius + p.hidden_radius + p.clearance;
             let psi = hidden_risk(
@@ -377,7 +411,7 @@ impl Pnp {
             );
             let peek = (psi - p.epsilon_peek).max(0.0);
             let total = p.c1 * goal_term + p.c2 * collision + p.c3 * peek;
-            if total < best.0 {
+            if !loses(total, c, &best) {
                 best = (
                     total,
                     c,
@@ -512,6 +546,14 @@ impl Pnp {
                 &mut self.predicted,
             );
         }
+        let largest = self.offsets.iter().map(|o| o.norm()).fold(0.0, Real::max);
+        for slot in &mut self.predicted {
+            let sigma = &slot.track.sigma;
+            slot.spread = largest * (sigma.iter().copied().fold(0.0, Real::max) - sigma[0]);
+            let (lo, hi) = bounds(&slot.track.positions);
+            let r = slot.contact + slot.spread;
+            slot.reach = (lo - vec2(r, r), hi + vec2(r, r));
+        }
     }
 }
 
@@ -617,15 +659,31 @@ fn body_risk(
     losses: &mut Vec<Real>,
 ) -> Real {
     let track = &body.track;
-    let grown = track.sigma.iter().copied().fold(0.0, Real::max) - track.sigma[0];
-    let spread = offsets.iter().map(|o| o.norm()).fold(0.0, Real::max) * grown;
-    // No sample can come closer than the mean minus the largest offset.
-    if first_contact(path, body.contact + spread, |k| track.positions[k]).is_none() {
+    // No sample can come closer than the mean minus the largest offset: first by boxes, then
+    // along the tracks.
+    let (lo, hi) = bounds(path);
+    let (rlo, rhi) = body.reach;
+    if hi.x < rlo.x || lo.x > rhi.x || hi.y < rlo.y || lo.y > rhi.y {
         return 0.0;
     }
+    let closest = min_gap(path, |k| track.positions[k]);
+    if closest > body.contact + body.spread {
+        return 0.0;
+    }
+    // A sample strays at most |ε_j|·(σ_max − σ0) from the mean: one that cannot close the
+    // gap scores 0 without being traced.
+    let grown = body.spread
+        / offsets
+            .iter()
+            .map(|o| o.norm())
+            .fold(0.0, Real::max)
+            .max(1e-12);
     let n = path.len() - 1;
     losses.clear();
     losses.extend(offsets.iter().map(|&o| {
+        if closest - o.norm() * grown > body.contact {
+            return 0.0;
+        }
         loss(
             first_contact(path, body.contact, |k| {
                 track.positions[k] + o * (track.sigma[k] - track.sigma[0])
@@ -739,6 +797,26 @@ pub fn cvar(losses: &mut [Real], alpha: Real) -> Real {
 struct Contact {
     at: Real,
     closing: Real,
+}
+
+/// The smallest distance between the path and another body at `other(k)` on the same grid,
+/// both moving straight between grid points.
+fn min_gap(path: &[Vec2], other: impl Fn(usize) -> Vec2) -> Real {
+    let mut best = Real::INFINITY;
+    let mut d0 = other(0) - path[0];
+    for (k, &at) in path.iter().enumerate().skip(1) {
+        let d1 = other(k) - at;
+        let e = d1 - d0;
+        let len_sq = e.norm_squared();
+        let s = if len_sq > 0.0 {
+            (-d0.dot(&e) / len_sq).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        best = best.min((d0 + e * s).norm_squared());
+        d0 = d1;
+    }
+    best.sqrt()
 }
 
 /// When the path first comes within `contact` of another body at `other(k)` on the same grid,
