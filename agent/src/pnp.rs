@@ -105,6 +105,19 @@ pub struct PnpParams {
     pub sigma: SigmaModel,
     /// How people's mean futures are predicted.
     pub prediction: Prediction,
+    /// Which speed at a predicted contact scales its loss.
+    pub severity: Severity,
+}
+
+/// Which speed at a predicted contact scales its loss.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Severity {
+    /// How fast the two close (a fast walker from behind counts: the paper's "rear-end
+    /// panic").
+    Closing,
+    /// How fast the robot itself drives toward the other (the product's "robot-caused"):
+    /// people who would walk into a standing robot cost nothing.
+    Driving,
 }
 
 /// How perceived people's mean futures are predicted (the paper uses an S-GAN, which is not
@@ -150,6 +163,7 @@ impl Default for PnpParams {
             midway_weight: 0.25,
             sigma: SigmaModel::default(),
             prediction: Prediction::ConstantVelocity,
+            severity: Severity::Closing,
         }
     }
 }
@@ -389,6 +403,7 @@ impl Pnp {
                     &self.offsets,
                     p.alpha,
                     reference,
+                    p.severity,
                     &mut self.losses,
                 );
                 if loses(p.c1 * goal_term + p.c2 * collision, c, &best) {
@@ -407,6 +422,7 @@ impl Pnp {
                 contact,
                 p.alpha_peek,
                 reference,
+                p.severity,
                 &mut self.losses,
             );
             let peek = (psi - p.epsilon_peek).max(0.0);
@@ -656,6 +672,7 @@ fn body_risk(
     offsets: &[Vec2],
     alpha: Real,
     reference: Real,
+    severity: Severity,
     losses: &mut Vec<Real>,
 ) -> Real {
     let track = &body.track;
@@ -690,6 +707,7 @@ fn body_risk(
             }),
             n,
             reference,
+            severity,
         )
     }));
     cvar(losses, alpha)
@@ -703,6 +721,7 @@ fn hidden_risk(
     contact: Real,
     alpha: Real,
     reference: Real,
+    severity: Severity,
     losses: &mut Vec<Real>,
 ) -> Real {
     let n = path.len() - 1;
@@ -725,6 +744,7 @@ fn hidden_risk(
             first_contact(path, contact, |k| h.start + h.velocity * (k as Real * dt)),
             n,
             reference,
+            severity,
         )
     }));
     cvar(losses, alpha)
@@ -760,9 +780,13 @@ fn closing(d: Vec2, e: Vec2) -> Real {
 /// so the robot drove into people it could have waited for. Closing speed tells "walked into
 /// while standing" from "drove into", and still counts a fast walker from behind (the paper's
 /// "rear-end panic").
-fn loss(contact: Option<Contact>, n: usize, reference: Real) -> Real {
+fn loss(contact: Option<Contact>, n: usize, reference: Real, severity: Severity) -> Real {
     contact.map_or(0.0, |c| {
-        (1.0 - c.at / n as Real) * (c.closing / reference.max(1e-9)).min(1.0)
+        let speed = match severity {
+            Severity::Closing => c.closing,
+            Severity::Driving => c.driving,
+        };
+        (1.0 - c.at / n as Real) * (speed / reference.max(1e-9)).min(1.0)
     })
 }
 
@@ -797,6 +821,8 @@ pub fn cvar(losses: &mut [Real], alpha: Real) -> Real {
 struct Contact {
     at: Real,
     closing: Real,
+    /// The robot's own speed toward the body then (m per grid step, ≥ 0).
+    driving: Real,
 }
 
 /// The smallest distance between the path and another body at `other(k)` on the same grid,
@@ -826,10 +852,12 @@ fn first_contact(path: &[Vec2], contact: Real, other: impl Fn(usize) -> Vec2) ->
     let mut d0 = other(0) - path[0];
     if d0.norm_squared() < c2 {
         // Touching already: closing as over the first step.
-        let e = (other(1.min(path.len() - 1)) - path[1.min(path.len() - 1)]) - d0;
+        let next = 1.min(path.len() - 1);
+        let e = (other(next) - path[next]) - d0;
         return Some(Contact {
             at: 0.0,
             closing: closing(d0, e),
+            driving: closing(d0, path[0] - path[next]),
         });
     }
     for (k, &at) in path.iter().enumerate().skip(1) {
@@ -844,9 +872,11 @@ fn first_contact(path: &[Vec2], contact: Real, other: impl Fn(usize) -> Vec2) ->
             if disc >= 0.0 {
                 let s = (-b - disc.sqrt()) / a;
                 if (0.0..=1.0).contains(&s) {
+                    let d = d0 + e * s;
                     return Some(Contact {
                         at: (k - 1) as Real + s,
-                        closing: closing(d0 + e * s, e),
+                        closing: closing(d, e),
+                        driving: closing(d, path[k - 1] - at),
                     });
                 }
             }

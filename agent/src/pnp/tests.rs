@@ -72,9 +72,12 @@ fn sooner_and_harder_collisions_cost_more() {
     assert!((fast.at - 1.4 / 0.75).abs() < 1e-9 && (fast.closing - 0.75).abs() < 1e-12);
     assert!((slow.at - 1.4 / 0.25).abs() < 1e-9 && (slow.closing - 0.25).abs() < 1e-12);
     let reference = 4.6 * 0.25;
-    assert!(loss(Some(fast), 12, reference) > loss(Some(slow), 12, reference));
+    assert!(
+        loss(Some(fast), 12, reference, Severity::Closing)
+            > loss(Some(slow), 12, reference, Severity::Closing)
+    );
     assert_eq!(first_contact(&path(0.0), 0.6, |k| other[k]), None);
-    assert_eq!(loss(None, 12, reference), 0.0);
+    assert_eq!(loss(None, 12, reference, Severity::Closing), 0.0);
     // A standing robot walked into at 0.5 m/s loses less than one driving 3 m/s into a
     // standing person at the same moment.
     let walker: Vec<Vec2> = (0..=12)
@@ -82,7 +85,14 @@ fn sooner_and_harder_collisions_cost_more() {
         .collect();
     let hit = first_contact(&path(0.0), 0.6, |k| walker[k]).expect("walks in");
     assert!((hit.closing - 0.125).abs() < 1e-12);
-    assert!(loss(Some(hit), 12, reference) < loss(Some(fast), 12, reference));
+    // Scored by the robot's own speed toward them, the standing robot loses nothing.
+    assert_eq!(hit.driving, 0.0);
+    assert_eq!(loss(Some(hit), 12, reference, Severity::Driving), 0.0);
+    assert!((fast.driving - 0.75).abs() < 1e-12);
+    assert!(
+        loss(Some(hit), 12, reference, Severity::Closing)
+            < loss(Some(fast), 12, reference, Severity::Closing)
+    );
 }
 
 #[test]
