@@ -357,7 +357,10 @@ impl Pnp {
         );
 
         // The fastest closing of note, per grid step (the losses' unit).
-        let reference = (p.v_max + p.hidden_speed) * dt;
+        let scoring = Scoring {
+            reference: (p.v_max + p.hidden_speed) * dt,
+            severity: p.severity,
+        };
         // Candidates are scored in order of their goal term, so that a good one is found
         // early and the rest are mostly cut short; ties in J go to the lower index, as they
         // would scoring them in index order.
@@ -402,8 +405,7 @@ impl Pnp {
                     body,
                     &self.offsets,
                     p.alpha,
-                    reference,
-                    p.severity,
+                    scoring,
                     &mut self.losses,
                 );
                 if loses(p.c1 * goal_term + p.c2 * collision, c, &best) {
@@ -421,8 +423,7 @@ impl Pnp {
                 dt,
                 contact,
                 p.alpha_peek,
-                reference,
-                p.severity,
+                scoring,
                 &mut self.losses,
             );
             let peek = (psi - p.epsilon_peek).max(0.0);
@@ -671,8 +672,7 @@ fn body_risk(
     body: &Predicted,
     offsets: &[Vec2],
     alpha: Real,
-    reference: Real,
-    severity: Severity,
+    scoring: Scoring,
     losses: &mut Vec<Real>,
 ) -> Real {
     let track = &body.track;
@@ -706,8 +706,7 @@ fn body_risk(
                 track.positions[k] + o * (track.sigma[k] - track.sigma[0])
             }),
             n,
-            reference,
-            severity,
+            scoring,
         )
     }));
     cvar(losses, alpha)
@@ -720,8 +719,7 @@ fn hidden_risk(
     dt: Real,
     contact: Real,
     alpha: Real,
-    reference: Real,
-    severity: Severity,
+    scoring: Scoring,
     losses: &mut Vec<Real>,
 ) -> Real {
     let n = path.len() - 1;
@@ -743,8 +741,7 @@ fn hidden_risk(
         loss(
             first_contact(path, contact, |k| h.start + h.velocity * (k as Real * dt)),
             n,
-            reference,
-            severity,
+            scoring,
         )
     }));
     cvar(losses, alpha)
@@ -780,14 +777,21 @@ fn closing(d: Vec2, e: Vec2) -> Real {
 /// so the robot drove into people it could have waited for. Closing speed tells "walked into
 /// while standing" from "drove into", and still counts a fast walker from behind (the paper's
 /// "rear-end panic").
-fn loss(contact: Option<Contact>, n: usize, reference: Real, severity: Severity) -> Real {
+fn loss(contact: Option<Contact>, n: usize, scoring: Scoring) -> Real {
     contact.map_or(0.0, |c| {
-        let speed = match severity {
+        let speed = match scoring.severity {
             Severity::Closing => c.closing,
             Severity::Driving => c.driving,
         };
-        (1.0 - c.at / n as Real) * (speed / reference.max(1e-9)).min(1.0)
+        (1.0 - c.at / n as Real) * (speed / scoring.reference.max(1e-9)).min(1.0)
     })
+}
+
+/// How a contact's loss is scaled: by which speed, against what reference (m per grid step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Scoring {
+    reference: Real,
+    severity: Severity,
 }
 
 /// CVaR_α of equally likely `losses` (reordered): the mean of the worst (1 − α) of them, the

@@ -71,13 +71,17 @@ fn sooner_and_harder_collisions_cost_more() {
     // Contact at 1.4 m: 1.4 / 0.75 and 1.4 / 0.25 steps, closing 0.75 and 0.25 m per step.
     assert!((fast.at - 1.4 / 0.75).abs() < 1e-9 && (fast.closing - 0.75).abs() < 1e-12);
     assert!((slow.at - 1.4 / 0.25).abs() < 1e-9 && (slow.closing - 0.25).abs() < 1e-12);
-    let reference = 4.6 * 0.25;
-    assert!(
-        loss(Some(fast), 12, reference, Severity::Closing)
-            > loss(Some(slow), 12, reference, Severity::Closing)
-    );
+    let closing = Scoring {
+        reference: 4.6 * 0.25,
+        severity: Severity::Closing,
+    };
+    let driving = Scoring {
+        severity: Severity::Driving,
+        ..closing
+    };
+    assert!(loss(Some(fast), 12, closing) > loss(Some(slow), 12, closing));
     assert_eq!(first_contact(&path(0.0), 0.6, |k| other[k]), None);
-    assert_eq!(loss(None, 12, reference, Severity::Closing), 0.0);
+    assert_eq!(loss(None, 12, closing), 0.0);
     // A standing robot walked into at 0.5 m/s loses less than one driving 3 m/s into a
     // standing person at the same moment.
     let walker: Vec<Vec2> = (0..=12)
@@ -87,12 +91,9 @@ fn sooner_and_harder_collisions_cost_more() {
     assert!((hit.closing - 0.125).abs() < 1e-12);
     // Scored by the robot's own speed toward them, the standing robot loses nothing.
     assert_eq!(hit.driving, 0.0);
-    assert_eq!(loss(Some(hit), 12, reference, Severity::Driving), 0.0);
+    assert_eq!(loss(Some(hit), 12, driving), 0.0);
     assert!((fast.driving - 0.75).abs() < 1e-12);
-    assert!(
-        loss(Some(hit), 12, reference, Severity::Closing)
-            < loss(Some(fast), 12, reference, Severity::Closing)
-    );
+    assert!(loss(Some(hit), 12, closing) < loss(Some(fast), 12, closing));
 }
 
 #[test]
