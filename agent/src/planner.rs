@@ -433,6 +433,20 @@ impl PlannerStack {
         Self { spec, pgp, local }
     }
 
+    /// The peek-and-pass planner alone with explicit parameters (`pnp` when c3 is below
+    /// [`crate::pnp::NO_PEEK_C3`], `pnp-nopeek` otherwise).
+    pub fn pnp(params: PnpParams) -> Self {
+        let peek = params.c3 < crate::pnp::NO_PEEK_C3;
+        Self {
+            spec: PlannerSpec {
+                pgp: false,
+                local: LocalKind::Pnp { peek },
+            },
+            pgp: None,
+            local: Box::new(Pnp::new(params)),
+        }
+    }
+
     /// A stack with explicit PGP parameters (its subgoal distance is used as given).
     pub fn with_pgp(spec: PlannerSpec, pgp: PgpParams) -> Self {
         let mut stack = Self::new(spec);

@@ -95,12 +95,15 @@ pub struct PnpParams {
     /// v_max·t_f (the farthest a candidate reaches). The paper plans in a local costmap, and
     /// a goal 100 m away would make every other term negligible.
     pub goal_distance: Option<Real>,
-    /// Weight of the same squared distance at t_f/2, added to the goal term. Not in the
-    /// paper: Eq. 3 scores only where a candidate ends, so within reach of the goal "wait,
-    /// then drive" ends as close as "drive now" and a receding horizon keeps waiting (seen in
-    /// the hallway: the robot stood 3 m from its goal). A quarter breaks the tie toward
-    /// arriving sooner; 0 is Eq. 3 as written.
-    pub midway_weight: Real,
+    /// Weight of the mean squared distance to x_g over the grid, added to the goal term.
+    /// Not in the paper: Eq. 3 scores only where a candidate ends, so within reach of the
+    /// goal "wait, then drive" ends as close as "drive now" and a receding horizon keeps
+    /// waiting (seen in the hallway: the robot stood 1–3 m from its goal). The mean over the
+    /// path prefers arriving sooner; 0 is Eq. 3 as written.
+    pub progress_weight: Real,
+    /// A candidate that comes this close to the goal (m) has arrived: the scenarios' goal
+    /// tolerance, 0.5 m.
+    pub goal_tolerance: Real,
     /// σ growth of the predictions (the PGP paper's values).
     pub sigma: SigmaModel,
     /// How people's mean futures are predicted.
@@ -160,7 +163,8 @@ impl Default for PnpParams {
             edge_jump: 0.6,
             sensor_range: 10.0,
             goal_distance: None,
-            midway_weight: 0.25,
+            progress_weight: 1.0,
+            goal_tolerance: 0.5,
             sigma: SigmaModel::default(),
             prediction: Prediction::ConstantVelocity,
             severity: Severity::Closing,
@@ -367,8 +371,26 @@ impl Pnp {
         self.order.clear();
         for c in 0..self.primitives.len() {
             let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
-            let goal_term = (path[n] - local_goal).norm_squared()
-                + p.midway_weight * (path[n / 2] - local_goal).norm_squared();
+            // A candidate that arrives (within the tolerance of the goal itself) is done there:
+            // it scores what it cost to get there, nothing for overshooting afterwards.
+            let arrives = if local_goal == goal {
+                path.iter()
+                    .position(|q| (q - goal).norm() < p.goal_tolerance)
+            } else {
+                None
+            };
+            let until = arrives.unwrap_or(n + 1);
+            let running = path[1..until.max(1)]
+                .iter()
+                .map(|q| (q - local_goal).norm_squared())
+                .sum::<Real>()
+                / n as Real;
+            let terminal = if arrives.is_some() {
+                0.0
+            } else {
+                (path[n] - local_goal).norm_squared()
+            };
+            let goal_term = terminal + p.progress_weight * running;
             self.order.push((goal_term, c));
         }
         self.order

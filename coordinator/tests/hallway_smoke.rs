@@ -66,3 +66,40 @@ fn hallway_smoke_is_complete_and_thread_count_independent() {
     assert!(rows.iter().all(|r| r.path_m > 1.0), "{rows:?}");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn laned_smoke_sweeps_c3_and_summarises_the_average_speed() {
+    use coordinator::study::laned::{LanedStudy, five_numbers, summarize};
+    let mut scenario = Scenario::builtin("hallway").expect("built-in scenario");
+    let hall = scenario.hallway.as_mut().expect("a hallway");
+    hall.length_m = 12.0;
+    hall.width_m = 3.6;
+    hall.lanes = Some(3);
+    hall.humans = 6;
+    scenario.robot.max_speed = 3.0;
+    scenario.robot.body_occlusion = true;
+    scenario.robot.safety = false;
+    let study = LanedStudy {
+        scenario,
+        ratios: vec![0.001, 1.0],
+        seeds: 2,
+    };
+    // c3 = 1/(c1·ratio) with c1 = 1.
+    assert_eq!(study.params(0.001).c3, 1000.0);
+    let rows = study.execute(&|| {});
+    assert_eq!(rows.len(), 4);
+    assert!(
+        rows.iter()
+            .all(|r| r.average_speed > 0.0 && r.average_speed <= 3.0),
+        "{rows:?}"
+    );
+    let cells = summarize(&study, &rows);
+    assert_eq!(cells.len(), 2);
+    assert!(cells.iter().all(|c| c.runs == 2));
+    // Quartiles by linear interpolation.
+    assert_eq!(
+        five_numbers(&[4.0, 1.0, 3.0, 2.0, 5.0]),
+        [1.0, 2.0, 3.0, 4.0, 5.0]
+    );
+    assert_eq!(five_numbers(&[1.0, 2.0]), [1.0, 1.25, 1.5, 1.75, 2.0]);
+}

@@ -18,18 +18,23 @@ pub const EPISODE_IMPACT_WINDOW_S: agent::math::Real = 5.0;
 /// scenario's `[robot] safety` is off) until all robots arrive or time runs out. Returns each
 /// robot's metrics.
 pub fn run_episode(scenario: &Scenario, planner: PlannerSpec) -> Vec<RobotMetrics> {
+    run_episode_with(scenario, |_| {
+        // Batch runs draw nothing: no fan recording. The planners drive at the robot's top
+        // speed (their defaults are the scenarios' 1 m/s).
+        let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
+        stack.set_record_fan(false);
+        stack
+    })
+}
+
+/// [`run_episode`] with each robot's stack made by `stack(robot index)` (planners with
+/// parameters of their own, as the studies' sweeps use).
+pub fn run_episode_with(
+    scenario: &Scenario,
+    stack: impl Fn(usize) -> PlannerStack,
+) -> Vec<RobotMetrics> {
     let mut world = World::from_scenario(scenario);
-    let mut stacks: Vec<PlannerStack> = world
-        .robots
-        .iter()
-        .map(|_| {
-            // Batch runs draw nothing: no fan recording. The planners drive at the robot's
-            // top speed (their defaults are the scenarios' 1 m/s).
-            let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
-            stack.set_record_fan(false);
-            stack
-        })
-        .collect();
+    let mut stacks: Vec<PlannerStack> = (0..world.robots.len()).map(stack).collect();
     let mut guards = guards(scenario, world.robots.len());
     let mut recorders: Vec<MetricsRecorder> = (0..world.robots.len())
         .map(|i| MetricsRecorder::new(&world, i))

@@ -101,6 +101,11 @@ pub struct Hallway {
     pub humans: usize,
     /// Groups have 1 to this many members.
     pub max_group_size: usize,
+    /// Lanes: absent for two-way traffic; with N lanes every person walks alone along +x in
+    /// one of N evenly spaced lanes, out of the far end and on, each at their own speed
+    /// (uniform in ½–1½ × `humans.speed`): the peek-and-pass paper's laned hallway (Fig. 3).
+    #[serde(default)]
+    pub lanes: Option<usize>,
 }
 
 /// A procedural warehouse (see `world_sim::warehouse`): `rows` parallel shelf rows along x,
@@ -389,6 +394,11 @@ impl Scenario {
                 }
                 if hall.max_group_size == 0 {
                     return bad("hallway.max_group_size", "must be at least 1");
+                }
+                if let Some(lanes) = hall.lanes
+                    && (lanes == 0 || hall.width_m / (lanes as Real) < 2.0 * self.humans.radius_m)
+                {
+                    return bad("hallway.lanes", "must be at least 1, each lane a body wide");
                 }
             }
         }

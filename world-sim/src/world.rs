@@ -18,6 +18,7 @@ use std::collections::VecDeque;
 const SPAWN_STREAM: u64 = 1;
 const GOAL_STREAM: u64 = 2;
 const NOISE_STREAM: u64 = 3;
+const LANE_STREAM: u64 = 4;
 
 /// Group members keep goals within this radius of the group's goal (m).
 const GROUP_SPREAD_M: Real = 0.6;
@@ -67,6 +68,10 @@ pub struct World {
     site: Option<Site>,
     /// Per group: the waypoints after its current goal (warehouse routes).
     routes: Vec<VecDeque<Vec2>>,
+    /// In a laned hallway, each person's lane (its y) and the hallway's length: people stay
+    /// on their lane line while inside it. Empty otherwise.
+    lanes: Vec<Real>,
+    lanes_end: Real,
     goal_rng: ChaCha8Rng,
     noise_rng: ChaCha8Rng,
     scratch: Vec<Vec2>,
@@ -104,7 +109,11 @@ impl World {
                 max_group_size: hall.max_group_size,
                 avoid_obstacles: false,
             };
-            return Self::build(scenario, layout);
+            let mut world = Self::build(scenario, layout);
+            if let Some(lanes) = hall.lanes {
+                world.keep_lanes(scenario, lanes, length, width);
+            }
+            return world;
         }
         if let Some(spec) = &scenario.warehouse {
             let site = Site::generate(spec);
@@ -288,11 +297,52 @@ impl World {
             goal_rule: layout.goals,
             site,
             routes,
+            lanes: Vec::new(),
+            lanes_end: 0.0,
             goal_rng,
             noise_rng: stream(scenario.seed, NOISE_STREAM),
             scratch: Vec::new(),
             externals: Vec::new(),
         }
+    }
+
+    /// Puts everyone in one of `lanes` lanes along +x, alone, walking out of the far end of a
+    /// `length` × `width` hallway at their own speed (½–1½ × the scenario's), spaced along
+    /// each lane by at least a body and a margin; inside the hallway they keep to the lane.
+    fn keep_lanes(&mut self, scenario: &Scenario, lanes: usize, length: Real, width: Real) {
+        let mut rng = stream(scenario.seed, LANE_STREAM);
+        let crowd = &mut self.humans.crowd;
+        let n = crowd.positions.len();
+        let lane_y = |lane: usize| width * (lane as Real + 0.5) / lanes as Real;
+        let min_gap = 2.0 * self.humans.radius + 0.05;
+        // Nearest lane, then spaced along it in order of x.
+        let mut order: Vec<(usize, Real, usize)> = (0..n)
+            .map(|i| {
+                let p = crowd.positions[i];
+                let lane = ((p.y / width * lanes as Real).floor() as usize).min(lanes - 1);
+                (lane, p.x, i)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut last: Option<(usize, Real)> = None;
+        for (lane, x, i) in order {
+            let x = match last {
+                Some((l, prev)) if l == lane => x.max(prev + min_gap),
+                _ => x,
+            };
+            last = Some((lane, x));
+            let speed = scenario.humans.speed * rng.random_range(0.5..=1.5);
+            crowd.positions[i] = vec2(x, lane_y(lane));
+            crowd.velocities[i] = vec2(speed, 0.0);
+            crowd.max_speeds[i] = speed * self.sf.max_speed_multiplier;
+            // Far beyond the open end: nobody turns back during a trial.
+            crowd.goals[i] = vec2(length + 1000.0, lane_y(lane));
+        }
+        crowd.groups = (0..n).map(|i| vec![i]).collect();
+        self.humans.offsets = vec![Vec2::zeros(); n];
+        self.routes = vec![VecDeque::new(); n];
+        self.lanes = crowd.goals.iter().map(|g| g.y).collect();
+        self.lanes_end = length;
     }
 
     /// The warehouse layout, when the scenario is a warehouse.
@@ -326,6 +376,15 @@ impl World {
             &self.externals,
             &mut self.scratch,
         );
+        // Lanes hold people like rails: no sideways motion inside the hallway (HighwayEnv's
+        // vehicles without lane changes); they slow behind slower ones instead.
+        for (i, &y) in self.lanes.iter().enumerate() {
+            let crowd = &mut self.humans.crowd;
+            if crowd.positions[i].x <= self.lanes_end {
+                crowd.positions[i].y = y;
+                crowd.velocities[i].y = 0.0;
+            }
+        }
         self.regoal_arrived_groups();
         self.time += self.dt;
         self.step += 1;
@@ -842,6 +901,44 @@ mod tests {
         clear.humans.crowd.positions[1] = ego + ahead * 4.0;
         assert!(clear.observe(0).1.iter().any(|n| n.id == 1));
         assert!(clear.visibility(0, &mut LocalMap::default()).is_none());
+    }
+
+    #[test]
+    fn a_laned_hallway_has_everyone_walking_one_way_in_their_lane() {
+        let mut s = Scenario::builtin("hallway").expect("valid");
+        let hall = s.hallway.as_mut().expect("a hallway");
+        hall.lanes = Some(3);
+        hall.width_m = 4.5;
+        s.humans.speed = 1.0;
+        let mut w = World::from_scenario(&s);
+        let n = w.humans.crowd.positions.len();
+        assert!(n >= 10, "{n} people");
+        let lanes = [0.75, 2.25, 3.75];
+        for i in 0..n {
+            let p = w.humans.crowd.positions[i];
+            assert!(lanes.contains(&p.y), "{p:?} off the lanes");
+            let v = w.humans.crowd.velocities[i];
+            assert!(v.y == 0.0 && (0.5..=1.5).contains(&v.x), "{v:?}");
+        }
+        assert!(w.humans.crowd.groups.iter().all(|g| g.len() == 1));
+        let start = w.humans.crowd.positions.clone();
+        let robot_far = vec![Command::STOP; w.robots.len()];
+        w.robots[0].state.position = vec2(-50.0, -50.0);
+        for _ in 0..50 {
+            w.step(&robot_far);
+        }
+        for (a, b) in start.iter().zip(&w.humans.crowd.positions) {
+            // Everyone got on along +x and, inside the hallway, kept near their lane (beyond
+            // its open end they spread out).
+            assert!(b.x > a.x + 1.0, "{a:?} → {b:?}");
+            if b.x <= 25.0 {
+                assert!((b.y - a.y).abs() < 0.5, "{a:?} → {b:?}");
+            }
+        }
+        // Too many lanes for the width is refused.
+        let hall = s.hallway.as_mut().expect("a hallway");
+        hall.lanes = Some(10);
+        assert!(s.validate("test").is_err());
     }
 
     #[test]

@@ -6,6 +6,7 @@ use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 use coordinator::study::hallway::HallwayStudy;
 use coordinator::study::intent_sharing::{IntentSharingStudy, report};
+use coordinator::study::laned::LanedStudy;
 use coordinator::study::open_space::{StudyPlan, write_outputs, write_summary};
 use coordinator::study::replay::{ReplayStudy, table_markdown};
 use coordinator::study::runs::parse_runs_csv;
@@ -31,6 +32,9 @@ pub enum Experiment {
     /// The peek-and-pass paper's hallway study (Fig. 6): planners × hallway lengths × human
     /// speeds × seeds, a 3 m/s robot driving end to end through two-way foot traffic.
     Hallway(HallwayArgs),
+    /// The peek-and-pass paper's laned study (Fig. 4): people in lanes walking one way at
+    /// varied speeds, the robot's average speed against 1/(c1·c3).
+    Laned(LanedArgs),
     /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
     Summarize {
         /// The study's output folder.
@@ -184,6 +188,43 @@ pub struct HallwayArgs {
     no_safety: bool,
 }
 
+/// `experiment laned`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct LanedArgs {
+    /// The exploration-to-exploitation ratios 1/(c1·c3), comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.0001,0.001,0.01,0.03,0.1,0.3,1,10",
+        value_parser = positive
+    )]
+    ratios: Vec<f64>,
+    /// Seeds per ratio.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Hallway length (m).
+    #[arg(long, default_value_t = 50.0, value_parser = positive)]
+    length: f64,
+    /// Lanes.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=20))]
+    lanes: u64,
+    /// People's mean walking speed (m/s; each walks at ½–1½ of it).
+    #[arg(long, default_value_t = 1.0, value_parser = walking_speed)]
+    human_speed: f64,
+    /// The robot's top speed (m/s; the paper's: 3).
+    #[arg(long, default_value_t = 3.0, value_parser = positive)]
+    robot_speed: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder.
+    #[arg(long, default_value = "results/laned")]
+    out: PathBuf,
+    /// Run the planner's commands under the safety layer (the paper's study ran without it).
+    #[arg(long)]
+    safety: bool,
+}
+
 /// A walking speed in [0, 3.5] m/s.
 fn walking_speed(s: &str) -> Result<f64, String> {
     let v: f64 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
@@ -202,6 +243,7 @@ impl Experiment {
             Experiment::IntentSharing(args) => intent_sharing(args),
             Experiment::Replay(args) => replay(args),
             Experiment::Hallway(args) => hallway(args),
+            Experiment::Laned(args) => laned(args),
             Experiment::Summarize { dir } => summarize(&dir),
         }
     }
@@ -389,6 +431,63 @@ fn hallway(args: HallwayArgs) -> Result<()> {
                 cells.iter().map(|c| c.robot_caused_contacts).sum::<u64>(),
             );
         }
+    }
+    Ok(())
+}
+
+fn laned(args: LanedArgs) -> Result<()> {
+    let mut scenario = Scenario::builtin("hallway")?;
+    let lanes = args.lanes as usize;
+    if let Some(h) = scenario.hallway.as_mut() {
+        h.length_m = args.length;
+        // Lanes 1.2 m apart, as a hallway of 3 lanes is 3.6 m wide.
+        h.width_m = 1.2 * lanes as f64;
+        h.lanes = Some(lanes);
+        h.humans = (args.length * coordinator::study::hallway::PEOPLE_PER_METRE).round() as usize;
+    }
+    scenario.humans.speed = args.human_speed;
+    scenario.robot.max_speed = args.robot_speed;
+    scenario.robot.body_occlusion = true;
+    scenario.robot.safety = args.safety;
+    scenario.max_time_s = 60.0 + 2.0 * args.length;
+    scenario
+        .validate("experiment laned")
+        .context("the laned hallway")?;
+    let study = LanedStudy {
+        scenario,
+        ratios: args.ratios,
+        seeds: args.seeds,
+    };
+    let started = Instant::now();
+    let (rows, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
+        study.execute(progress)
+    })?;
+    let cells = coordinator::study::laned::write_outputs(&args.out, &study, &rows)?;
+    eprintln!(
+        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, average_speed.png",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    println!(
+        "| 1/(c1·c3) | c3 | runs | reached | average speed: min / q1 / median / q3 / max (m/s) | robot-caused |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for c in &cells {
+        let q = c.speed_quartiles;
+        println!(
+            "| {} | {:.4} | {} | {:.0}% | {:.2} / {:.2} / {:.2} / {:.2} / {:.2} | {} |",
+            c.ratio,
+            study.params(c.ratio).c3,
+            c.runs,
+            100.0 * c.reached,
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            q[4],
+            c.robot_caused_contacts
+        );
     }
     Ok(())
 }

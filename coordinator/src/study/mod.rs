@@ -11,6 +11,7 @@
 pub mod csv_fields;
 pub mod hallway;
 pub mod intent_sharing;
+pub mod laned;
 pub mod open_space;
 pub mod output;
 pub mod plots;

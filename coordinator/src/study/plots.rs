@@ -300,3 +300,81 @@ pub fn write_lines(path: &Path, title: &str, panels: &[LinePanel<'_>]) -> Result
     }
     root.present().map_err(err)
 }
+
+/// A box per category: (label, [min, lower quartile, median, upper quartile, max]), in order.
+pub fn write_boxes(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    boxes: &[(String, [f64; 5])],
+) -> Result<(), PlotError> {
+    register_font();
+    let err = |e| plot_error(path, e);
+    let root = BitMapBackend::new(path, (900, 520)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
+    let n = boxes.len().max(1);
+    let y_max = boxes
+        .iter()
+        .map(|b| b.1[4])
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max)
+        .max(1e-9)
+        * 1.1;
+    let mut chart = ChartBuilder::on(&root)
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(-0.5..(n as f64 - 0.5), 0.0..y_max)
+        .map_err(err)?;
+    let labels: Vec<String> = boxes.iter().map(|b| b.0.clone()).collect();
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_labels(n)
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 0.0 {
+                labels.get(i as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(err)?;
+    let blue = RGBColor(31, 119, 180);
+    for (i, (_, q)) in boxes.iter().enumerate() {
+        if q.iter().any(|v| !v.is_finite()) {
+            continue;
+        }
+        let x = i as f64;
+        chart
+            .draw_series([
+                Rectangle::new([(x - 0.3, q[1]), (x + 0.3, q[3])], blue.mix(0.3).filled()),
+                Rectangle::new([(x - 0.3, q[1]), (x + 0.3, q[3])], blue.stroke_width(2)),
+            ])
+            .map_err(err)?;
+        chart
+            .draw_series([
+                PathElement::new(
+                    vec![(x - 0.3, q[2]), (x + 0.3, q[2])],
+                    BLACK.stroke_width(3),
+                ),
+                PathElement::new(vec![(x, q[0]), (x, q[1])], blue.stroke_width(1)),
+                PathElement::new(vec![(x, q[3]), (x, q[4])], blue.stroke_width(1)),
+                PathElement::new(
+                    vec![(x - 0.15, q[0]), (x + 0.15, q[0])],
+                    blue.stroke_width(1),
+                ),
+                PathElement::new(
+                    vec![(x - 0.15, q[4]), (x + 0.15, q[4])],
+                    blue.stroke_width(1),
+                ),
+            ])
+            .map_err(err)?;
+    }
+    root.present().map_err(err)
+}
