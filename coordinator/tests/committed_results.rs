@@ -53,3 +53,30 @@ fn smoke_rows_are_committed(dir: &str, safety: bool) {
 }
 
 const PLANNERS: [&str; 6] = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf"];
+
+/// The laned study (`results/laned`): two seeds at two ratios, re-run as the command runs them,
+/// are the committed rows.
+#[test]
+fn laned_smoke_rows_are_the_committed_rows() {
+    use coordinator::study::csv_fields::to_csv;
+    use coordinator::study::laned::{LanedStudy, laned_hallway};
+    let path = format!("{}/../results/laned/runs.csv", env!("CARGO_MANIFEST_DIR"));
+    let committed = std::fs::read_to_string(&path).expect("the committed study");
+    let study = LanedStudy {
+        scenario: laned_hallway(50.0, 3, 1.0, 3.0, false).expect("valid"),
+        ratios: vec![0.0001, 0.01],
+        seeds: 2,
+    };
+    let ours = to_csv(study.execute(&|| {}));
+    let mut lines = ours.lines();
+    assert_eq!(lines.next(), committed.lines().next(), "runs.csv columns");
+    let mut compared = 0;
+    for line in lines {
+        assert!(
+            committed.lines().any(|l| l == line),
+            "not committed: {line}"
+        );
+        compared += 1;
+    }
+    assert_eq!(compared, 4);
+}

@@ -6,7 +6,7 @@ use anyhow::{Context, Result, bail};
 use clap::Subcommand;
 use coordinator::study::hallway::HallwayStudy;
 use coordinator::study::intent_sharing::{IntentSharingStudy, report};
-use coordinator::study::laned::LanedStudy;
+use coordinator::study::laned::{LanedStudy, laned_hallway};
 use coordinator::study::open_space::{StudyPlan, write_outputs, write_summary};
 use coordinator::study::replay::{ReplayStudy, table_markdown};
 use coordinator::study::runs::parse_runs_csv;
@@ -436,23 +436,14 @@ fn hallway(args: HallwayArgs) -> Result<()> {
 }
 
 fn laned(args: LanedArgs) -> Result<()> {
-    let mut scenario = Scenario::builtin("hallway")?;
-    let lanes = args.lanes as usize;
-    if let Some(h) = scenario.hallway.as_mut() {
-        h.length_m = args.length;
-        // Lanes 1.2 m apart, as a hallway of 3 lanes is 3.6 m wide.
-        h.width_m = 1.2 * lanes as f64;
-        h.lanes = Some(lanes);
-        h.humans = (args.length * coordinator::study::hallway::PEOPLE_PER_METRE).round() as usize;
-    }
-    scenario.humans.speed = args.human_speed;
-    scenario.robot.max_speed = args.robot_speed;
-    scenario.robot.body_occlusion = true;
-    scenario.robot.safety = args.safety;
-    scenario.max_time_s = 60.0 + 2.0 * args.length;
-    scenario
-        .validate("experiment laned")
-        .context("the laned hallway")?;
+    let scenario = laned_hallway(
+        args.length,
+        args.lanes as usize,
+        args.human_speed,
+        args.robot_speed,
+        args.safety,
+    )
+    .context("the laned hallway")?;
     let study = LanedStudy {
         scenario,
         ratios: args.ratios,

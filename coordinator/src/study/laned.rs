@@ -15,6 +15,32 @@ use std::path::Path;
 use world_sim::episode::run_episode_with;
 use world_sim::scenario::Scenario;
 
+/// The study's hallway: `length` m with `lanes` lanes 1.2 m apart, people at the hallway
+/// study's density walking at ½–1½ × `human_speed`, a robot with top speed `robot_speed`,
+/// body occlusion on, the safety layer as asked, and 60 s + 2 s per metre to get through.
+pub fn laned_hallway(
+    length: f64,
+    lanes: usize,
+    human_speed: f64,
+    robot_speed: f64,
+    safety: bool,
+) -> Result<Scenario, world_sim::scenario::ScenarioError> {
+    let mut scenario = Scenario::builtin("hallway")?;
+    if let Some(h) = scenario.hallway.as_mut() {
+        h.length_m = length;
+        h.width_m = 1.2 * lanes as f64;
+        h.lanes = Some(lanes);
+        h.humans = (length * super::hallway::PEOPLE_PER_METRE).round() as usize;
+    }
+    scenario.humans.speed = human_speed;
+    scenario.robot.max_speed = robot_speed;
+    scenario.robot.body_occlusion = true;
+    scenario.robot.safety = safety;
+    scenario.max_time_s = 60.0 + 2.0 * length;
+    scenario.validate("experiment laned")?;
+    Ok(scenario)
+}
+
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct LanedStudy {
