@@ -80,3 +80,36 @@ fn laned_smoke_rows_are_the_committed_rows() {
     }
     assert_eq!(compared, 4);
 }
+
+/// The hallway study (`results/hallway`): pnp and orca at two lengths and two human speeds,
+/// two seeds, re-run as the command runs them, are the committed rows.
+#[test]
+fn hallway_smoke_rows_are_the_committed_rows() {
+    use coordinator::study::csv_fields::to_csv;
+    use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
+    let path = format!("{}/../results/hallway/runs.csv", env!("CARGO_MANIFEST_DIR"));
+    let committed = std::fs::read_to_string(&path).expect("the committed study");
+    let study = HallwayStudy {
+        scenario: hallway_scenario(3.0, false).expect("valid"),
+        planners: ["pnp", "orca"]
+            .iter()
+            .map(|p| p.parse().expect("known"))
+            .collect(),
+        lengths: vec![25.0],
+        width_m: 4.0,
+        speeds: vec![1.0, 2.5],
+        seeds: 2,
+    };
+    let ours = to_csv(study.execute(&|| {}));
+    let mut lines = ours.lines();
+    assert_eq!(lines.next(), committed.lines().next(), "runs.csv columns");
+    let mut compared = 0;
+    for line in lines {
+        assert!(
+            committed.lines().any(|l| l == line),
+            "not committed: {line}"
+        );
+        compared += 1;
+    }
+    assert_eq!(compared, 2 * 2 * 2);
+}

@@ -4,7 +4,7 @@ use super::{Overrides, ScenarioRef, density, positive};
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
-use coordinator::study::hallway::HallwayStudy;
+use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
 use coordinator::study::intent_sharing::{IntentSharingStudy, report};
 use coordinator::study::laned::{LanedStudy, laned_hallway};
 use coordinator::study::open_space::{StudyPlan, write_outputs, write_summary};
@@ -369,10 +369,7 @@ fn replay(args: ReplayArgs) -> Result<()> {
 }
 
 fn hallway(args: HallwayArgs) -> Result<()> {
-    let mut scenario = Scenario::builtin("hallway")?;
-    scenario.robot.max_speed = args.robot_speed;
-    scenario.robot.body_occlusion = true;
-    scenario.robot.safety = !args.no_safety;
+    let scenario = hallway_scenario(args.robot_speed, !args.no_safety)?;
     let study = HallwayStudy {
         scenario,
         planners: args.planners,

@@ -18,6 +18,20 @@ use world_sim::scenario::Scenario;
 /// People per metre of hallway: the built-in hallway's 12 in 25 m.
 pub const PEOPLE_PER_METRE: f64 = 12.0 / 25.0;
 
+/// The study's base scenario: the built-in hallway with a robot of top speed `robot_speed`,
+/// body occlusion on and the safety layer as asked (lengths, people and speeds are set per
+/// run by [`HallwayStudy::scenario_for`]).
+pub fn hallway_scenario(
+    robot_speed: f64,
+    safety: bool,
+) -> Result<Scenario, world_sim::scenario::ScenarioError> {
+    let mut scenario = Scenario::builtin("hallway")?;
+    scenario.robot.max_speed = robot_speed;
+    scenario.robot.body_occlusion = true;
+    scenario.robot.safety = safety;
+    Ok(scenario)
+}
+
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct HallwayStudy {
