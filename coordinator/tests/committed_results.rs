@@ -1,12 +1,14 @@
 //! The committed study results are what the code computes now: a smoke version of the
 //! open-space study reproduces its cells of `results/open-space/runs.csv` (the papers'
 //! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
-//! every planner) byte for byte. A change that moves any bit of any planner, of the layer or
-//! of the crowd fails here; if the change is meant to, re-run the study and commit its
-//! results (`results/open-space/REPORT.md`).
+//! every planner) byte for byte, and small versions of the laned and hallway studies reproduce
+//! rows of `results/laned/runs.csv` and `results/hallway/runs.csv`. A change that moves any
+//! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
+//! re-run the study and commit its results (each study's REPORT.md has the command).
 
 #![cfg(feature = "studies")]
 
+use coordinator::study::csv_fields::to_csv;
 use coordinator::study::open_space::StudyPlan;
 use coordinator::study::runs::runs_csv;
 use world_sim::scenario::Scenario;
@@ -58,37 +60,20 @@ const PLANNERS: [&str; 6] = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf
 /// are the committed rows.
 #[test]
 fn laned_smoke_rows_are_the_committed_rows() {
-    use coordinator::study::csv_fields::to_csv;
     use coordinator::study::laned::{LanedStudy, laned_hallway};
-    let path = format!("{}/../results/laned/runs.csv", env!("CARGO_MANIFEST_DIR"));
-    let committed = std::fs::read_to_string(&path).expect("the committed study");
     let study = LanedStudy {
         scenario: laned_hallway(50.0, 3, 1.0, 3.0, false).expect("valid"),
         ratios: vec![0.0001, 0.01],
         seeds: 2,
     };
-    let ours = to_csv(study.execute(&|| {}));
-    let mut lines = ours.lines();
-    assert_eq!(lines.next(), committed.lines().next(), "runs.csv columns");
-    let mut compared = 0;
-    for line in lines {
-        assert!(
-            committed.lines().any(|l| l == line),
-            "not committed: {line}"
-        );
-        compared += 1;
-    }
-    assert_eq!(compared, 4);
+    rows_are_committed("laned", &to_csv(study.execute(&|| {})), 4);
 }
 
-/// The hallway study (`results/hallway`): pnp and orca at two lengths and two human speeds,
-/// two seeds, re-run as the command runs them, are the committed rows.
+/// The hallway study (`results/hallway`): pnp and orca in the 25 m hallway at two human
+/// speeds, two seeds, re-run as the command runs them, are the committed rows.
 #[test]
 fn hallway_smoke_rows_are_the_committed_rows() {
-    use coordinator::study::csv_fields::to_csv;
     use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
-    let path = format!("{}/../results/hallway/runs.csv", env!("CARGO_MANIFEST_DIR"));
-    let committed = std::fs::read_to_string(&path).expect("the committed study");
     let study = HallwayStudy {
         scenario: hallway_scenario(3.0, false).expect("valid"),
         planners: ["pnp", "orca"]
@@ -100,7 +85,14 @@ fn hallway_smoke_rows_are_the_committed_rows() {
         speeds: vec![1.0, 2.5],
         seeds: 2,
     };
-    let ours = to_csv(study.execute(&|| {}));
+    rows_are_committed("hallway", &to_csv(study.execute(&|| {})), 2 * 2 * 2);
+}
+
+/// Every row of `ours` (a runs.csv with its header) is a line of `results/<dir>/runs.csv`,
+/// under the same header, and there are `rows` of them.
+fn rows_are_committed(dir: &str, ours: &str, rows: usize) {
+    let path = format!("{}/../results/{dir}/runs.csv", env!("CARGO_MANIFEST_DIR"));
+    let committed = std::fs::read_to_string(&path).expect("the committed study");
     let mut lines = ours.lines();
     assert_eq!(lines.next(), committed.lines().next(), "runs.csv columns");
     let mut compared = 0;
@@ -111,5 +103,5 @@ fn hallway_smoke_rows_are_the_committed_rows() {
         );
         compared += 1;
     }
-    assert_eq!(compared, 2 * 2 * 2);
+    assert_eq!(compared, rows);
 }
