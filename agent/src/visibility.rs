@@ -195,7 +195,8 @@ fn cross(a: Vec2, b: Vec2) -> Real {
     a.x * b.y - a.y * b.x
 }
 
-fn distance_to_segment(a: Vec2, b: Vec2, p: Vec2) -> Real {
+/// The distance from `p` to the segment `a`–`b`.
+pub(crate) fn distance_to_segment(a: Vec2, b: Vec2, p: Vec2) -> Real {
     let e = b - a;
     let len_sq = e.norm_squared();
     let s = if len_sq > 0.0 {

@@ -1,3 +1,4 @@
+use super::risk::{first_contact, loss};
 use super::*;
 use crate::map::Obstacle;
 use crate::model::AgentKind;

@@ -1,0 +1,122 @@
+//! What the perceived bodies may do (their predicted tracks, sampled) and the collision risk
+//! p_coll^i a path runs with each (Eq. 5).
+
+use super::risk::{Scoring, bounds, cvar, first_contact, loss, min_gap};
+use crate::math::{Real, Vec2, vec2};
+use crate::model::{AgentKind, EgoState, Neighbour};
+use crate::prediction::{SigmaModel, Track};
+use crate::social_force::{SfParams, capped_velocity, social_force_pair};
+
+/// One perceived body's prediction on the grid.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Predicted {
+    pub(super) track: Track,
+    /// Centre distance that counts as collision.
+    pub(super) contact: Real,
+    /// How far a sample strays from the mean at most (m).
+    pub(super) spread: Real,
+    /// The box around the mean track, widened by `contact + spread`.
+    pub(super) reach: (Vec2, Vec2),
+}
+
+/// Replaces the people's tracks in `predicted` with a Social Force rollout
+/// ([`Prediction::SocialForce`]); σ grows with each step's speed as PGP's does.
+pub(super) fn social_force_rollout(
+    ego: &EgoState,
+    neighbours: &[Neighbour],
+    n: usize,
+    dt: Real,
+    sigma: &SigmaModel,
+    predicted: &mut [Predicted],
+) {
+    let sf = SfParams::default();
+    let people: Vec<usize> = (0..neighbours.len())
+        .filter(|&i| neighbours[i].kind == AgentKind::Human)
+        .collect();
+    if people.is_empty() {
+        return;
+    }
+    let mut pos: Vec<Vec2> = people.iter().map(|&i| neighbours[i].position).collect();
+    let mut vel: Vec<Vec2> = people.iter().map(|&i| neighbours[i].velocity).collect();
+    // Each keeps walking the way they walk: the desired velocity is the perceived one.
+    let desired: Vec<Vec2> = vel.clone();
+    // Per person, the speed at each grid point (the first, at t = 0, is not used by σ).
+    let mut speeds = vec![vec![0.0]; people.len()];
+    let mut force = vec![vec2(0.0, 0.0); people.len()];
+    for (slot, &i) in people.iter().enumerate() {
+        predicted[i].track.positions.clear();
+        predicted[i].track.positions.push(pos[slot]);
+    }
+    for k in 1..=n {
+        let robot = ego.position + ego.velocity * ((k - 1) as Real * dt);
+        for a in 0..people.len() {
+            let mut f = (desired[a] - vel[a]) / sf.desired.relaxation_time * sf.desired.factor;
+            let mut social = social_force_pair(pos[a], vel[a], robot, ego.velocity, &sf.social);
+            for b in 0..people.len() {
+                if b != a {
+                    social += social_force_pair(pos[a], vel[a], pos[b], vel[b], &sf.social);
+                }
+            }
+            f += social * sf.social.factor;
+            force[a] = f;
+        }
+        for a in 0..people.len() {
+            let cap = desired[a].norm() * sf.max_speed_multiplier;
+            vel[a] = capped_velocity(vel[a] + force[a] * dt, cap);
+            pos[a] += vel[a] * dt;
+            speeds[a].push(vel[a].norm());
+            predicted[people[a]].track.positions.push(pos[a]);
+        }
+    }
+    for (slot, &i) in people.iter().enumerate() {
+        let track = &mut predicted[i].track;
+        track.sigma.resize(n + 1, 0.0);
+        sigma.fill(&speeds[slot], &mut track.sigma);
+    }
+}
+
+/// p_coll^i: CVaR_α of the collision loss over body i's prediction samples, for one path.
+pub(super) fn body_risk(
+    path: &[Vec2],
+    body: &Predicted,
+    offsets: &[Vec2],
+    alpha: Real,
+    scoring: Scoring,
+    losses: &mut Vec<Real>,
+) -> Real {
+    let track = &body.track;
+    // No sample can come closer than the mean minus the largest offset: first by boxes, then
+    // along the tracks.
+    let (lo, hi) = bounds(path);
+    let (rlo, rhi) = body.reach;
+    if hi.x < rlo.x || lo.x > rhi.x || hi.y < rlo.y || lo.y > rhi.y {
+        return 0.0;
+    }
+    let closest = min_gap(path, |k| track.positions[k]);
+    if closest > body.contact + body.spread {
+        return 0.0;
+    }
+    // A sample strays at most |ε_j|·(σ_max − σ0) from the mean: one that cannot close the
+    // gap scores 0 without being traced.
+    let grown = body.spread
+        / offsets
+            .iter()
+            .map(|o| o.norm())
+            .fold(0.0, Real::max)
+            .max(1e-12);
+    let n = path.len() - 1;
+    losses.clear();
+    losses.extend(offsets.iter().map(|&o| {
+        if closest - o.norm() * grown > body.contact {
+            return 0.0;
+        }
+        loss(
+            first_contact(path, body.contact, |k| {
+                track.positions[k] + o * (track.sigma[k] - track.sigma[0])
+            }),
+            n,
+            scoring,
+        )
+    }));
+    cvar(losses, alpha)
+}
