@@ -316,7 +316,7 @@ impl Pnp {
         let visibility = match visibility {
             Some(v) => v,
             None => {
-                self.own = Visibility::scan(
+                self.own.rescan(
                     ego.position,
                     self.params.sensor_range,
                     crate::visibility::DEFAULT_RAYS,

@@ -54,24 +54,36 @@ impl Visibility {
         bodies: impl IntoIterator<Item = (Vec2, Real)>,
         local: &mut LocalMap,
     ) -> Self {
-        let rays = rays.max(1);
-        let mut v = Self {
-            origin,
-            bearing0: 0.0,
-            range,
-            ranges: vec![range; rays],
-        };
+        let mut v = Self::default();
+        v.rescan(origin, range, rays, map, bodies, local);
+        v
+    }
+
+    /// [`scan`](Self::scan) into this profile, reusing its buffer (a planner's scratch).
+    pub fn rescan(
+        &mut self,
+        origin: Vec2,
+        range: Real,
+        rays: usize,
+        map: &StaticMap,
+        bodies: impl IntoIterator<Item = (Vec2, Real)>,
+        local: &mut LocalMap,
+    ) {
+        self.origin = origin;
+        self.bearing0 = 0.0;
+        self.range = range;
+        self.ranges.clear();
+        self.ranges.resize(rays.max(1), range);
         if !map.is_empty() {
             let r = vec2(range, range);
             map.gather(origin - r, origin + r, 0.0, local);
             for &(a, b) in local.segments() {
-                v.occlude_segment(a, b);
+                self.occlude_segment(a, b);
             }
         }
         for (centre, radius) in bodies {
-            v.occlude_disc(centre, radius);
+            self.occlude_disc(centre, radius);
         }
-        v
     }
 
     /// Angle between neighbouring rays (rad).
