@@ -31,7 +31,7 @@ use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
 use crate::prediction::{SigmaModel, predict};
 use crate::visibility::Visibility;
 use hidden::{Hidden, halton, hidden_risk, sample_hidden};
-use predict::{Predicted, body_risk, social_force_rollout};
+use predict::{Predicted, Scratch, body_risk, social_force_rollout};
 pub use risk::cvar;
 use risk::{Scoring, bounds, near_any_segment};
 
@@ -233,7 +233,7 @@ pub struct Pnp {
     paths: Vec<Vec2>,
     predicted: Vec<Predicted>,
     hidden: Vec<Hidden>,
-    losses: Vec<Real>,
+    scratch: Scratch,
     /// (goal term, candidate), in scoring order.
     order: Vec<(Real, usize)>,
     local: LocalMap,
@@ -281,7 +281,7 @@ impl Pnp {
             paths: Vec::new(),
             predicted: Vec::new(),
             hidden: Vec::new(),
-            losses: Vec::new(),
+            scratch: Scratch::default(),
             order: Vec::new(),
             local: LocalMap::default(),
             own: Visibility::default(),
@@ -415,7 +415,7 @@ impl Pnp {
                     &self.offsets,
                     p.alpha,
                     scoring,
-                    &mut self.losses,
+                    &mut self.scratch,
                 );
                 if loses(p.c1 * goal_term + p.c2 * collision, c, &best) {
                     beaten = true;
@@ -433,7 +433,7 @@ impl Pnp {
                 contact,
                 p.alpha_peek,
                 scoring,
-                &mut self.losses,
+                &mut self.scratch.losses,
             );
             let peek = (psi - p.epsilon_peek).max(0.0);
             let total = p.c1 * goal_term + p.c2 * collision + p.c3 * peek;
@@ -576,6 +576,9 @@ impl Pnp {
         for slot in &mut self.predicted {
             let sigma = &slot.track.sigma;
             slot.spread = largest * (sigma.iter().copied().fold(0.0, Real::max) - sigma[0]);
+            slot.growth.clear();
+            slot.growth
+                .extend(sigma.windows(2).map(|w| w[0].max(w[1]) - sigma[0]));
             let (lo, hi) = bounds(&slot.track.positions);
             let r = slot.contact + slot.spread;
             slot.reach = (lo - vec2(r, r), hi + vec2(r, r));

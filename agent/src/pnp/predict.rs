@@ -1,7 +1,7 @@
 //! What the perceived bodies may do (their predicted tracks, sampled) and the collision risk
 //! p_coll^i a path runs with each (Eq. 5).
 
-use super::risk::{Scoring, bounds, cvar, first_contact, loss, min_gap};
+use super::risk::{Scoring, bounds, cvar, first_contact_from, loss, step_gaps};
 use crate::math::{Real, Vec2, vec2};
 use crate::model::{AgentKind, EgoState, Neighbour};
 use crate::prediction::{SigmaModel, Track};
@@ -17,6 +17,9 @@ pub(super) struct Predicted {
     pub(super) spread: Real,
     /// The box around the mean track, widened by `contact + spread`.
     pub(super) reach: (Vec2, Vec2),
+    /// How far a sample with a unit offset strays from the mean at most during each grid
+    /// step: `growth[k - 1]` = max(σ(k − 1), σ(k)) − σ(0).
+    pub(super) growth: Vec<Real>,
 }
 
 /// Replaces the people's tracks in `predicted` with a Social Force rollout
@@ -82,7 +85,7 @@ pub(super) fn body_risk(
     offsets: &[Vec2],
     alpha: Real,
     scoring: Scoring,
-    losses: &mut Vec<Real>,
+    scratch: &mut Scratch,
 ) -> Real {
     let track = &body.track;
     // No sample can come closer than the mean minus the largest offset: first by boxes, then
@@ -92,31 +95,43 @@ pub(super) fn body_risk(
     if hi.x < rlo.x || lo.x > rhi.x || hi.y < rlo.y || lo.y > rhi.y {
         return 0.0;
     }
-    let closest = min_gap(path, |k| track.positions[k]);
+    let closest = step_gaps(path, |k| track.positions[k], &mut scratch.gaps);
     if closest > body.contact + body.spread {
         return 0.0;
     }
-    // A sample strays at most |ε_j|·(σ_max − σ0) from the mean: one that cannot close the
-    // gap scores 0 without being traced.
-    let grown = body.spread
-        / offsets
-            .iter()
-            .map(|o| o.norm())
-            .fold(0.0, Real::max)
-            .max(1e-12);
     let n = path.len() - 1;
+    let Scratch { gaps, losses } = scratch;
     losses.clear();
     losses.extend(offsets.iter().map(|&o| {
-        if closest - o.norm() * grown > body.contact {
+        // During step k a sample is at least `gaps[k - 1] − |o|·growth[k - 1]` from the path
+        // (the triangle inequality): the scan starts at the first step where that is within
+        // contact, and a sample with none scores 0 untraced. The margin keeps steps whose
+        // bound only rounding could bring within contact.
+        let r = o.norm();
+        let from = gaps
+            .iter()
+            .zip(&body.growth)
+            .position(|(g, s)| g - r * s <= body.contact * (1.0 + 1e-9) + 1e-9);
+        let Some(from) = from else {
             return 0.0;
-        }
+        };
         loss(
-            first_contact(path, body.contact, |k| {
-                track.positions[k] + o * (track.sigma[k] - track.sigma[0])
-            }),
+            first_contact_from(
+                path,
+                body.contact,
+                |k| track.positions[k] + o * (track.sigma[k] - track.sigma[0]),
+                from + 1,
+            ),
             n,
             scoring,
         )
     }));
     cvar(losses, alpha)
+}
+
+/// Buffers [`body_risk`] reuses between calls.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Scratch {
+    pub(super) gaps: Vec<Real>,
+    pub(super) losses: Vec<Real>,
 }

@@ -8,9 +8,18 @@ use crate::visibility::distance_to_segment;
 
 /// Whether the chord `a`–`b` passes within `radius` of any of `segments`.
 pub(super) fn near_any_segment(a: Vec2, b: Vec2, segments: &[(Vec2, Vec2)], radius: Real) -> bool {
-    segments
-        .iter()
-        .any(|&(c, d)| segment_distance(a, b, c, d) < radius)
+    // Boxes further apart than the radius on either axis hold segments further apart than it
+    // (the margin leaves the exact test every case rounding could decide).
+    let reach = radius + 1e-9;
+    let (lo, hi) = (a.inf(&b), a.sup(&b));
+    segments.iter().any(|&(c, d)| {
+        let (clo, chi) = (c.inf(&d), c.sup(&d));
+        let apart = clo.x - hi.x > reach
+            || lo.x - chi.x > reach
+            || clo.y - hi.y > reach
+            || lo.y - chi.y > reach;
+        !apart && segment_distance(a, b, c, d) < radius
+    })
 }
 
 /// The distance between segments `a`–`b` and `c`–`d` (0 if they cross).
@@ -114,8 +123,10 @@ pub(super) struct Contact {
 }
 
 /// The smallest distance between the path and another body at `other(k)` on the same grid,
-/// both moving straight between grid points.
-pub(super) fn min_gap(path: &[Vec2], other: impl Fn(usize) -> Vec2) -> Real {
+/// both moving straight between grid points, over each grid step: `gaps[k - 1]` for the step
+/// from k − 1 to k. Returns the smallest of them.
+pub(super) fn step_gaps(path: &[Vec2], other: impl Fn(usize) -> Vec2, gaps: &mut Vec<Real>) -> Real {
+    gaps.clear();
     let mut best = Real::INFINITY;
     let mut d0 = other(0) - path[0];
     for (k, &at) in path.iter().enumerate().skip(1) {
@@ -127,10 +138,12 @@ pub(super) fn min_gap(path: &[Vec2], other: impl Fn(usize) -> Vec2) -> Real {
         } else {
             0.0
         };
-        best = best.min((d0 + e * s).norm_squared());
+        let gap = (d0 + e * s).norm();
+        best = best.min(gap);
+        gaps.push(gap);
         d0 = d1;
     }
-    best.sqrt()
+    best
 }
 
 /// When the path first comes within `contact` of another body at `other(k)` on the same grid,
@@ -140,9 +153,20 @@ pub(super) fn first_contact(
     contact: Real,
     other: impl Fn(usize) -> Vec2,
 ) -> Option<Contact> {
+    first_contact_from(path, contact, other, 1)
+}
+
+/// [`first_contact`] for a pair known not to touch before grid step `from` (from k − 1 to k)
+/// begins: the scan starts there, and finds the same contact with the same bits.
+pub(super) fn first_contact_from(
+    path: &[Vec2],
+    contact: Real,
+    other: impl Fn(usize) -> Vec2,
+    from: usize,
+) -> Option<Contact> {
     let c2 = contact * contact;
-    let mut d0 = other(0) - path[0];
-    if d0.norm_squared() < c2 {
+    let mut d0 = other(from - 1) - path[from - 1];
+    if from == 1 && d0.norm_squared() < c2 {
         // Touching already: closing as over the first step.
         let next = 1.min(path.len() - 1);
         let e = (other(next) - path[next]) - d0;
@@ -152,7 +176,7 @@ pub(super) fn first_contact(
             driving: closing(d0, path[0] - path[next]),
         });
     }
-    for (k, &at) in path.iter().enumerate().skip(1) {
+    for (k, &at) in path.iter().enumerate().skip(from) {
         let d1 = other(k) - at;
         let e = d1 - d0;
         // |d0 + e·s|² = c² for s in [0, 1]: the smaller root.
