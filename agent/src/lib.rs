@@ -8,6 +8,7 @@
 //! Nothing here knows about Zenoh, Tokio, Rerun, clocks or unseeded randomness: the same
 //! input gives the same output, bit for bit.
 
+pub mod asfm;
 pub mod dwa;
 pub mod fastmath;
 pub mod igp;

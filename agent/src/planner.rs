@@ -1,9 +1,11 @@
 //! One interface for every planner: [`PlannerStack`] runs an optional long-term planner (PGP)
-//! and a short-term planner (DWA, ORCA, Social Force, or one of the foIGP paper's planners);
-//! PGP's subgoal becomes the short-term planner's goal. Planners are named as on the command
-//! line: `dwa`, `orca`, `sf`, `foigp`, `igp-diag`, `igp-lin`, `mc`, each optionally behind
-//! `pgp+` (the PGP paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
+//! and a short-term planner (DWA, ORCA, Social Force, one of the foIGP paper's planners,
+//! peek-and-pass or anticipatory Social Force); PGP's subgoal becomes the short-term planner's
+//! goal. Planners are named as on the command line: `dwa`, `orca`, `sf`, `foigp`, `igp-diag`,
+//! `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, each optionally behind `pgp+` (the PGP
+//! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
+use crate::asfm::{Asfm, AsfmParams};
 use crate::dwa::{Dwa, DwaParams};
 use crate::igp::{IgpParams, IgpPlanner, IgpVariant};
 use crate::map::StaticMap;
@@ -65,6 +67,9 @@ pub enum LocalKind {
         /// Whether c3 is at the laned study's optimum (true) or high.
         peek: bool,
     },
+    /// Anticipatory Social Force (the warehouse paper's planner): Â_o estimated per person,
+    /// the desired velocity optimised over a Social Force rollout.
+    Asfm,
 }
 
 /// Which planners a stack runs.
@@ -117,8 +122,8 @@ impl PlannerSpec {
 /// A planner name that is not one of ours.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin, mc, pnp or \
-     pnp-nopeek, each optionally behind pgp+ (e.g. pgp+orca)"
+    "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin, mc, pnp, \
+     pnp-nopeek or asfm, each optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
 
@@ -141,6 +146,7 @@ impl FromStr for PlannerSpec {
             "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
             "pnp" | "peek-and-pass" => LocalKind::Pnp { peek: true },
             "pnp-nopeek" => LocalKind::Pnp { peek: false },
+            "asfm" | "anticipatory" => LocalKind::Asfm,
             _ => return Err(UnknownPlanner(s.to_string())),
         };
         Ok(Self { pgp, local })
@@ -159,6 +165,7 @@ impl fmt::Display for PlannerSpec {
             LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
             LocalKind::Pnp { peek: true } => "pnp",
             LocalKind::Pnp { peek: false } => "pnp-nopeek",
+            LocalKind::Asfm => "asfm",
         };
         if self.pgp {
             write!(f, "pgp+{local}")
@@ -343,6 +350,29 @@ impl LocalPlanner for Pnp {
     }
 }
 
+impl LocalPlanner for Asfm {
+    /// The robot's reach over the optimisation horizon H·Δt at top speed.
+    fn subgoal_distance(&self) -> Real {
+        let p = self.params();
+        p.v_max * p.horizon as Real * p.dt
+    }
+
+    fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
+        let s = Asfm::step(
+            self,
+            input.ego,
+            input.neighbours,
+            input.map,
+            target,
+            input.dt,
+        );
+        LocalPlan {
+            command: Command::Velocity(s.command),
+            trajectory: s.trajectory,
+        }
+    }
+}
+
 /// A constant-velocity trajectory with σ growth, t = dt..=horizon.
 fn straight(
     start: Vec2,
@@ -419,6 +449,11 @@ impl PlannerStack {
                 let d = PnpParams::peeking(peek);
                 let v_max = max_speed.unwrap_or(d.v_max);
                 Box::new(Pnp::new(PnpParams { v_max, ..d }))
+            }
+            LocalKind::Asfm => {
+                let d = AsfmParams::default();
+                let v_max = max_speed.unwrap_or(d.v_max);
+                Box::new(Asfm::new(AsfmParams { v_max, ..d }))
             }
         };
         let pgp = spec.pgp.then(|| {
@@ -515,6 +550,8 @@ mod tests {
             "pgp+foigp",
             "pnp",
             "pnp-nopeek",
+            "asfm",
+            "pgp+asfm",
         ] {
             let spec: PlannerSpec = name.parse().expect("known");
             assert_eq!(spec.to_string(), name);

@@ -125,7 +125,11 @@ pub(super) struct Contact {
 /// The smallest distance between the path and another body at `other(k)` on the same grid,
 /// both moving straight between grid points, over each grid step: `gaps[k - 1]` for the step
 /// from k − 1 to k. Returns the smallest of them.
-pub(super) fn step_gaps(path: &[Vec2], other: impl Fn(usize) -> Vec2, gaps: &mut Vec<Real>) -> Real {
+pub(super) fn step_gaps(
+    path: &[Vec2],
+    other: impl Fn(usize) -> Vec2,
+    gaps: &mut Vec<Real>,
+) -> Real {
     gaps.clear();
     let mut best = Real::INFINITY;
     let mut d0 = other(0) - path[0];

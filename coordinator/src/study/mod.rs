@@ -8,6 +8,7 @@
 //! Behind the default-on cargo feature `studies`: a coordinator built without it
 //! (`--no-default-features`) links no plotting, font or CSV, and has no `gapfleet experiment`.
 
+pub mod anticipatory;
 pub mod csv_fields;
 pub mod hallway;
 pub mod intent_sharing;

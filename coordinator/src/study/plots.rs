@@ -72,7 +72,10 @@ fn colour(algorithm: &str) -> RGBColor {
     match algorithm.trim_start_matches("pgp+") {
         "dwa" => RGBColor(31, 119, 180),
         "orca" => RGBColor(214, 39, 40),
-        _ => RGBColor(44, 160, 44),
+        "sf" => RGBColor(44, 160, 44),
+        "asfm" => RGBColor(148, 103, 189),
+        "pnp" | "pnp-nopeek" => RGBColor(255, 127, 14),
+        _ => RGBColor(127, 127, 127),
     }
 }
 
@@ -265,11 +268,13 @@ pub fn write_lines(path: &Path, title: &str, panels: &[LinePanel<'_>]) -> Result
         let points = || lines.iter().flat_map(|(_, p)| p.iter());
         let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-9) * 1.05;
         let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-9) * 1.1;
+        // From 0, or below it when a series goes negative.
+        let y_min = points().map(|p| p.1).fold(0.0, f64::min) * 1.1;
         let mut chart = ChartBuilder::on(area)
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+            .build_cartesian_2d(0.0..x_max, y_min..y_max)
             .map_err(err)?;
         chart
             .configure_mesh()

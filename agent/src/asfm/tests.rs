@@ -1,0 +1,251 @@
+use super::model::{repulsion, step};
+use super::optimise::{Body, Scene};
+use super::*;
+use crate::model::AgentKind;
+
+fn ego(position: Vec2, velocity: Vec2) -> EgoState {
+    EgoState {
+        position,
+        heading: 0.0,
+        velocity,
+        yaw_rate: 0.0,
+        radius: 0.0,
+    }
+}
+
+#[test]
+fn eq3_pushes_away_along_the_line_of_centres_and_decays_with_range() {
+    let near = repulsion(vec2(1.0, 0.0), 0.0, 20.0, 2.0);
+    assert!((near.x - 20.0 * (-0.5 as Real).exp()).abs() < 1e-12 && near.y == 0.0);
+    let far = repulsion(vec2(0.0, -3.0), 0.0, 20.0, 2.0);
+    assert!((far.y + 20.0 * (-1.5 as Real).exp()).abs() < 1e-12);
+    // With bodies the decay runs over the gap between surfaces.
+    let bodies = repulsion(vec2(1.0, 0.0), 0.6, 20.0, 2.0);
+    assert!((bodies.x - 20.0 * (-0.2 as Real).exp()).abs() < 1e-12);
+    assert_eq!(repulsion(vec2(0.0, 0.0), 0.0, 20.0, 2.0), vec2(0.0, 0.0));
+}
+
+#[test]
+fn eq1_integrates_constant_acceleration_exactly() {
+    let (r, v) = step(vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(0.0, 2.0), 0.5);
+    assert_eq!(r, vec2(0.5, 0.25));
+    assert_eq!(v, vec2(1.0, 1.0));
+}
+
+fn person(id: u64, position: Vec2, velocity: Vec2) -> Neighbour {
+    Neighbour::new(id, position, velocity, 0.0, AgentKind::Human)
+}
+
+/// A body walking +y at 1 m/s past a robot standing at the origin, observed exactly every
+/// 0.1 s for `seconds`, avoiding the robot with strength `a_o` (Eqs. 1–4, its intended
+/// velocity kept). Returns the planner's final Â_o.
+fn estimate_after(a_o: Real, seconds: Real) -> Real {
+    let p = AsfmParams::default();
+    let mut planner = Asfm::new(p.clone());
+    let robot = ego(vec2(0.0, 0.0), vec2(0.0, 0.0));
+    let (mut o, mut v) = (vec2(0.8, -2.0), vec2(0.0, 1.0));
+    let intended = v;
+    let map = StaticMap::empty();
+    for _ in 0..(seconds / p.dt).round() as usize {
+        planner.step(&robot, &[person(7, o, v)], &map, vec2(0.0, 0.0), p.dt);
+        let a = repulsion(o, 0.0, a_o, p.range) + (intended - v) / p.tau;
+        (o, v) = step(o, v, a, p.dt);
+    }
+    planner.estimates().next().expect("tracked").1
+}
+
+#[test]
+fn the_estimate_grows_for_a_body_that_avoids_and_stays_near_zero_for_one_that_does_not() {
+    // Exact observations. Table II's Σ = 0.1·I makes each step weak evidence: after 3 s
+    // Â_o is about 2 for A_o = 20 (results/anticipatory/REPORT.md).
+    let avoids = estimate_after(20.0, 3.0);
+    let ignores = estimate_after(0.0, 3.0);
+    assert!(avoids > 1.5, "Â_o = {avoids} for A_o = 20");
+    // The model explains a body that ignores the robot exactly: Â_o stays at the prior's 0.
+    assert!(ignores.abs() < 1e-9, "Â_o = {ignores} for A_o = 0");
+    // It grows: small at first (the prior leans to "does not avoid"), larger later.
+    assert!(estimate_after(20.0, 0.3) < avoids);
+}
+
+#[test]
+fn the_posterior_starts_as_the_prior_and_stays_a_distribution() {
+    let p = AsfmParams::default();
+    let mut planner = Asfm::new(p.clone());
+    let robot = ego(vec2(0.0, 0.0), vec2(0.0, 0.0));
+    let map = StaticMap::empty();
+    planner.step(
+        &robot,
+        &[person(1, vec2(1.0, -2.0), vec2(0.0, 1.0))],
+        &map,
+        vec2(5.0, 0.0),
+        0.1,
+    );
+    let (samples, weights) = planner.posterior(1).expect("tracked");
+    assert_eq!(samples.len(), p.samples);
+    assert_eq!((samples[0], samples[p.samples - 1]), (-40.0, 40.0));
+    assert!((weights.iter().sum::<Real>() - 1.0).abs() < 1e-12);
+    // N(0, σ²) on a symmetric grid: mean 0; the weights' ratio is the normal's.
+    assert!(planner.estimates().next().expect("tracked").1.abs() < 1e-12);
+    let mid = p.samples / 2;
+    let ratio = weights[mid + 10] / weights[mid];
+    assert!((ratio - (-100.0 / (2.0 * 100.0) as Real).exp()).abs() < 1e-12);
+}
+
+#[test]
+fn the_kalman_gain_follows_eqs_8_and_9() {
+    // Without process noise (Eq. 9 as written), P_n = P0·R / (R + n·P0).
+    let p = AsfmParams::default();
+    let mut planner = Asfm::new(p.clone());
+    let robot = ego(vec2(0.0, 0.0), vec2(0.0, 0.0));
+    let map = StaticMap::empty();
+    let far = |k: usize| vec2(50.0, k as Real * 0.1);
+    for k in 0..6 {
+        planner.step(
+            &robot,
+            &[person(3, far(k), vec2(0.0, 1.0))],
+            &map,
+            vec2(1.0, 0.0),
+            0.1,
+        );
+    }
+    let track = &planner.tracks[0];
+    let expected = p.kalman_p0 * p.kalman_r / (p.kalman_r + 5.0 * p.kalman_p0);
+    assert!((track.p - expected).abs() < 1e-15, "P = {}", track.p);
+    // A body far from the robot walking exactly as observed: the filter follows it.
+    let (r, v) = planner.filtered(3).expect("tracked");
+    assert!((r - far(5)).norm() < 1e-9 && (v - vec2(0.0, 1.0)).norm() < 1e-6);
+}
+
+#[test]
+fn the_long_cycle_runs_every_update_period() {
+    let p = AsfmParams::default();
+    let mut planner = Asfm::new(p.clone());
+    let map = StaticMap::empty();
+    let updated: Vec<bool> = (0..7)
+        .map(|k| {
+            let robot = ego(vec2(k as Real * 0.1, 0.0), vec2(1.0, 0.0));
+            planner
+                .step(&robot, &[], &map, vec2(10.0, 0.0), 0.1)
+                .updated
+        })
+        .collect();
+    assert_eq!(updated, [true, false, true, false, true, false, true]);
+}
+
+#[test]
+fn in_the_open_the_desired_velocity_is_top_speed_toward_the_goal() {
+    let p = AsfmParams::default();
+    let mut planner = Asfm::new(p.clone());
+    let robot = ego(vec2(0.0, 0.0), vec2(0.0, 0.0));
+    let out = planner.step(&robot, &[], &StaticMap::empty(), vec2(10.0, 0.0), 0.1);
+    // Within 0.2° of the goal's direction (the optimiser stops short of exact).
+    let d = out.desired;
+    assert!(d.x > 0.95 * p.v_max && (d.y / d.x).abs() < 0.0035, "{d:?}");
+    // Eq. 11 with τ = Δt: the command is the desired velocity.
+    assert!((out.command - out.desired).norm() < 1e-9);
+    assert_eq!(out.trajectory.len(), p.horizon);
+}
+
+#[test]
+fn the_optimised_velocities_keep_d_min_from_a_body_that_does_not_avoid() {
+    // A body standing 2 m ahead, straight on the way to the goal.
+    let p = AsfmParams::default();
+    let mut planner = Asfm::with_estimation(p.clone(), Estimation::Fixed(0.0));
+    let robot = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
+    let body = person(2, vec2(2.0, 0.0), vec2(0.0, 0.0));
+    let map = StaticMap::empty();
+    planner.step(
+        &robot,
+        std::slice::from_ref(&body),
+        &map,
+        vec2(6.0, 0.0),
+        0.1,
+    );
+    let solution = planner.last_solution().expect("optimised");
+    let closest = solution
+        .path
+        .iter()
+        .map(|q| (q - body.position).norm())
+        .fold(Real::INFINITY, Real::min);
+    assert!(closest > p.d_min, "passes within {closest} m");
+    // It does better than the straight line it started from.
+    let straight = Scene {
+        robot: (robot.position, robot.velocity, 0.0),
+        goal: vec2(6.0, 0.0),
+        bodies: vec![Body {
+            position: body.position,
+            velocity: body.velocity,
+            radius: 0.0,
+            strength: 0.0,
+            goal: None,
+            intended: vec2(0.0, 0.0),
+        }],
+        walls: Vec::new(),
+    };
+    let start: Vec<Real> = (0..p.horizon)
+        .flat_map(|_| {
+            let u = optimise::unsquash(vec2(0.9 * p.v_max, 0.0), p.v_max);
+            [u.x, u.y]
+        })
+        .collect();
+    let j0 = optimise::Objective::new(&straight, &p)
+        .terms(&start)
+        .0
+        .total();
+    assert!(
+        solution.terms.total() < j0,
+        "{} ≥ {j0}",
+        solution.terms.total()
+    );
+}
+
+#[test]
+fn forward_differences_from_the_cached_prefix_are_those_of_full_rollouts() {
+    use argmin::core::{CostFunction, Gradient};
+    let p = AsfmParams::default();
+    let scene = Scene {
+        robot: (vec2(0.0, 0.0), vec2(0.5, 0.2), 0.3),
+        goal: vec2(5.0, 1.0),
+        bodies: vec![
+            Body {
+                position: vec2(1.5, 0.3),
+                velocity: vec2(-0.8, 0.0),
+                radius: 0.3,
+                strength: 7.0,
+                goal: None,
+                intended: vec2(-1.0, 0.0),
+            },
+            Body {
+                position: vec2(2.0, -1.0),
+                velocity: vec2(0.0, 0.5),
+                radius: 0.3,
+                strength: 0.0,
+                goal: Some(vec2(2.0, 3.0)),
+                intended: vec2(0.0, 0.0),
+            },
+        ],
+        walls: vec![(vec2(-5.0, -2.0), vec2(10.0, -2.0))],
+    };
+    let objective = optimise::Objective::new(&scene, &p);
+    let u: Vec<Real> = (0..2 * p.horizon)
+        .map(|i| 0.3 + 0.1 * (i % 5) as Real)
+        .collect();
+    let g = objective.gradient(&u).expect("finite");
+    let f0 = objective.cost(&u).expect("finite");
+    for j in 0..u.len() {
+        let mut x = u.clone();
+        let h = p.gradient_step * (1.0 + x[j].abs());
+        x[j] += h;
+        let full = (objective.cost(&x).expect("finite") - f0) / h;
+        assert_eq!(g[j].to_bits(), full.to_bits(), "component {j}");
+    }
+}
+
+#[test]
+fn squash_and_unsquash_are_inverse_inside_the_disc() {
+    for v in [vec2(0.0, 0.0), vec2(1.0, -0.5), vec2(-0.3, 1.4)] {
+        let back = optimise::squash(optimise::unsquash(v, 1.5), 1.5);
+        assert!((back - v).norm() < 1e-12, "{v:?} → {back:?}");
+    }
+    assert!(optimise::squash(vec2(1e6, 1e6), 1.5).norm() <= 1.5);
+}

@@ -1,0 +1,90 @@
+//! A small version of the anticipatory Social Force experiment: the whole pipeline runs, its
+//! outputs are complete, they do not depend on the number of threads, and its rows are the
+//! committed ones.
+
+#![cfg(feature = "studies")]
+
+use agent::asfm::AsfmParams;
+use coordinator::study::anticipatory::{AnticipatoryStudy, Method, run, summarize, write_outputs};
+use coordinator::study::csv_fields::to_csv;
+
+fn study() -> AnticipatoryStudy {
+    AnticipatoryStudy {
+        params: AsfmParams::default(),
+        a_o: vec![20.0, 0.0],
+        runs: 2,
+    }
+}
+
+#[test]
+fn anticipatory_smoke_is_complete_committed_and_thread_count_independent() {
+    let run_with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        pool.install(|| study().execute(&|| {}))
+    };
+    let rows = run_with(2);
+    let csv = to_csv(rows.clone());
+    assert_eq!(
+        csv,
+        to_csv(run_with(1)),
+        "runs.csv must not depend on --jobs"
+    );
+    assert_eq!(
+        csv.lines().count(),
+        1 + 2 * 3 * 2,
+        "header plus one row per run"
+    );
+    // Every row is in the committed results/anticipatory/runs.csv (same header).
+    let path = format!(
+        "{}/../results/anticipatory/runs.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let committed = std::fs::read_to_string(&path).expect("the committed experiment");
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), committed.lines().next(), "runs.csv columns");
+    for line in lines {
+        assert!(
+            committed.lines().any(|l| l == line),
+            "not committed: {line}"
+        );
+    }
+
+    let study = study();
+    let out = std::env::temp_dir().join(format!("gapfleet-anticipatory-{}", std::process::id()));
+    let cells = write_outputs(&out, &study, &rows).expect("outputs written");
+    assert_eq!(cells, summarize(&study, &rows));
+    assert_eq!(cells.len(), 2 * 3);
+    for file in [
+        "runs.csv",
+        "summary.json",
+        "estimate.csv",
+        "estimate.png",
+        "min_distance_ao20.png",
+        "movement_time_ao0.png",
+    ] {
+        let len = std::fs::metadata(out.join(file))
+            .map(|m| m.len())
+            .unwrap_or(0);
+        assert!(len > 0, "{file} written");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn assuming_an_obstacle_avoids_when_it_does_not_breaks_d_min() {
+    // The paper's Fig. 6(a): against A_o = 0, a fixed Â_o = 20 passes closer than d_min; the
+    // correct Â_o = 0 and the estimate keep it.
+    let p = AsfmParams::default();
+    for seed in 1..=3 {
+        let wrong = run(0.0, Method::Fixed(20.0), seed, &p).0;
+        let right = run(0.0, Method::Fixed(0.0), seed, &p).0;
+        let estimated = run(0.0, Method::Estimated, seed, &p).0;
+        assert!(wrong.min_distance_m < p.d_min, "{wrong:?}");
+        assert!(right.min_distance_m > p.d_min, "{right:?}");
+        assert!(estimated.min_distance_m > p.d_min, "{estimated:?}");
+        assert!(estimated.final_estimate.abs() < 2.0, "{estimated:?}");
+    }
+}
