@@ -2,7 +2,7 @@
 //! and a short-term planner (DWA, ORCA, Social Force, one of the foIGP paper's planners,
 //! peek-and-pass or anticipatory Social Force); PGP's subgoal becomes the short-term planner's
 //! goal. Planners are named as on the command line: `dwa`, `orca`, `sf`, `foigp`, `igp-diag`,
-//! `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, each optionally behind `pgp+` (the PGP
+//! `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
 //! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
 use crate::asfm::{Asfm, AsfmParams};
@@ -68,8 +68,12 @@ pub enum LocalKind {
         peek: bool,
     },
     /// Anticipatory Social Force (the warehouse paper's planner): Â_o estimated per person,
-    /// the desired velocity optimised over a Social Force rollout.
-    Asfm,
+    /// the desired velocity optimised over a Social Force rollout; `asfm` with the Kalman
+    /// filter's Eq. 9 as written, `asfm-q` with process noise added to P.
+    Asfm {
+        /// Whether P grows by [`crate::asfm::ASFM_Q_PROCESS_NOISE`] after each update.
+        process_noise: bool,
+    },
 }
 
 /// Which planners a stack runs.
@@ -123,7 +127,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek or asfm, each optionally behind pgp+ (e.g. pgp+orca)"
+     pnp-nopeek, asfm or asfm-q, each optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
 
@@ -146,7 +150,12 @@ impl FromStr for PlannerSpec {
             "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
             "pnp" | "peek-and-pass" => LocalKind::Pnp { peek: true },
             "pnp-nopeek" => LocalKind::Pnp { peek: false },
-            "asfm" | "anticipatory" => LocalKind::Asfm,
+            "asfm" | "anticipatory" => LocalKind::Asfm {
+                process_noise: false,
+            },
+            "asfm-q" => LocalKind::Asfm {
+                process_noise: true,
+            },
             _ => return Err(UnknownPlanner(s.to_string())),
         };
         Ok(Self { pgp, local })
@@ -165,7 +174,12 @@ impl fmt::Display for PlannerSpec {
             LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
             LocalKind::Pnp { peek: true } => "pnp",
             LocalKind::Pnp { peek: false } => "pnp-nopeek",
-            LocalKind::Asfm => "asfm",
+            LocalKind::Asfm {
+                process_noise: false,
+            } => "asfm",
+            LocalKind::Asfm {
+                process_noise: true,
+            } => "asfm-q",
         };
         if self.pgp {
             write!(f, "pgp+{local}")
@@ -450,10 +464,19 @@ impl PlannerStack {
                 let v_max = max_speed.unwrap_or(d.v_max);
                 Box::new(Pnp::new(PnpParams { v_max, ..d }))
             }
-            LocalKind::Asfm => {
+            LocalKind::Asfm { process_noise } => {
                 let d = AsfmParams::default();
                 let v_max = max_speed.unwrap_or(d.v_max);
-                Box::new(Asfm::new(AsfmParams { v_max, ..d }))
+                let process_noise = if process_noise {
+                    crate::asfm::ASFM_Q_PROCESS_NOISE
+                } else {
+                    d.process_noise
+                };
+                Box::new(Asfm::new(AsfmParams {
+                    v_max,
+                    process_noise,
+                    ..d
+                }))
             }
         };
         let pgp = spec.pgp.then(|| {
@@ -479,6 +502,16 @@ impl PlannerStack {
             },
             pgp: None,
             local: Box::new(Pnp::new(params)),
+        }
+    }
+
+    /// A stack of `local` alone (no PGP), named `spec` (a planner with parameters or
+    /// instrumentation of its own, as the studies use).
+    pub fn with_local(spec: PlannerSpec, local: Box<dyn LocalPlanner>) -> Self {
+        Self {
+            spec: PlannerSpec { pgp: false, ..spec },
+            pgp: None,
+            local,
         }
     }
 
@@ -551,6 +584,7 @@ mod tests {
             "pnp",
             "pnp-nopeek",
             "asfm",
+            "asfm-q",
             "pgp+asfm",
         ] {
             let spec: PlannerSpec = name.parse().expect("known");

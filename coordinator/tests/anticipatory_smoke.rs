@@ -88,3 +88,28 @@ fn assuming_an_obstacle_avoids_when_it_does_not_breaks_d_min() {
         assert!(estimated.final_estimate.abs() < 2.0, "{estimated:?}");
     }
 }
+
+#[test]
+fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
+    use coordinator::study::estimates::{recorded, simulated, summarize};
+    use world_sim::dataset::Recording;
+    use world_sim::replay::{ReplayOptions, map_of, median_speed};
+    let dir = format!(
+        "{}/../world-sim/datasets/ETH/seq_eth",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let recording = Recording::load(std::path::Path::new(&dir)).expect("seq_eth");
+    let map = map_of(&recording).expect("its map");
+    let mut options = ReplayOptions::default();
+    options.robot.max_speed = median_speed(&recording);
+    let params = AsfmParams::default();
+    let mut rows = recorded(&recording, &map, &options, &params, Some(2), &|| {});
+    let base = world_sim::scenario::Scenario::builtin("open-space").expect("built in");
+    rows.extend(simulated(&base, &params, 0.1, 1, true, &|| {}));
+    let summary = summarize(&rows);
+    let sources: Vec<&str> = summary.iter().map(|s| s.source.as_str()).collect();
+    assert_eq!(sources, ["seq_eth", "sim-reacting"]);
+    assert!(summary.iter().all(|s| s.people > 0), "{summary:?}");
+    // Estimates are posterior means over the samples in [−40, 40].
+    assert!(rows.iter().all(|r| r.estimate.abs() <= 40.0), "{rows:?}");
+}

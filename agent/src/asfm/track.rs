@@ -3,7 +3,7 @@
 //! (Eqs. 12–14) over a discrete set of samples A_o^i.
 
 use super::AsfmParams;
-use super::model::{attraction, desired_toward, unit_repulsion};
+use super::model::{attraction, desired_toward, step, unit_repulsion};
 use crate::math::{Real, Vec2};
 use crate::model::Neighbour;
 
@@ -31,9 +31,6 @@ pub struct Tracked {
     pub filtered: Vec2,
     /// v̂_o(t): the velocity estimate (Eq. 10).
     pub velocity: Vec2,
-    /// â_o(t): the model's acceleration at r̂_o(t), v̂_o(t) with Â_o (Eq. 2), used by the next
-    /// prediction and Eq. 10.
-    pub accel: Vec2,
     /// P (isotropic, m²).
     pub p: Real,
     /// What the body walks toward.
@@ -44,19 +41,13 @@ pub struct Tracked {
     pub estimate: Real,
     /// Time since it was last perceived (s).
     pub unseen: Real,
+    /// Time since it was first perceived (s).
+    pub age: Real,
 }
 
 impl Tracked {
-    /// `body` at first sight, with the prior N(0, σ²) over `samples`; `robot` is the robot's
-    /// position and radius now; the filter's model uses `fixed` as A_o when given.
-    pub fn new(
-        body: &Neighbour,
-        heading: Heading,
-        robot: (Vec2, Real),
-        samples: &[Real],
-        fixed: Option<Real>,
-        p: &AsfmParams,
-    ) -> Self {
+    /// `body` at first sight, with the prior N(0, σ²) over `samples`.
+    pub fn new(body: &Neighbour, heading: Heading, samples: &[Real], p: &AsfmParams) -> Self {
         let var = p.prior_sigma * p.prior_sigma;
         let mut log_posterior: Vec<Real> = samples.iter().map(|a| -a * a / (2.0 * var)).collect();
         normalise(&mut log_posterior);
@@ -66,16 +57,14 @@ impl Tracked {
             raw: body.position,
             filtered: body.position,
             velocity: body.velocity,
-            accel: Vec2::zeros(),
             p: p.kalman_p0,
             heading,
             log_posterior,
             estimate: 0.0,
             unseen: 0.0,
+            age: 0.0,
         };
         t.estimate = t.mean(samples);
-        let a = fixed.unwrap_or(t.estimate);
-        t.accel = t.model_accel(t.filtered, t.velocity, a, robot, p);
         t
     }
 
@@ -87,46 +76,60 @@ impl Tracked {
         }
     }
 
-    /// Eq. 2 on this body at `position`, `velocity` with strength `a` against the robot at
-    /// `robot` (position, radius): Eq. 3 from the robot plus Eq. 4.
-    fn model_accel(
+    /// Eq. 1 over `dt` from (`r`, `v`) under Eq. 2 with strength `a`, the robot's push `u`
+    /// (Eq. 3 per unit A) and v⁰ held at their values at the interval's start, in steps of at
+    /// most the model's Δt (observations may come less often, e.g. every 0.4 s in ETH; the
+    /// relaxation time τ = 0.1 s needs steps no longer than it). One step is Eq. 1 itself.
+    fn predict(
         &self,
-        position: Vec2,
-        velocity: Vec2,
+        (r, v): (Vec2, Vec2),
         a: Real,
-        robot: (Vec2, Real),
+        u: Vec2,
+        desired: Vec2,
+        dt: Real,
         p: &AsfmParams,
-    ) -> Vec2 {
-        unit_repulsion(position - robot.0, self.radius + robot.1, p.range) * a
-            + attraction(self.desired(position, p), velocity, p.tau)
+    ) -> (Vec2, Vec2) {
+        let n = ((dt / p.dt - 1e-9).ceil() as usize).max(1);
+        let h = dt / n as Real;
+        let (mut r, mut v) = (r, v);
+        for _ in 0..n {
+            (r, v) = step(r, v, u * a + attraction(desired, v, p.tau), h);
+        }
+        (r, v)
     }
 
-    /// One observation `z` taken `dt` after the last; the robot stood at `robot_before` then
-    /// and stands at `robot_now` now (position, radius). The filter's model uses `fixed` as
-    /// A_o when given (the paper's fixed-Â_o methods), else the estimate.
-    #[allow(clippy::too_many_arguments)]
+    /// One observation `z` taken `dt` after the last; the robot stood at `robot` (position,
+    /// radius) at the last one. The filter's model uses `fixed` as A_o when given (the
+    /// paper's fixed-Â_o methods), else the estimate.
     pub fn observe(
         &mut self,
         z: Vec2,
         dt: Real,
-        robot_before: (Vec2, Real),
-        robot_now: (Vec2, Real),
+        robot: (Vec2, Real),
         samples: &[Real],
         fixed: Option<Real>,
         p: &AsfmParams,
     ) {
-        // Eqs. 12–14 on the raw observations: sample i predicts
-        // r̃(t−Δt) + v̂(t−Δt)·Δt + ½·â_i(t−Δt)·Δt², with â_i = A_i·u + attraction (Eq. 2; Eq. 3
-        // is linear in A). The residual is e0 − A_i·w.
-        let half = 0.5 * dt * dt;
-        let u = unit_repulsion(
-            self.raw - robot_before.0,
-            self.radius + robot_before.1,
-            p.range,
+        let push = |at: Vec2| unit_repulsion(at - robot.0, self.radius + robot.1, p.range);
+        // Eq. 7's prediction r̂′(t): the model (Eqs. 1–2) from r̂(t−Δt), v̂(t−Δt) with the
+        // Â_o of then.
+        let a_model = fixed.unwrap_or(self.estimate);
+        let (predicted, predicted_v) = self.predict(
+            (self.filtered, self.velocity),
+            a_model,
+            push(self.filtered),
+            self.desired(self.filtered, p),
+            dt,
+            p,
         );
-        let att = attraction(self.desired(self.raw, p), self.velocity, p.tau);
-        let e0 = z - self.raw - self.velocity * dt - att * half;
-        let w = u * half;
+        // Eqs. 12–14 on the raw observations: sample i predicts
+        // r̃(t−Δt) + v̂(t−Δt)·Δt + ½·â_i(t−Δt)·Δt², â_i = A_i·u + attraction (Eq. 2). Eq. 3 is
+        // linear in A, so the prediction is m0 + A_i·w: the residual is e0 − A_i·w.
+        let start = (self.raw, self.velocity);
+        let (u, desired) = (push(self.raw), self.desired(self.raw, p));
+        let m0 = self.predict(start, 0.0, u, desired, dt, p).0;
+        let w = self.predict(start, 1.0, u, desired, dt, p).0 - m0;
+        let e0 = z - m0;
         let two_var = 2.0 * p.likelihood_variance;
         for (lp, a) in self.log_posterior.iter_mut().zip(samples) {
             *lp -= (e0 - w * *a).norm_squared() / two_var;
@@ -134,20 +137,18 @@ impl Tracked {
         normalise(&mut self.log_posterior);
         self.estimate = self.mean(samples);
 
-        // Eqs. 7–9: predict with the model (Eq. 1 under â(t−Δt)), correct with z.
-        let predicted = self.filtered + self.velocity * dt + self.accel * half;
+        // Eqs. 7–9: correct the prediction with z.
         let gain = self.p / (self.p + p.kalman_r);
         let filtered = predicted + (z - predicted) * gain;
         self.p = (1.0 - gain) * self.p + p.process_noise;
-        // Eq. 10.
-        let velocity = (filtered - self.filtered + self.accel * half) / dt;
+        // Eq. 10, v̂(t) = (r̂(t) − r̂(t−Δt) + ½·â·Δt²)/Δt: the model's velocity plus the
+        // correction's (the same for one step, and defined for several).
+        let velocity = predicted_v + (filtered - predicted) / dt;
         self.filtered = filtered;
         self.velocity = velocity;
         if let Heading::Intended(v) = &mut self.heading {
             *v += (velocity - *v) * (dt / p.intent_time).min(1.0);
         }
-        let a = fixed.unwrap_or(self.estimate);
-        self.accel = self.model_accel(filtered, velocity, a, robot_now, p);
         self.raw = z;
         self.unseen = 0.0;
     }

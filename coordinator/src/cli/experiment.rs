@@ -40,6 +40,9 @@ pub enum Experiment {
     /// The anticipatory Social Force paper's experiment (Sec. IV): a robot and one Social
     /// Force obstacle swapping places on a 3 × 3 m floor; Â_o estimated or fixed at 0 or 20.
     Anticipatory(AnticipatoryArgs),
+    /// asfm's estimate Â_o per tracked person on a recorded crowd (people who never react to
+    /// the robot) and in the simulator's open space with people who react and who do not.
+    AsfmEstimates(AsfmEstimatesArgs),
     /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
     Summarize {
         /// The study's output folder.
@@ -250,6 +253,36 @@ pub struct AnticipatoryArgs {
     out: PathBuf,
 }
 
+/// `experiment asfm-estimates`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct AsfmEstimatesArgs {
+    /// Recorded sequences (OpenTraj obsmat.txt folders), comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "world-sim/datasets/ETH/seq_eth,world-sim/datasets/UCY/zara01"
+    )]
+    datasets: Vec<PathBuf>,
+    /// Only the first N partial runs of each recording.
+    #[arg(long, default_value_t = 60)]
+    limit: usize,
+    /// Open-space seeds per crowd (reacting to robots, and not).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Open-space density (people per m²).
+    #[arg(long, default_value_t = 0.1, value_parser = density)]
+    density: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Added to the Kalman filter's P after each update (m²; Eq. 9 has none: 0).
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    process_noise: f64,
+    /// Output folder.
+    #[arg(long, default_value = "results/anticipatory/estimates")]
+    out: PathBuf,
+}
+
 /// A finite number ≥ 0.
 fn non_negative(s: &str) -> Result<f64, String> {
     let v: f64 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
@@ -280,6 +313,7 @@ impl Experiment {
             Experiment::Hallway(args) => hallway(args),
             Experiment::Laned(args) => laned(args),
             Experiment::Anticipatory(args) => anticipatory(args),
+            Experiment::AsfmEstimates(args) => asfm_estimates(args),
             Experiment::Summarize { dir } => summarize(&dir),
         }
     }
@@ -562,6 +596,78 @@ fn anticipatory(args: AnticipatoryArgs) -> Result<()> {
             e[2],
             e[1],
             e[3],
+        );
+    }
+    Ok(())
+}
+
+fn asfm_estimates(args: AsfmEstimatesArgs) -> Result<()> {
+    use coordinator::study::estimates::{recorded, simulated, write_outputs};
+    let recordings = args
+        .datasets
+        .iter()
+        .map(|d| {
+            let recording = Recording::load(d)?;
+            let map = map_of(&recording)
+                .with_context(|| format!("{}: map.xml obstacles", d.display()))?;
+            Ok((recording, map))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let base = Scenario::builtin("open-space")?;
+    let params = AsfmParams {
+        process_noise: args.process_noise,
+        ..AsfmParams::default()
+    };
+    let total = recordings.len() * args.limit + 2 * args.seeds as usize;
+    let started = Instant::now();
+    let (rows, threads) = with_progress(args.jobs, total as u64, |progress| {
+        let mut rows = Vec::new();
+        for (recording, map) in &recordings {
+            let mut options = ReplayOptions::default();
+            options.robot.max_speed = (median_speed(recording) * 100.0).round() / 100.0;
+            rows.extend(recorded(
+                recording,
+                map,
+                &options,
+                &params,
+                Some(args.limit),
+                progress,
+            ));
+        }
+        for react in [true, false] {
+            rows.extend(simulated(
+                &base,
+                &params,
+                args.density,
+                args.seeds,
+                react,
+                progress,
+            ));
+        }
+        rows
+    })?;
+    let summary = write_outputs(&args.out, &rows)?;
+    eprintln!(
+        "{} people on {threads} threads in {:.1} s; wrote {}/estimates.csv, summary.json, estimates.png",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    println!("| source | people | Â_o: min / q1 / median / q3 / max | mean | \\|Â_o\\| < 2 |");
+    println!("|---|---|---|---|---|");
+    for s in &summary {
+        let q = s.quartiles;
+        println!(
+            "| {} | {} | {:.1} / {:.1} / {:.1} / {:.1} / {:.1} | {:.2} | {:.0}% |",
+            s.source,
+            s.people,
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            q[4],
+            s.mean,
+            100.0 * s.near_zero
         );
     }
     Ok(())

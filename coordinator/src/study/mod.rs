@@ -10,6 +10,7 @@
 
 pub mod anticipatory;
 pub mod csv_fields;
+pub mod estimates;
 pub mod hallway;
 pub mod intent_sharing;
 pub mod laned;

@@ -327,11 +327,18 @@ pub fn write_boxes(
         .fold(0.0, f64::max)
         .max(1e-9)
         * 1.1;
+    // From 0, or below it when a box reaches below.
+    let y_min = boxes
+        .iter()
+        .map(|b| b.1[0])
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::min)
+        * 1.1;
     let mut chart = ChartBuilder::on(&root)
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d(-0.5..(n as f64 - 0.5), 0.0..y_max)
+        .build_cartesian_2d(-0.5..(n as f64 - 0.5), y_min..y_max)
         .map_err(err)?;
     let labels: Vec<String> = boxes.iter().map(|b| b.0.clone()).collect();
     chart
