@@ -82,6 +82,19 @@ pub fn dist_sq_point_segment(a: &Vec2, b: &Vec2, p: &Vec2) -> Real {
     (p - (a + ab * t)).norm_squared()
 }
 
+/// The point of the segment `a`–`b` nearest to `p` (`a` for a degenerate segment).
+#[inline]
+pub fn closest_on_segment(a: Vec2, b: Vec2, p: Vec2) -> Vec2 {
+    let e = b - a;
+    let len_sq = e.norm_squared();
+    let s = if len_sq > 0.0 {
+        ((p - a).dot(&e) / len_sq).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    a + e * s
+}
+
 /// The smallest axis-aligned box holding `points` (corners min, max); both zero when empty.
 pub fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
     let first = points.first().copied().unwrap_or_else(|| vec2(0.0, 0.0));

@@ -209,14 +209,7 @@ fn cross(a: Vec2, b: Vec2) -> Real {
 
 /// The distance from `p` to the segment `a`–`b`.
 pub(crate) fn distance_to_segment(a: Vec2, b: Vec2, p: Vec2) -> Real {
-    let e = b - a;
-    let len_sq = e.norm_squared();
-    let s = if len_sq > 0.0 {
-        ((p - a).dot(&e) / len_sq).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + e * s - p).norm()
+    (crate::math::closest_on_segment(a, b, p) - p).norm()
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 use super::AsfmParams;
 use super::model::{attraction, desired_toward, repulsion, step, unit_repulsion};
 use crate::fastmath::exp;
-use crate::math::{Real, Vec2, clamp_norm, vec2};
+use crate::math::{Real, Vec2, clamp_norm, closest_on_segment, vec2};
 use argmin::core::{CostFunction, Error, Executor, Gradient, State};
 use argmin::solver::linesearch::MoreThuenteLineSearch;
 use argmin::solver::quasinewton::LBFGS;
@@ -48,14 +48,7 @@ pub struct Scene {
 pub fn wall_push(position: Vec2, radius: Real, walls: &[(Vec2, Vec2)], p: &AsfmParams) -> Vec2 {
     let mut f = vec2(0.0, 0.0);
     for &(a, b) in walls {
-        let ab = b - a;
-        let len_sq = ab.norm_squared();
-        let s = if len_sq > 0.0 {
-            ((position - a).dot(&ab) / len_sq).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let d = position - (a + ab * s);
+        let d = position - closest_on_segment(a, b, position);
         if d.norm() < p.wall_reach {
             f += repulsion(d, radius, p.robot_strength, p.range);
         }
