@@ -81,8 +81,6 @@ pub struct AsfmParams {
     pub max_iters: u64,
     /// L-BFGS memory. Open; 7.
     pub lbfgs_memory: usize,
-    /// Forward-difference step, relative (1 + |u|). Open; 1e-6.
-    pub gradient_step: Real,
     /// Time constant of a body's intended velocity when its goal is unknown (s). Ours; 2 s.
     pub intent_time: Real,
     /// A body unseen for this long is forgotten (s). Ours; 1 s.
@@ -118,7 +116,6 @@ impl Default for AsfmParams {
             goal_tolerance: 0.1,
             max_iters: 20,
             lbfgs_memory: 7,
-            gradient_step: 1e-6,
             intent_time: 2.0,
             forget_after: 1.0,
             rollout_bodies: 10,
