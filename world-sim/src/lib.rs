@@ -15,5 +15,7 @@ pub mod metrics;
 pub mod replay;
 pub mod robot;
 pub mod scenario;
+pub mod traffic;
+pub mod traffic_policy;
 pub mod warehouse;
 pub mod world;

@@ -15,6 +15,14 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ),
     ("warehouse", include_str!("../scenarios/warehouse.toml")),
     (
+        "warehouse-narrow",
+        include_str!("../scenarios/warehouse-narrow.toml"),
+    ),
+    (
+        "hallway-fleet",
+        include_str!("../scenarios/hallway-fleet.toml"),
+    ),
+    (
         "warehouse-large",
         include_str!("../scenarios/warehouse-large.toml"),
     ),
@@ -43,7 +51,7 @@ pub enum ScenarioError {
     },
     /// No built-in scenario of that name.
     #[error(
-        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, warehouse, warehouse-large, or give a path to a .toml file"
+        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, hallway-fleet, warehouse, warehouse-narrow, warehouse-large, or give a path to a .toml file"
     )]
     Unknown(String),
 }
@@ -106,6 +114,23 @@ pub struct Hallway {
     /// (uniform in ½–1½ × `humans.speed`): the peek-and-pass paper's laned hallway (Fig. 3).
     #[serde(default)]
     pub lanes: Option<usize>,
+    /// A fleet hallway: with N robots the hallway is a fleet site (`warehouse::Site::hallway`):
+    /// closed ends, `stations_per_end` docks across the left end and as many pick stations
+    /// across the right end, the robots spread along the centre line doing pick/drop tasks in
+    /// both directions, people walking between the stations. Absent: one robot crosses once
+    /// (the studies' hallway).
+    #[serde(default)]
+    pub robots: Option<usize>,
+    /// Stations across each end of a fleet hallway (default 3).
+    #[serde(default)]
+    pub stations_per_end: Option<usize>,
+}
+
+impl Hallway {
+    /// Stations across each end of a fleet hallway.
+    pub fn stations(&self) -> usize {
+        self.stations_per_end.unwrap_or(3)
+    }
 }
 
 /// A procedural warehouse (see `world_sim::warehouse`): `rows` parallel shelf rows along x,
@@ -318,6 +343,39 @@ impl Scenario {
         Ok(scenario)
     }
 
+    /// A fleet site's robot and people counts: a warehouse's, or a fleet hallway's (`[hallway]`
+    /// with `robots`); `None` for the other layouts.
+    pub fn fleet_size(&self) -> Option<(usize, usize)> {
+        match (&self.warehouse, &self.hallway) {
+            (Some(w), _) => Some((w.robots, w.humans)),
+            (None, Some(h)) => h.robots.map(|r| (r, h.humans)),
+            (None, None) => None,
+        }
+    }
+
+    /// Sets a fleet site's counts (`None` keeps one); false when the scenario is no fleet site.
+    pub fn set_fleet_size(&mut self, robots: Option<usize>, humans: Option<usize>) -> bool {
+        let (r, h) = match (&mut self.warehouse, &mut self.hallway) {
+            (Some(w), _) => (&mut w.robots, &mut w.humans),
+            (
+                None,
+                Some(Hallway {
+                    robots: Some(r),
+                    humans,
+                    ..
+                }),
+            ) => (r, humans),
+            _ => return false,
+        };
+        if let Some(robots) = robots {
+            *r = robots;
+        }
+        if let Some(humans) = humans {
+            *h = humans;
+        }
+        true
+    }
+
     /// A built-in scenario by name.
     pub fn builtin(name: &str) -> Result<Self, ScenarioError> {
         let (_, text) = BUILTIN
@@ -399,6 +457,26 @@ impl Scenario {
                     && (lanes == 0 || hall.width_m / (lanes as Real) < 2.0 * self.humans.radius_m)
                 {
                     return bad("hallway.lanes", "must be at least 1, each lane a body wide");
+                }
+                if let Some(robots) = hall.robots {
+                    if !(1..=10_000).contains(&robots) {
+                        return bad("hallway.robots", "must be in [1, 10000]");
+                    }
+                    if hall.lanes.is_some() {
+                        return bad(
+                            "hallway.robots",
+                            "a fleet hallway has two-way traffic: no lanes",
+                        );
+                    }
+                }
+                if hall.stations_per_end.is_some() && hall.robots.is_none() {
+                    return bad(
+                        "hallway.stations_per_end",
+                        "only a fleet hallway (robots = N) has stations",
+                    );
+                }
+                if !(1..=100).contains(&hall.stations()) {
+                    return bad("hallway.stations_per_end", "must be in [1, 100]");
                 }
             }
         }

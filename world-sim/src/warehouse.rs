@@ -40,6 +40,31 @@ pub struct Station {
     pub kind: StationKind,
 }
 
+/// A stretch of aisle between two cross-aisles too narrow for two robots to pass: the unit
+/// the traffic policy reserves one direction at a time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Index in [`Site::narrow_segments`]' answer.
+    pub id: usize,
+    /// The aisle's centre line (y) and half width.
+    pub y: Real,
+    /// Half the aisle's width.
+    pub half_width: Real,
+    /// Its ends along x: the faces of the cross-aisles on either side.
+    pub x0: Real,
+    /// See `x0`.
+    pub x1: Real,
+    /// The cross-aisles at its ends (indices, left and right).
+    pub ends: (usize, usize),
+}
+
+impl Segment {
+    /// Whether `p` is inside (between its ends, within its width).
+    pub fn contains(&self, p: Vec2) -> bool {
+        p.x >= self.x0 && p.x <= self.x1 && (p.y - self.y).abs() <= self.half_width
+    }
+}
+
 /// A generated warehouse: geometry, stations and the corridor grid used for routing.
 #[derive(Debug, Clone)]
 pub struct Site {
@@ -119,6 +144,36 @@ impl Site {
         }
     }
 
+    /// A fleet hallway (`[hallway]` with robots): one corridor `length` by `width` with closed
+    /// ends, `per_end` docks across the left end and as many pick stations across the right
+    /// end, each 1 m in from its end wall.
+    pub fn hallway(length: Real, width: Real, per_end: usize) -> Self {
+        let corners = [
+            vec2(0.0, 0.0),
+            vec2(length, 0.0),
+            vec2(length, width),
+            vec2(0.0, width),
+        ];
+        let obstacles = (0..4)
+            .map(|i| Obstacle::Wall(corners[i], corners[(i + 1) % 4]))
+            .collect();
+        let inset = 1.0_f64.min(length / 4.0);
+        let across = |k: usize| width * (k as Real + 0.5) / per_end as Real;
+        let stations = (0..per_end)
+            .map(|k| (vec2(inset, across(k)), StationKind::Dock))
+            .chain((0..per_end).map(|k| (vec2(length - inset, across(k)), StationKind::Pick)))
+            .enumerate()
+            .map(|(id, (position, kind))| Station { id, position, kind })
+            .collect();
+        Self {
+            size: vec2(length, width),
+            obstacles,
+            stations,
+            corridors: vec![(width / 2.0, width / 2.0)],
+            cross_aisles: Vec::new(),
+        }
+    }
+
     /// The static map of the site.
     pub fn map(&self) -> StaticMap {
         StaticMap::new(self.obstacles.clone())
@@ -191,6 +246,66 @@ impl Site {
                 vec![vec2(x(j), y(k_from)), vec2(x(j), y(k_to)), to]
             }
         }
+    }
+
+    /// The aisle stretches narrower than `min_width` (m), left to right within each aisle,
+    /// aisles bottom to top. The bottom and top corridors are never narrow segments.
+    pub fn narrow_segments(&self, min_width: Real) -> Vec<Segment> {
+        let mut out = Vec::new();
+        let aisles = self.corridors.len().saturating_sub(1);
+        for &(y, half) in self.corridors.iter().take(aisles).skip(1) {
+            if 2.0 * half >= min_width {
+                continue;
+            }
+            for j in 0..self.cross_aisles.len().saturating_sub(1) {
+                let (a, ha) = self.cross_aisles[j];
+                let (b, hb) = self.cross_aisles[j + 1];
+                out.push(Segment {
+                    id: out.len(),
+                    y,
+                    half_width: half,
+                    x0: a + ha,
+                    x1: b - hb,
+                    ends: (j, j + 1),
+                });
+            }
+        }
+        out
+    }
+
+    /// The centre line and half width of the corridor (`horizontal`: its y) or cross-aisle
+    /// (its x) containing `p`.
+    pub fn lane_axis(&self, p: Vec2, horizontal: bool) -> Option<(Real, Real)> {
+        if horizontal {
+            self.corridor_of(p).map(|k| self.corridors[k])
+        } else {
+            self.cross_aisle_of(p).map(|j| self.cross_aisles[j])
+        }
+    }
+
+    /// Like [`Site::route`], but a leg that leaves or enters an aisle does it through
+    /// cross-aisle `j` (so a robot leaves a one-way segment by its far end, or enters the aisle
+    /// next to its station). Falls back to [`Site::route`] when `from` and `to` share a
+    /// corridor, or either is in a cross-aisle.
+    pub fn route_via(&self, from: Vec2, to: Vec2, j: usize) -> Vec<Vec2> {
+        let (Some(k_from), Some(k_to)) = (self.corridor_of(from), self.corridor_of(to)) else {
+            return self.route(from, to);
+        };
+        if k_from == k_to || j >= self.cross_aisles.len() {
+            return self.route(from, to);
+        }
+        let x = self.cross_aisles[j].0;
+        vec![
+            vec2(x, self.corridors[k_from].0),
+            vec2(x, self.corridors[k_to].0),
+            to,
+        ]
+    }
+
+    /// The cross-aisles on either side of `p` (left, right), if it is between two.
+    pub fn cross_aisles_around(&self, p: Vec2) -> Option<(usize, usize)> {
+        let right = self.cross_aisles.iter().position(|&(x, _)| x > p.x)?;
+        (right > 0).then_some((right - 1, right))
     }
 
     /// Free floor area (m²): the site minus its shelves.

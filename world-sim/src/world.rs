@@ -67,6 +67,8 @@ pub struct World {
     goal_rule: GoalRule,
     /// The warehouse, when the scenario is one.
     site: Option<Site>,
+    /// Whether people walk between the site's stations.
+    people_to_stations: bool,
     /// Per group: the waypoints after its current goal (warehouse routes).
     routes: Vec<VecDeque<Vec2>>,
     /// In a laned hallway, each person's lane (its y) and the hallway's length: people stay
@@ -88,6 +90,33 @@ fn stream(seed: u64, stream: u64) -> ChaCha8Rng {
 impl World {
     /// The world a scenario describes.
     pub fn from_scenario(scenario: &Scenario) -> Self {
+        if let Some(hall) = &scenario.hallway
+            && let Some(robots) = hall.robots
+        {
+            // A fleet hallway: a site with stations at both ends, robots along the centre line.
+            let site = Site::hallway(hall.length_m, hall.width_m, hall.stations());
+            let margin = scenario.humans.radius_m + 0.05;
+            let robots = (0..robots)
+                .map(|i| {
+                    let x = hall.length_m * (i as Real + 0.5) / robots as Real;
+                    let p = vec2(x, hall.width_m / 2.0);
+                    (p, p)
+                })
+                .collect();
+            let layout = Layout {
+                spawn_min: vec2(margin, margin),
+                spawn_max: site.size - vec2(margin, margin),
+                map: site.map(),
+                robots,
+                // People walk the hallway's length both ways, past the robots' stations.
+                goals: GoalRule::Anywhere,
+                people: hall.humans,
+                max_group_size: hall.max_group_size,
+                avoid_obstacles: true,
+                people_to_stations: false,
+            };
+            return Self::build_with_site(scenario, layout, Some(site));
+        }
         if let Some(hall) = &scenario.hallway {
             let (length, width) = (hall.length_m, hall.width_m);
             let walls = vec![
@@ -109,6 +138,7 @@ impl World {
                 people: hall.humans,
                 max_group_size: hall.max_group_size,
                 avoid_obstacles: false,
+                people_to_stations: false,
             };
             let mut world = Self::build(scenario, layout);
             if let Some(lanes) = hall.lanes {
@@ -137,6 +167,7 @@ impl World {
                 people: spec.humans,
                 max_group_size: spec.max_group_size,
                 avoid_obstacles: true,
+                people_to_stations: true,
             };
             return Self::build_with_site(scenario, layout, Some(site));
         }
@@ -171,6 +202,7 @@ impl World {
             people: scenario.human_count(),
             max_group_size: open.max_group_size,
             avoid_obstacles: false,
+            people_to_stations: false,
         };
         Self::build(scenario, layout)
     }
@@ -208,7 +240,8 @@ impl World {
                 }
                 centre = uniform(&mut spawn, min, max);
             }
-            let (group_goal, route) = match &site {
+            let stations = site.as_ref().filter(|_| layout.people_to_stations);
+            let (group_goal, route) = match stations {
                 Some(site) => {
                     let station = goal_rng.random_range(0..site.stations.len());
                     let mut route: VecDeque<Vec2> =
@@ -296,6 +329,7 @@ impl World {
             stage_min: min,
             stage_max: max,
             goal_rule: layout.goals,
+            people_to_stations: layout.people_to_stations,
             site,
             routes,
             lanes: Vec::new(),
@@ -409,7 +443,8 @@ impl World {
                 .any(|&i| (crowd.goals[i] - crowd.positions[i]).norm() < reach);
             if arrived {
                 let here = crowd.positions[group[0]];
-                let goal = match (&self.site, self.routes[g].pop_front()) {
+                let stations = self.site.as_ref().filter(|_| self.people_to_stations);
+                let goal = match (stations, self.routes[g].pop_front()) {
                     (_, Some(waypoint)) => waypoint,
                     (Some(site), None) => {
                         let station = self.goal_rng.random_range(0..site.stations.len());
@@ -453,6 +488,9 @@ struct Layout {
     max_group_size: usize,
     /// Keep people from spawning inside or against obstacles (shelves).
     avoid_obstacles: bool,
+    /// With a site: people walk between its stations (a warehouse); else by `goals` (a fleet
+    /// hallway, where the stations are the robots').
+    people_to_stations: bool,
 }
 
 /// Where a group goes when one of its members arrives.

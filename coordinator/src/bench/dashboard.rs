@@ -75,8 +75,8 @@ pub fn bench_dashboard(
     let (without_us, _) = time(false)?;
     let (with_us, dropped) = time(true)?;
     Ok(DashboardBench {
-        robots: scenario.warehouse.map_or(0, |w| w.robots),
-        humans: scenario.warehouse.map_or(0, |w| w.humans),
+        robots: scenario.fleet_size().map_or(0, |f| f.0),
+        humans: scenario.fleet_size().map_or(0, |f| f.1),
         ticks,
         without_us,
         with_us,

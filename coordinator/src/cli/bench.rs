@@ -22,7 +22,7 @@ fn at_least_one(text: &str) -> Result<usize, String> {
 /// The fleet's own sizes for the dashboard and fleet benchmarks.
 fn warehouse_large(robots: usize, humans: usize) -> Result<Scenario> {
     let large: ScenarioRef = "warehouse-large".parse()?;
-    large.warehouse(Overrides {
+    large.fleet_site(Overrides {
         robots: Some(robots),
         humans: Some(humans),
         ..Overrides::default()
@@ -202,7 +202,7 @@ fn world(
     let mut s = if scenario.name == "open-space" {
         Scenario::sized_for(humans, density)?
     } else {
-        scenario.warehouse(Overrides {
+        scenario.fleet_site(Overrides {
             humans: Some(humans),
             ..Overrides::default()
         })?

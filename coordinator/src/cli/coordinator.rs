@@ -45,7 +45,7 @@ impl CoordinatorArgs {
     /// Serves the fleet until the time is up or SIGINT/SIGTERM.
     pub fn run(self) -> Result<()> {
         init_logging("info,zenoh=warn");
-        let scenario = self.scenario.warehouse(Overrides {
+        let scenario = self.scenario.fleet_site(Overrides {
             robots: self.robots,
             humans: self.humans,
             seed: self.seed,

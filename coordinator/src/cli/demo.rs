@@ -52,7 +52,7 @@ pub struct DemoArgs {
 impl DemoArgs {
     /// The warehouse to run: the scenario with the counts and seed given on the command line.
     pub fn scenario(&self) -> Result<Scenario> {
-        self.scenario.warehouse(Overrides {
+        self.scenario.fleet_site(Overrides {
             robots: self.robots,
             humans: self.humans,
             seed: self.seed,
@@ -64,10 +64,7 @@ impl DemoArgs {
     pub fn run(self) -> Result<()> {
         init_logging("warn");
         let scenario = self.scenario()?;
-        let (robots, humans) = scenario
-            .warehouse
-            .as_ref()
-            .map_or((0, 0), |w| (w.robots, w.humans));
+        let (robots, humans) = scenario.fleet_size().unwrap_or((0, 0));
         if !self.planner.avoids_static_obstacles() {
             eprintln!(
                 "warning: {} does not see shelves or walls (the foIGP paper models people only); \

@@ -355,16 +355,13 @@ fn open_space(args: OpenSpaceArgs) -> Result<()> {
 }
 
 fn intent_sharing(args: IntentSharingArgs) -> Result<()> {
-    let scenario = args.scenario.warehouse(Overrides {
+    let scenario = args.scenario.fleet_site(Overrides {
         robots: args.robots,
         humans: args.humans,
         seed: None,
         no_safety: args.no_safety,
     })?;
-    let (robots, humans) = scenario
-        .warehouse
-        .as_ref()
-        .map_or((0, 0), |w| (w.robots, w.humans));
+    let (robots, humans) = scenario.fleet_size().unwrap_or((0, 0));
     let study = IntentSharingStudy {
         scenario,
         planner: args.planner,

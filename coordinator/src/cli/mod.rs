@@ -101,20 +101,16 @@ pub struct Overrides {
 }
 
 impl ScenarioRef {
-    /// The scenario as a warehouse with `overrides` applied (and validated again).
-    pub fn warehouse(&self, overrides: Overrides) -> Result<Scenario> {
+    /// The scenario as a fleet site (a warehouse or a fleet hallway) with `overrides` applied
+    /// (and validated again).
+    pub fn fleet_site(&self, overrides: Overrides) -> Result<Scenario> {
         let mut s = Scenario::clone(&self.scenario);
-        let Some(w) = s.warehouse.as_mut() else {
+        if !s.set_fleet_size(overrides.robots, overrides.humans) {
             bail!(
-                "scenario {:?} is not a warehouse (it needs a [warehouse] table)",
+                "scenario {:?} is not a fleet site (it needs a [warehouse] table, or a [hallway] \
+                 with robots = N)",
                 self.name
             );
-        };
-        if let Some(r) = overrides.robots {
-            w.robots = r;
-        }
-        if let Some(h) = overrides.humans {
-            w.humans = h;
         }
         if let Some(seed) = overrides.seed {
             s.seed = seed;

@@ -1,0 +1,529 @@
+//! Fleet traffic, measured: stuck robots, the wait-for graph between robots, and deadlocks
+//! (cycles in that graph that last).
+//!
+//! - A robot is **stuck** when it has a task and the route it has left to drive has not
+//!   shrunk by [`TrafficParams::progress_m`] for [`TrafficParams::stuck_after_s`].
+//! - Robot i **waits on** robot j when i has a task and is (nearly) stopped, and j is in its
+//!   way: in i's line of sight, within [`TrafficParams::blocking_gap_m`] of i (surface to
+//!   surface) and ahead of i (within [`TrafficParams::blocking_cone_rad`] of the direction to
+//!   i's waypoint), where j is now or where j's shared intent puts it within
+//!   [`TrafficParams::intent_horizon_s`]. The traffic policy adds its own edges: a robot held
+//!   at a reserved segment waits on the robots holding it.
+//! - A **deadlock** is a set of robots each waiting on another in the set: a strongly
+//!   connected component of two or more robots of the wait-for graph, every member of which has
+//!   been in such a component for [`TrafficParams::deadlock_after_s`] (brief cycles, two
+//!   robots stopping for a moment face to face, are not deadlocks).
+//!
+//! The monitor is pure bookkeeping: positions in, events out, no clock but the simulation's.
+
+use agent::map::StaticMap;
+use agent::math::{Real, Vec2};
+
+/// What the monitor counts as stuck, waiting and deadlocked. None of it is from a paper.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrafficParams {
+    /// A robot with a task is stuck after this long without progress (s). 30 s, the issue's
+    /// example: longer than any wait for a person or an oncoming robot to clear an aisle.
+    pub stuck_after_s: Real,
+    /// Progress is the route left to drive shrinking by at least this much (m). 0.5 m:
+    /// about a body, more than a robot jostled in place moves.
+    pub progress_m: Real,
+    /// A robot slower than this is waiting (m/s). 0.1 m/s: a tenth of top speed.
+    pub waiting_speed: Real,
+    /// A robot in the way is at most this far, surface to surface (m). 1 m: one robot's
+    /// stopping distance at top speed and then some.
+    pub blocking_gap_m: Real,
+    /// "Ahead": within this angle of the direction to the waypoint (rad). 60°.
+    pub blocking_cone_rad: Real,
+    /// Shared intents count up to this far ahead (s). 2 s.
+    pub intent_horizon_s: Real,
+    /// A cycle is a deadlock once every member has been in one this long (s). 10 s.
+    pub deadlock_after_s: Real,
+}
+
+impl Default for TrafficParams {
+    fn default() -> Self {
+        Self {
+            stuck_after_s: 30.0,
+            progress_m: 0.5,
+            waiting_speed: 0.1,
+            blocking_gap_m: 1.0,
+            blocking_cone_rad: 60.0_f64.to_radians(),
+            intent_horizon_s: 2.0,
+            deadlock_after_s: 10.0,
+        }
+    }
+}
+
+/// One robot as the monitor sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RobotView<'a> {
+    /// Position.
+    pub position: Vec2,
+    /// Velocity.
+    pub velocity: Vec2,
+    /// Body radius.
+    pub radius: Real,
+    /// Its task: which leg (task id, stage) it is on, the point it drives to now and the
+    /// route it has left (m); `None` when idle.
+    pub task: Option<TaskView>,
+    /// Its fresh shared intent, positions with `t` from now (s).
+    pub intent: &'a [(Real, Vec2)],
+}
+
+/// A robot's task, as the monitor sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TaskView {
+    /// Changes whenever the robot starts a new leg (task id × 2 + stage).
+    pub leg: u64,
+    /// The point it drives to now.
+    pub waypoint: Vec2,
+    /// Route left to drive (m).
+    pub remaining_m: Real,
+}
+
+/// Something the monitor saw begin or end.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrafficEvent {
+    /// A robot became stuck.
+    Stuck {
+        /// Robot index.
+        robot: usize,
+    },
+    /// A stuck robot made progress again (or lost its task).
+    Unstuck {
+        /// Robot index.
+        robot: usize,
+    },
+    /// A set of robots became deadlocked.
+    Deadlock {
+        /// The robots, ascending.
+        robots: Vec<usize>,
+    },
+}
+
+/// Totals over a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TrafficTotals {
+    /// Deadlocks that began.
+    pub deadlocks: u64,
+    /// Robot-seconds spent deadlocked.
+    pub deadlocked_robot_s: Real,
+    /// Times a robot became stuck.
+    pub stuck_onsets: u64,
+    /// Robot-seconds spent stuck.
+    pub stuck_robot_s: Real,
+    /// Most robots stuck at once.
+    pub max_stuck: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Progress {
+    leg: u64,
+    best_m: Real,
+    since: Real,
+}
+
+/// Watches a fleet step by step.
+#[derive(Debug, Clone)]
+pub struct TrafficMonitor {
+    /// The thresholds.
+    pub params: TrafficParams,
+    progress: Vec<Option<Progress>>,
+    stuck: Vec<bool>,
+    cyclic_since: Vec<Option<Real>>,
+    waits_on: Vec<Vec<usize>>,
+    deadlocked: Vec<Vec<usize>>,
+    totals: TrafficTotals,
+}
+
+impl TrafficMonitor {
+    /// A monitor for `robots` robots.
+    pub fn new(robots: usize, params: TrafficParams) -> Self {
+        Self {
+            params,
+            progress: vec![None; robots],
+            stuck: vec![false; robots],
+            cyclic_since: vec![None; robots],
+            waits_on: vec![Vec::new(); robots],
+            deadlocked: Vec::new(),
+            totals: TrafficTotals::default(),
+        }
+    }
+
+    /// Takes the robots' state at simulation time `now` after a step of `dt`; `extra` are
+    /// wait-for edges from elsewhere (the traffic policy's holds). Returns what began or ended.
+    pub fn record(
+        &mut self,
+        now: Real,
+        dt: Real,
+        robots: &[RobotView<'_>],
+        map: &StaticMap,
+        extra: &[(usize, usize)],
+    ) -> Vec<TrafficEvent> {
+        let mut events = Vec::new();
+        self.track_progress(now, dt, robots, &mut events);
+        self.build_graph(robots, map, extra);
+        self.find_deadlocks(now, dt, &mut events);
+        events
+    }
+
+    fn track_progress(
+        &mut self,
+        now: Real,
+        dt: Real,
+        robots: &[RobotView<'_>],
+        events: &mut Vec<TrafficEvent>,
+    ) {
+        let p = self.params;
+        for (i, r) in robots.iter().enumerate() {
+            let stuck_now = match (r.task, &mut self.progress[i]) {
+                (None, slot) => {
+                    *slot = None;
+                    false
+                }
+                (Some(task), slot) => {
+                    let restart = !matches!(slot, Some(g) if g.leg == task.leg);
+                    if restart {
+                        *slot = Some(Progress {
+                            leg: task.leg,
+                            best_m: task.remaining_m,
+                            since: now,
+                        });
+                    }
+                    let g = slot.as_mut().expect("set above");
+                    if task.remaining_m <= g.best_m - p.progress_m {
+                        g.best_m = task.remaining_m;
+                        g.since = now;
+                    }
+                    now - g.since >= p.stuck_after_s
+                }
+            };
+            if stuck_now != self.stuck[i] {
+                events.push(if stuck_now {
+                    self.totals.stuck_onsets += 1;
+                    TrafficEvent::Stuck { robot: i }
+                } else {
+                    TrafficEvent::Unstuck { robot: i }
+                });
+                self.stuck[i] = stuck_now;
+            }
+        }
+        let stuck = self.stuck.iter().filter(|&&s| s).count();
+        self.totals.stuck_robot_s += stuck as Real * dt;
+        self.totals.max_stuck = self.totals.max_stuck.max(stuck);
+    }
+
+    fn build_graph(&mut self, robots: &[RobotView<'_>], map: &StaticMap, extra: &[(usize, usize)]) {
+        let p = self.params;
+        let cos_cone = p.blocking_cone_rad.cos();
+        for (i, r) in robots.iter().enumerate() {
+            let edges = &mut self.waits_on[i];
+            edges.clear();
+            let Some(task) = r.task else { continue };
+            if r.velocity.norm() >= p.waiting_speed {
+                continue;
+            }
+            let ahead = task.waypoint - r.position;
+            let ahead_len = ahead.norm();
+            if ahead_len == 0.0 {
+                continue;
+            }
+            let ahead = ahead / ahead_len;
+            for (j, o) in robots.iter().enumerate() {
+                if j == i {
+                    continue;
+                }
+                let reach = p.blocking_gap_m + r.radius + o.radius;
+                let in_way = |q: Vec2| {
+                    let d = q - r.position;
+                    let dist = d.norm();
+                    dist <= reach && (dist == 0.0 || d.dot(&ahead) >= cos_cone * dist)
+                };
+                let now_in_way = in_way(o.position);
+                let soon_in_way = || {
+                    o.intent
+                        .iter()
+                        .take_while(|(t, _)| *t <= p.intent_horizon_s)
+                        .any(|&(_, q)| in_way(q))
+                };
+                if (now_in_way || soon_in_way()) && map.line_of_sight(r.position, o.position) {
+                    edges.push(j);
+                }
+            }
+        }
+        for &(i, j) in extra {
+            if i != j && i < robots.len() && j < robots.len() && !self.waits_on[i].contains(&j) {
+                self.waits_on[i].push(j);
+            }
+        }
+    }
+
+    fn find_deadlocks(&mut self, now: Real, dt: Real, events: &mut Vec<TrafficEvent>) {
+        let p = self.params;
+        let cycles: Vec<Vec<usize>> = strongly_connected(&self.waits_on)
+            .into_iter()
+            .filter(|c| c.len() >= 2)
+            .collect();
+        let mut cyclic = vec![false; self.waits_on.len()];
+        for &i in cycles.iter().flatten() {
+            cyclic[i] = true;
+        }
+        for (since, &now_cyclic) in self.cyclic_since.iter_mut().zip(&cyclic) {
+            *since = match (*since, now_cyclic) {
+                (_, false) => None,
+                (None, true) => Some(now),
+                (kept, true) => kept,
+            };
+        }
+        let deadlocked: Vec<Vec<usize>> = cycles
+            .into_iter()
+            .filter(|c| {
+                c.iter().all(|&i| {
+                    self.cyclic_since[i].is_some_and(|s| now - s >= p.deadlock_after_s - 1e-9)
+                })
+            })
+            .collect();
+        for set in &deadlocked {
+            let known = self
+                .deadlocked
+                .iter()
+                .any(|old| old.iter().any(|i| set.contains(i)));
+            if !known {
+                self.totals.deadlocks += 1;
+                events.push(TrafficEvent::Deadlock {
+                    robots: set.clone(),
+                });
+            }
+            self.totals.deadlocked_robot_s += set.len() as Real * dt;
+        }
+        self.deadlocked = deadlocked;
+    }
+
+    /// Whether robot `i` is stuck now.
+    pub fn is_stuck(&self, i: usize) -> bool {
+        self.stuck[i]
+    }
+
+    /// The robots robot `i` waits on now.
+    pub fn waits_on(&self, i: usize) -> &[usize] {
+        &self.waits_on[i]
+    }
+
+    /// The deadlocked sets now, each ascending.
+    pub fn deadlocked(&self) -> &[Vec<usize>] {
+        &self.deadlocked
+    }
+
+    /// Totals so far.
+    pub fn totals(&self) -> TrafficTotals {
+        self.totals
+    }
+}
+
+/// The strongly connected components of a directed graph given as out-edge lists (Tarjan's
+/// algorithm, iterative), each ascending, in a fixed order.
+pub fn strongly_connected(edges: &[Vec<usize>]) -> Vec<Vec<usize>> {
+    let n = edges.len();
+    let mut index = vec![usize::MAX; n];
+    let mut low = vec![0; n];
+    let mut on_stack = vec![false; n];
+    let mut stack = Vec::new();
+    let mut components = Vec::new();
+    let mut next = 0;
+    let mut call: Vec<(usize, usize)> = Vec::new();
+    for root in 0..n {
+        if index[root] != usize::MAX {
+            continue;
+        }
+        call.push((root, 0));
+        while let Some(&mut (v, ref mut k)) = call.last_mut() {
+            if *k == 0 && index[v] == usize::MAX {
+                index[v] = next;
+                low[v] = next;
+                next += 1;
+                stack.push(v);
+                on_stack[v] = true;
+            }
+            if let Some(&w) = edges[v].get(*k) {
+                *k += 1;
+                if index[w] == usize::MAX {
+                    call.push((w, 0));
+                } else if on_stack[w] {
+                    low[v] = low[v].min(index[w]);
+                }
+                continue;
+            }
+            call.pop();
+            if let Some(&(parent, _)) = call.last() {
+                low[parent] = low[parent].min(low[v]);
+            }
+            if low[v] == index[v] {
+                let mut component = Vec::new();
+                while let Some(w) = stack.pop() {
+                    on_stack[w] = false;
+                    component.push(w);
+                    if w == v {
+                        break;
+                    }
+                }
+                component.sort_unstable();
+                components.push(component);
+            }
+        }
+    }
+    components
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use agent::map::Obstacle;
+    use agent::math::vec2;
+
+    #[test]
+    fn components_of_a_ring_a_pair_and_a_chain() {
+        // 0 → 1 → 2 → 0 (a ring), 3 ⇄ 4 (a pair), 5 → 0 (waits on the ring, not in it).
+        let edges = vec![vec![1], vec![2], vec![0], vec![4], vec![3], vec![0], vec![]];
+        let mut sccs = strongly_connected(&edges);
+        sccs.sort();
+        assert_eq!(sccs, vec![vec![0, 1, 2], vec![3, 4], vec![5], vec![6]]);
+    }
+
+    fn robot(position: Vec2, waypoint: Vec2, leg: u64, remaining_m: Real) -> RobotView<'static> {
+        RobotView {
+            position,
+            velocity: vec2(0.0, 0.0),
+            radius: 0.4,
+            task: Some(TaskView {
+                leg,
+                waypoint,
+                remaining_m,
+            }),
+            intent: &[],
+        }
+    }
+
+    /// Records `robots`, unchanged, for the steps after `from` up to `to` (s).
+    fn run(
+        monitor: &mut TrafficMonitor,
+        from: Real,
+        to: Real,
+        robots: &[RobotView<'_>],
+        map: &StaticMap,
+    ) -> Vec<TrafficEvent> {
+        let mut events = Vec::new();
+        let (first, last) = (
+            (from / 0.1).round() as usize + 1,
+            (to / 0.1).round() as usize,
+        );
+        for k in first..=last {
+            events.extend(monitor.record(k as Real * 0.1, 0.1, robots, map, &[]));
+        }
+        events
+    }
+
+    /// Two robots face to face in a 1.5 m aisle, each driving for the other's side: a
+    /// deadlock after 10 s, one event, both stuck after 30 s.
+    #[test]
+    fn two_robots_face_to_face_in_an_aisle_deadlock() {
+        let map = StaticMap::new(vec![
+            Obstacle::Wall(vec2(0.0, 0.0), vec2(20.0, 0.0)),
+            Obstacle::Wall(vec2(0.0, 1.5), vec2(20.0, 1.5)),
+        ])
+        .expect("walls");
+        let robots = [
+            robot(vec2(9.5, 0.75), vec2(18.0, 0.75), 0, 8.5),
+            robot(vec2(10.5, 0.75), vec2(2.0, 0.75), 2, 8.5),
+        ];
+        let mut monitor = TrafficMonitor::new(2, TrafficParams::default());
+        let events = run(&mut monitor, 0.0, 10.0, &robots, &map);
+        assert!(events.is_empty(), "{events:?}");
+        assert_eq!(monitor.waits_on(0), &[1]);
+        assert_eq!(monitor.waits_on(1), &[0]);
+        let events = run(&mut monitor, 10.0, 10.1, &robots, &map);
+        assert_eq!(events, vec![TrafficEvent::Deadlock { robots: vec![0, 1] }]);
+        assert_eq!(monitor.totals().deadlocks, 1);
+        // It lasts: still one deadlock, and 30 s after the first step both are stuck.
+        let events = run(&mut monitor, 10.1, 30.1, &robots, &map);
+        assert_eq!(
+            events,
+            vec![
+                TrafficEvent::Stuck { robot: 0 },
+                TrafficEvent::Stuck { robot: 1 }
+            ]
+        );
+        assert_eq!(monitor.totals().deadlocks, 1);
+        assert!(monitor.is_stuck(0) && monitor.is_stuck(1));
+    }
+
+    /// Robots one behind the other, both waiting, wait on each other only one way: no cycle.
+    /// A robot that moves, or one whose waypoint points away, waits on nobody.
+    #[test]
+    fn a_queue_is_no_deadlock() {
+        let map = StaticMap::empty();
+        let robots = [
+            robot(vec2(0.0, 0.0), vec2(10.0, 0.0), 0, 10.0),
+            robot(vec2(1.2, 0.0), vec2(10.0, 0.0), 2, 8.8),
+            RobotView {
+                velocity: vec2(0.5, 0.0),
+                ..robot(vec2(2.4, 0.0), vec2(10.0, 0.0), 4, 7.6)
+            },
+        ];
+        let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+        run(&mut monitor, 0.0, 15.0, &robots, &map);
+        assert_eq!(monitor.waits_on(0), &[1]);
+        assert_eq!(monitor.waits_on(1), &[2]);
+        assert!(monitor.waits_on(2).is_empty());
+        assert_eq!(monitor.totals().deadlocks, 0);
+    }
+
+    /// A shelf between two robots hides them from each other: no edge, however close.
+    #[test]
+    fn robots_that_cannot_see_each_other_do_not_wait_on_each_other() {
+        let map =
+            StaticMap::new(vec![Obstacle::Wall(vec2(1.0, -2.0), vec2(1.0, 2.0))]).expect("wall");
+        let robots = [
+            robot(vec2(0.5, 0.0), vec2(10.0, 0.0), 0, 10.0),
+            robot(vec2(1.5, 0.0), vec2(-10.0, 0.0), 2, 10.0),
+        ];
+        let mut monitor = TrafficMonitor::new(2, TrafficParams::default());
+        run(&mut monitor, 0.0, 12.0, &robots, &map);
+        assert!(monitor.waits_on(0).is_empty() && monitor.waits_on(1).is_empty());
+    }
+
+    /// Progress resets the stuck clock; a new leg restarts it.
+    #[test]
+    fn progress_and_new_legs_keep_a_robot_from_being_stuck() {
+        let map = StaticMap::empty();
+        let mut monitor = TrafficMonitor::new(1, TrafficParams::default());
+        let mut events = Vec::new();
+        for k in 1..=600 {
+            let t = k as Real * 0.1;
+            // 0.1 m of progress every 10 s: too little; at 25 s a new leg starts.
+            let leg = if t < 25.0 { 0 } else { 1 };
+            let remaining = 10.0 - 0.01 * t.floor();
+            let robots = [robot(vec2(0.0, 0.0), vec2(5.0, 0.0), leg, remaining)];
+            events.extend(monitor.record(t, 0.1, &robots, &map, &[]));
+        }
+        // New leg at 25 s: stuck only from 55 s (to 60 s: 51 steps).
+        assert_eq!(events, vec![TrafficEvent::Stuck { robot: 0 }]);
+        let stuck_s = monitor.totals().stuck_robot_s;
+        assert!((stuck_s - 5.1).abs() < 0.15, "{stuck_s}");
+    }
+
+    /// The policy's holds count: a robot held at a segment waits on its holder.
+    #[test]
+    fn extra_edges_close_cycles() {
+        let map = StaticMap::empty();
+        let robots = [
+            robot(vec2(0.0, 0.0), vec2(10.0, 0.0), 0, 10.0),
+            robot(vec2(1.2, 0.0), vec2(20.0, 5.0), 2, 10.0),
+        ];
+        let mut monitor = TrafficMonitor::new(2, TrafficParams::default());
+        for k in 1..=110 {
+            monitor.record(k as Real * 0.1, 0.1, &robots, &map, &[(1, 0)]);
+        }
+        assert_eq!(monitor.deadlocked(), &[vec![0, 1]]);
+    }
+}

@@ -1,0 +1,684 @@
+//! The fleet's traffic policy: constraints the coordinator puts on the goals it gives robots,
+//! so that a fleet in narrow two-way aisles keeps moving. Agents keep planning locally toward
+//! the goal they are given; the policy only decides which goal that is.
+//!
+//! - **One way at a time in narrow aisles.** An aisle stretch between two cross-aisles that is
+//!   narrower than two robots plus [`PolicyParams::passing_margin_m`] is a
+//!   [`Segment`](crate::warehouse::Segment). A robot asks for the next segment on its route
+//!   [`PolicyParams::request_distance_m`] before its mouth. The segment is granted when it is
+//!   empty, or already travelled the same way and nobody waits to go the other way (openTCS's
+//!   SAME_DIRECTION_ONLY, but the direction follows demand). Otherwise the robot's goal becomes
+//!   a hold point short of the mouth, clear of the crossing, until granted. Once someone waits
+//!   for the other direction, no one more enters the current way; the segment drains and turns.
+//!   Waiting requests are served oldest first (ties: lower robot index).
+//! - **In at one end, out at the other.** A robot that picks inside a segment leaves it by the
+//!   far end (the fleet routes its next leg through that end's cross-aisle), and a robot bound
+//!   for a station in an aisle enters it from the cross-aisle nearer to where it comes from.
+//! - **Keep right** in corridors and cross-aisles wide enough for two robots: the goal leads
+//!   the robot [`PolicyParams::lane_lookahead_m`] along the lane right of the centre line.
+//! - **Retreat when a cycle lasts.** If robots wait on each other in a cycle for
+//!   [`PolicyParams::retreat_after_s`] (the traffic monitor's wait-for graph), the
+//!   lowest-priority member (not holding a segment; then the highest index) backs off
+//!   [`PolicyParams::retreat_m`] for [`PolicyParams::retreat_s`].
+//!
+//! **Why reserved segments cannot deadlock.** A robot waits for a segment only while it is
+//! outside every segment (it asks only from the cross-aisles and corridors), so a robot never
+//! holds one segment while waiting for another: there is no hold-and-wait, the condition every
+//! deadlock needs. Inside a segment every robot travels the same way toward an exit into a
+//! cross-aisle, which no one reserves, so the robots inside never wait on the policy, and
+//! those outside wait only on robots inside. The wait-for edges the policy creates therefore
+//! all point from outside robots to inside ones, and inside robots have none of their own: no
+//! cycle can pass through a reservation. Starvation is excluded by the closing rule: once a
+//! request for the other direction waits, entries stop, the robots inside (a finite set moving
+//! toward the exit) leave, and the oldest request is served next. What the policy cannot
+//! exclude is physical blocking in the open areas (people, robots jostling at a crossing);
+//! that is what the retreat rule and the measured deadlock count are for.
+
+use crate::traffic::{TrafficMonitor, strongly_connected};
+use crate::warehouse::{Segment, Site};
+use agent::math::{Real, Vec2, vec2};
+
+/// The policy's knobs. None of them is from a paper.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolicyParams {
+    /// An aisle is one-way at a time when narrower than two robot diameters plus this (m).
+    /// 0.2 m: two robots side by side need room between them and to the shelves.
+    pub passing_margin_m: Real,
+    /// A robot asks for the next segment on its route this far (along the route) before the
+    /// segment's mouth (m). 4 m: four seconds at top speed, time to stop short of it.
+    pub request_distance_m: Real,
+    /// A robot denied a segment waits this far (along its route) before the mouth (m). 2.5 m:
+    /// clear of a 3 m cross-aisle's crossing, so robots leaving the segment get past.
+    pub hold_back_m: Real,
+    /// Keep right: the lane's centre is this fraction of the corridor's width right of the
+    /// centre line. 0.25: the middle of the right half.
+    pub lane_offset_fraction: Real,
+    /// The lane goal leads the robot by this much (m). 3 m.
+    pub lane_lookahead_m: Real,
+    /// A wait-for cycle this old makes one member retreat (s). 4 s: well before the monitor
+    /// calls it a deadlock (10 s).
+    pub retreat_after_s: Real,
+    /// How long a retreat lasts (s). 5 s.
+    pub retreat_s: Real,
+    /// How far back a robot retreats (m). 1.5 m.
+    pub retreat_m: Real,
+}
+
+impl Default for PolicyParams {
+    fn default() -> Self {
+        Self {
+            passing_margin_m: 0.2,
+            request_distance_m: 4.0,
+            hold_back_m: 2.5,
+            lane_offset_fraction: 0.25,
+            lane_lookahead_m: 3.0,
+            retreat_after_s: 4.0,
+            retreat_s: 5.0,
+            retreat_m: 1.5,
+        }
+    }
+}
+
+/// One robot as the policy sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolicyRobot<'a> {
+    /// Position.
+    pub position: Vec2,
+    /// Its route's waypoints left (the first is the point it drives to), empty when idle.
+    pub route: &'a [Vec2],
+}
+
+/// What the policy asks of one robot now.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Constraint {
+    /// Drive to the route's waypoint.
+    Free,
+    /// Drive along the right lane, toward this point.
+    Lane(Vec2),
+    /// Wait at this point for segment `segment`.
+    Hold {
+        /// Where to wait.
+        at: Vec2,
+        /// The segment it waits for.
+        segment: usize,
+    },
+    /// Back off to this point.
+    Retreat(Vec2),
+}
+
+impl Constraint {
+    /// The goal it puts in place of the route's waypoint, if any.
+    pub fn goal(&self) -> Option<Vec2> {
+        match *self {
+            Constraint::Free => None,
+            Constraint::Lane(p) | Constraint::Retreat(p) | Constraint::Hold { at: p, .. } => {
+                Some(p)
+            }
+        }
+    }
+}
+
+/// Something the policy did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PolicyEvent {
+    /// A robot was granted a segment in a direction (+1 along x, −1 against).
+    Granted {
+        /// Robot index.
+        robot: usize,
+        /// Segment index.
+        segment: usize,
+        /// Direction.
+        dir: i8,
+    },
+    /// A robot left a segment.
+    Released {
+        /// Robot index.
+        robot: usize,
+        /// Segment index.
+        segment: usize,
+    },
+    /// A robot began to wait for a segment.
+    Waiting {
+        /// Robot index.
+        robot: usize,
+        /// Segment index.
+        segment: usize,
+    },
+    /// A robot in a lasting wait-for cycle began to retreat.
+    Retreat {
+        /// Robot index.
+        robot: usize,
+    },
+}
+
+/// A segment's reservation.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Reservation {
+    /// The direction it is travelled now (+1 along x, −1 against), `None` when empty.
+    pub dir: Option<i8>,
+    /// The robots holding it, ascending.
+    pub holders: Vec<usize>,
+    /// Requests waiting: robot, direction, since (s).
+    pub waiting: Vec<(usize, i8, Real)>,
+}
+
+/// Counts over a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PolicyTotals {
+    /// Segments granted.
+    pub grants: u64,
+    /// Times a robot began to wait for a segment.
+    pub waits: u64,
+    /// Retreats ordered.
+    pub retreats: u64,
+    /// Robots found inside a segment against its direction (pushed in, or there at the start).
+    pub intrusions: u64,
+}
+
+/// The policy's state.
+#[derive(Debug, Clone)]
+pub struct TrafficPolicy {
+    /// Its knobs.
+    pub params: PolicyParams,
+    segments: Vec<Segment>,
+    reservations: Vec<Reservation>,
+    constraints: Vec<Constraint>,
+    retreat_until: Vec<Real>,
+    retreat_at: Vec<Vec2>,
+    cycle_since: Vec<Option<Real>>,
+    lanes: LaneGeometry,
+    totals: PolicyTotals,
+}
+
+/// What keep-right needs of the site: wide corridors' axes.
+#[derive(Debug, Clone)]
+struct LaneGeometry {
+    site: Site,
+    min_width: Real,
+}
+
+impl TrafficPolicy {
+    /// The policy for `site` with robots of `robot_radius` (m).
+    pub fn new(site: &Site, robots: usize, robot_radius: Real, params: PolicyParams) -> Self {
+        let min_width = 4.0 * robot_radius + params.passing_margin_m;
+        let segments = site.narrow_segments(min_width);
+        Self {
+            params,
+            reservations: vec![Reservation::default(); segments.len()],
+            segments,
+            constraints: vec![Constraint::Free; robots],
+            retreat_until: vec![Real::NEG_INFINITY; robots],
+            retreat_at: vec![vec2(0.0, 0.0); robots],
+            cycle_since: vec![None; robots],
+            lanes: LaneGeometry {
+                site: site.clone(),
+                min_width,
+            },
+            totals: PolicyTotals::default(),
+        }
+    }
+
+    /// The one-way segments.
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    /// Segment `s`'s reservation.
+    pub fn reservation(&self, s: usize) -> &Reservation {
+        &self.reservations[s]
+    }
+
+    /// What robot `i` is asked to do now.
+    pub fn constraint(&self, i: usize) -> Constraint {
+        self.constraints[i]
+    }
+
+    /// Counts so far.
+    pub fn totals(&self) -> PolicyTotals {
+        self.totals
+    }
+
+    /// The wait-for edges the policy's holds create: each waiting robot on each holder of the
+    /// segment it waits for.
+    pub fn wait_edges(&self) -> Vec<(usize, usize)> {
+        let mut edges = Vec::new();
+        for (i, c) in self.constraints.iter().enumerate() {
+            if let Constraint::Hold { segment, .. } = *c {
+                edges.extend(self.reservations[segment].holders.iter().map(|&h| (i, h)));
+            }
+        }
+        edges
+    }
+
+    /// The segment robot `i` holds and the cross-aisle at its far end (the way out), if it
+    /// holds one.
+    pub fn exit_of(&self, i: usize) -> Option<usize> {
+        self.reservations
+            .iter()
+            .zip(&self.segments)
+            .find_map(|(r, s)| {
+                let exit = match r.dir {
+                    Some(d) if d < 0 => s.ends.0,
+                    _ => s.ends.1,
+                };
+                r.holders.contains(&i).then_some(exit)
+            })
+    }
+
+    /// One policy step at time `now`, after the monitor has seen the fleet's state.
+    pub fn step(
+        &mut self,
+        now: Real,
+        robots: &[PolicyRobot<'_>],
+        monitor: &TrafficMonitor,
+    ) -> Vec<PolicyEvent> {
+        let mut events = Vec::new();
+        let wants: Vec<Option<Want>> = robots.iter().map(|r| self.want(r)).collect();
+        self.release(&wants, &mut events);
+        self.admit(now, &wants, &mut events);
+        for (i, r) in robots.iter().enumerate() {
+            self.constraints[i] = self.constraint_for(i, r, &wants[i]);
+        }
+        self.retreat(now, robots, monitor, &mut events);
+        events
+    }
+
+    /// Where robot `r` is with respect to the segments: inside one, or approaching one.
+    fn want(&self, r: &PolicyRobot<'_>) -> Option<Want> {
+        let first = *r.route.first()?;
+        if let Some(s) = self.segments.iter().find(|s| s.contains(r.position)) {
+            let dir = if first.x >= r.position.x { 1 } else { -1 };
+            return Some(Want {
+                segment: s.id,
+                dir,
+                inside: true,
+                distance: 0.0,
+            });
+        }
+        // Walk the route: the first leg along an aisle that enters a segment.
+        let mut at = r.position;
+        let mut walked = 0.0;
+        for &w in r.route {
+            let leg = w - at;
+            if leg.x.abs() > leg.y.abs() && walked <= self.params.request_distance_m {
+                let dir: i8 = if leg.x > 0.0 { 1 } else { -1 };
+                let entered = self
+                    .segments
+                    .iter()
+                    .filter(|s| {
+                        (at.y - s.y).abs() <= s.half_width && (w.y - s.y).abs() <= s.half_width
+                    })
+                    .filter_map(|s| {
+                        let mouth = if dir > 0 { s.x0 } else { s.x1 };
+                        let ahead = (mouth - at.x) * Real::from(dir);
+                        let reaches = (w.x - mouth) * Real::from(dir) > 0.0;
+                        (ahead >= 0.0 && reaches).then_some((ahead, s.id))
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                if let Some((ahead, segment)) = entered {
+                    let distance = walked + ahead;
+                    return (distance <= self.params.request_distance_m).then_some(Want {
+                        segment,
+                        dir,
+                        inside: false,
+                        distance,
+                    });
+                }
+            }
+            walked += leg.norm();
+            at = w;
+            if walked > self.params.request_distance_m {
+                break;
+            }
+        }
+        None
+    }
+
+    fn release(&mut self, wants: &[Option<Want>], events: &mut Vec<PolicyEvent>) {
+        for (s, res) in self.reservations.iter_mut().enumerate() {
+            let before = res.holders.len();
+            res.holders.retain(|&i| {
+                let keep = wants[i].is_some_and(|w| w.segment == s);
+                if !keep {
+                    events.push(PolicyEvent::Released {
+                        robot: i,
+                        segment: s,
+                    });
+                }
+                keep
+            });
+            if res.holders.is_empty() && before > 0 {
+                res.dir = None;
+            }
+            res.waiting
+                .retain(|&(i, _, _)| wants[i].is_some_and(|w| w.segment == s && !w.inside));
+        }
+    }
+
+    fn admit(&mut self, now: Real, wants: &[Option<Want>], events: &mut Vec<PolicyEvent>) {
+        // Robots inside a segment hold it, whatever happened before.
+        for (i, w) in wants.iter().enumerate() {
+            let Some(w) = w.filter(|w| w.inside) else {
+                continue;
+            };
+            let res = &mut self.reservations[w.segment];
+            if res.holders.contains(&i) {
+                continue;
+            }
+            match res.dir {
+                Some(d) if d != w.dir => self.totals.intrusions += 1,
+                _ => res.dir = Some(w.dir),
+            }
+            res.holders.push(i);
+            res.holders.sort_unstable();
+            res.waiting.retain(|&(r, _, _)| r != i);
+        }
+        // Requests from outside, oldest first.
+        for (i, w) in wants.iter().enumerate() {
+            let Some(w) = w.filter(|w| !w.inside) else {
+                continue;
+            };
+            let res = &mut self.reservations[w.segment];
+            if res.holders.contains(&i) || res.waiting.iter().any(|&(r, _, _)| r == i) {
+                continue;
+            }
+            res.waiting.push((i, w.dir, now));
+            self.totals.waits += 1;
+            events.push(PolicyEvent::Waiting {
+                robot: i,
+                segment: w.segment,
+            });
+        }
+        for (s, res) in self.reservations.iter_mut().enumerate() {
+            res.waiting
+                .sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
+            let Some(&(_, first_dir, _)) = res.waiting.first() else {
+                continue;
+            };
+            // Empty: it turns to the oldest request's direction. Else only its direction
+            // enters, and only while nobody waits the other way.
+            let dir = res.dir.unwrap_or(first_dir);
+            let opposed = res.waiting.iter().any(|&(_, d, _)| d != dir);
+            if res.dir.is_some() && opposed {
+                continue;
+            }
+            let mut granted = Vec::new();
+            for &(i, d, _) in &res.waiting {
+                if d == dir {
+                    granted.push(i);
+                }
+            }
+            if granted.is_empty() {
+                continue;
+            }
+            res.dir = Some(dir);
+            res.waiting.retain(|&(i, _, _)| !granted.contains(&i));
+            for i in granted {
+                res.holders.push(i);
+                self.totals.grants += 1;
+                events.push(PolicyEvent::Granted {
+                    robot: i,
+                    segment: s,
+                    dir,
+                });
+            }
+            res.holders.sort_unstable();
+        }
+    }
+
+    fn constraint_for(&self, i: usize, r: &PolicyRobot<'_>, want: &Option<Want>) -> Constraint {
+        if let Some(w) = want
+            && !w.inside
+            && !self.reservations[w.segment].holders.contains(&i)
+        {
+            let back = (w.distance - self.params.hold_back_m).max(0.0);
+            return Constraint::Hold {
+                at: along(r.position, r.route, back),
+                segment: w.segment,
+            };
+        }
+        if want.is_some_and(|w| w.inside) {
+            return Constraint::Free;
+        }
+        self.lane(r).map_or(Constraint::Free, Constraint::Lane)
+    }
+
+    /// Keep right: the point `lane_lookahead_m` ahead on the right lane of the corridor or
+    /// cross-aisle the robot's current leg runs along, if wide enough and the leg long enough.
+    fn lane(&self, r: &PolicyRobot<'_>) -> Option<Vec2> {
+        let lanes = &self.lanes;
+        let target = *r.route.first()?;
+        let leg = target - r.position;
+        let horizontal = leg.x.abs() >= leg.y.abs();
+        let (run, sign) = if horizontal {
+            (leg.x.abs(), leg.x.signum())
+        } else {
+            (leg.y.abs(), leg.y.signum())
+        };
+        let lead = self.params.lane_lookahead_m;
+        if run <= lead + 1.0 {
+            return None;
+        }
+        let (centre, half) = lanes.site.lane_axis(target, horizontal)?;
+        if 2.0 * half < lanes.min_width {
+            return None;
+        }
+        let offset = self.params.lane_offset_fraction * 2.0 * half;
+        Some(if horizontal {
+            // Right of travel along +x is −y.
+            vec2(r.position.x + sign * lead, centre - sign * offset)
+        } else {
+            // Right of travel along +y is +x.
+            vec2(centre + sign * offset, r.position.y + sign * lead)
+        })
+    }
+
+    fn retreat(
+        &mut self,
+        now: Real,
+        robots: &[PolicyRobot<'_>],
+        monitor: &TrafficMonitor,
+        events: &mut Vec<PolicyEvent>,
+    ) {
+        let edges: Vec<Vec<usize>> = (0..robots.len())
+            .map(|i| monitor.waits_on(i).to_vec())
+            .collect();
+        let mut cyclic = vec![false; robots.len()];
+        let cycles: Vec<Vec<usize>> = strongly_connected(&edges)
+            .into_iter()
+            .filter(|c| c.len() >= 2)
+            .collect();
+        for &i in cycles.iter().flatten() {
+            cyclic[i] = true;
+        }
+        for (since, &c) in self.cycle_since.iter_mut().zip(&cyclic) {
+            *since = match (*since, c) {
+                (_, false) => None,
+                (None, true) => Some(now),
+                (kept, true) => kept,
+            };
+        }
+        for cycle in &cycles {
+            let old = cycle.iter().all(|&i| {
+                self.cycle_since[i].is_some_and(|s| now - s >= self.params.retreat_after_s - 1e-9)
+            });
+            let retreating = cycle.iter().any(|&i| self.retreat_until[i] > now);
+            if !old || retreating {
+                continue;
+            }
+            let holds = |i: usize| self.reservations.iter().any(|r| r.holders.contains(&i));
+            let Some(&loser) = cycle
+                .iter()
+                .filter(|&&i| !holds(i) && !robots[i].route.is_empty())
+                .max()
+                .or_else(|| cycle.iter().filter(|&&i| !robots[i].route.is_empty()).max())
+            else {
+                continue;
+            };
+            self.retreat_until[loser] = now + self.params.retreat_s;
+            self.totals.retreats += 1;
+            events.push(PolicyEvent::Retreat { robot: loser });
+            let r = &robots[loser];
+            let ahead = r.route[0] - r.position;
+            let back = if ahead.norm() > 0.0 {
+                -ahead / ahead.norm()
+            } else {
+                vec2(0.0, 0.0)
+            };
+            self.retreat_at[loser] = r.position + back * self.params.retreat_m;
+        }
+        // Retreats in progress keep their point.
+        for (i, until) in self.retreat_until.iter().enumerate() {
+            if *until > now {
+                self.constraints[i] = Constraint::Retreat(self.retreat_at[i]);
+            }
+        }
+    }
+}
+
+/// Where a robot is with respect to one segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Want {
+    segment: usize,
+    dir: i8,
+    inside: bool,
+    /// Along the route to the mouth (m); 0 inside.
+    distance: Real,
+}
+
+/// The point `distance` along the route from `from`.
+fn along(from: Vec2, route: &[Vec2], distance: Real) -> Vec2 {
+    let mut at = from;
+    let mut left = distance;
+    for &w in route {
+        let leg = (w - at).norm();
+        if leg >= left {
+            return if leg > 0.0 {
+                at + (w - at) * (left / leg)
+            } else {
+                at
+            };
+        }
+        left -= leg;
+        at = w;
+    }
+    at
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+    use crate::traffic::TrafficParams;
+
+    fn narrow() -> (Site, Real) {
+        let s = Scenario::builtin("warehouse-narrow").expect("valid");
+        let site = Site::generate(&s.warehouse.expect("layout"));
+        (site, s.robot.radius_m)
+    }
+
+    /// The narrow warehouse's aisles are one-way segments; its corridors and cross-aisles are
+    /// not. The default warehouse (2.5 m aisles) has none.
+    #[test]
+    fn narrow_aisles_are_segments_and_wide_ones_are_not() {
+        let (site, radius) = narrow();
+        let policy = TrafficPolicy::new(&site, 1, radius, PolicyParams::default());
+        // 5 aisles between 6 rows, 4 blocks each.
+        assert_eq!(policy.segments().len(), 20);
+        let s = Scenario::builtin("warehouse").expect("valid");
+        let wide = Site::generate(&s.warehouse.expect("layout"));
+        let policy = TrafficPolicy::new(&wide, 1, s.robot.radius_m, PolicyParams::default());
+        assert!(policy.segments().is_empty());
+    }
+
+    fn step(policy: &mut TrafficPolicy, now: Real, robots: &[PolicyRobot<'_>]) -> Vec<PolicyEvent> {
+        let monitor = TrafficMonitor::new(robots.len(), TrafficParams::default());
+        policy.step(now, robots, &monitor)
+    }
+
+    /// Two robots head for the same segment from its two ends: the first to ask gets it, the
+    /// other waits short of the mouth, outside the segment and clear of the crossing, until
+    /// the first has left; a third behind the first, going the same way, does not get in
+    /// while the other way waits.
+    #[test]
+    fn one_direction_at_a_time_and_the_waiting_side_goes_next() {
+        let (site, radius) = narrow();
+        let mut policy = TrafficPolicy::new(&site, 3, radius, PolicyParams::default());
+        let s = policy.segments()[0];
+        let (west, east) = (vec2(s.x0 - 1.0, s.y), vec2(s.x1 + 1.0, s.y));
+        let route_east = [vec2(s.x1 + 1.5, s.y)];
+        let route_west = [vec2(s.x0 - 1.5, s.y)];
+        let mut robots = [
+            PolicyRobot {
+                position: west,
+                route: &route_east,
+            },
+            PolicyRobot {
+                position: east + vec2(3.0, 0.0),
+                route: &route_west,
+            },
+            PolicyRobot {
+                position: west - vec2(6.0, 0.0),
+                route: &route_east,
+            },
+        ];
+        let events = step(&mut policy, 0.1, &robots);
+        assert!(events.contains(&PolicyEvent::Granted {
+            robot: 0,
+            segment: s.id,
+            dir: 1
+        }));
+        assert_eq!(policy.constraint(0), Constraint::Free);
+        // Robot 1 comes within reach of the east mouth and must wait.
+        robots[1].position = east;
+        step(&mut policy, 0.2, &robots);
+        let Constraint::Hold { at, segment } = policy.constraint(1) else {
+            panic!("robot 1 should wait: {:?}", policy.constraint(1));
+        };
+        assert_eq!(segment, s.id);
+        assert!(!s.contains(at) && at.x > s.x1, "{at:?}");
+        // Robot 0 enters; robot 2 comes up behind it, the same way: not let in while robot 1
+        // waits the other way.
+        robots[0].position = vec2(s.x0 + 2.0, s.y);
+        robots[2].position = west;
+        step(&mut policy, 0.3, &robots);
+        assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
+        assert_eq!(policy.reservation(s.id).holders, vec![0]);
+        assert_eq!(policy.wait_edges(), vec![(1, 0), (2, 0)]);
+        // Robot 0 leaves by the far end: the segment turns to robot 1.
+        robots[0].position = vec2(s.x1 + 1.2, s.y + 1.0);
+        let events = step(&mut policy, 0.4, &robots);
+        assert!(events.contains(&PolicyEvent::Released {
+            robot: 0,
+            segment: s.id
+        }));
+        assert!(events.contains(&PolicyEvent::Granted {
+            robot: 1,
+            segment: s.id,
+            dir: -1
+        }));
+        assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
+        assert_eq!(policy.exit_of(1), Some(s.ends.0));
+    }
+
+    /// In a corridor wide enough for two, the goal leads along the right-hand lane.
+    #[test]
+    fn keep_right_in_wide_corridors() {
+        let (site, radius) = narrow();
+        let policy = TrafficPolicy::new(&site, 1, radius, PolicyParams::default());
+        // The bottom corridor (3 m, centre y = 1.5), driving west: right is +y.
+        let route = [vec2(5.0, 1.5)];
+        let r = PolicyRobot {
+            position: vec2(30.0, 1.5),
+            route: &route,
+        };
+        let lane = policy.lane(&r).expect("a lane");
+        assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
+        // Close to the waypoint the goal is the waypoint itself.
+        let near = PolicyRobot {
+            position: vec2(8.0, 1.5),
+            route: &route,
+        };
+        assert_eq!(policy.lane(&near), None);
+    }
+}
