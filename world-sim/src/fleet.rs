@@ -585,6 +585,7 @@ pub fn run_fleet(
     let options = FleetOptions {
         share_intents,
         policy: None,
+        human_impact_window_s: None,
     };
     run_fleet_with(scenario, planner, seconds, options)
 }
@@ -596,6 +597,9 @@ pub struct FleetOptions {
     pub share_intents: bool,
     /// The traffic policy's parameters; `None`: no policy.
     pub policy: Option<PolicyParams>,
+    /// Measure what the robots cost people in windows of this length (s; a shadow crowd, one
+    /// more crowd step per step); `None`: not measured.
+    pub human_impact_window_s: Option<Real>,
 }
 
 /// [`run_fleet`] with the traffic policy and intent sharing as `options` say.
@@ -608,6 +612,9 @@ pub fn run_fleet_with(
     let mut fleet = Fleet::new(scenario)?;
     fleet.share_intents = options.share_intents;
     fleet.set_traffic_policy(options.policy);
+    if let Some(window) = options.human_impact_window_s {
+        fleet.measure_human_impact(window);
+    }
     let mut stacks: Vec<PlannerStack> = (0..fleet.robots())
         .map(|_| {
             let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
@@ -733,6 +740,7 @@ mod tests {
             let options = FleetOptions {
                 share_intents: true,
                 policy,
+                human_impact_window_s: None,
             };
             run_fleet_with(&s, planner, 300.0, options).expect("warehouse")
         };

@@ -12,6 +12,7 @@ use coordinator::study::laned::{LanedStudy, laned_hallway};
 use coordinator::study::open_space::{StudyPlan, write_outputs, write_summary};
 use coordinator::study::replay::{ReplayStudy, table_markdown};
 use coordinator::study::runs::parse_runs_csv;
+use coordinator::study::traffic::{self as traffic_study, TrafficStudy};
 use coordinator::study::{with_progress, write_json};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -43,6 +44,10 @@ pub enum Experiment {
     /// asfm's estimate Â_o per tracked person on a recorded crowd (people who never react to
     /// the robot) and in the simulator's open space with people who react and who do not.
     AsfmEstimates(AsfmEstimatesArgs),
+    /// Fleet traffic: fleets of several sizes in the narrow-aisle warehouse and the fleet
+    /// hallway, the traffic policy off and on, the same seeds; deadlocks, stuck robots, tasks
+    /// per minute, contacts and people's delay, and throughput against fleet size.
+    Traffic(TrafficArgs),
     /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
     Summarize {
         /// The study's output folder.
@@ -253,6 +258,32 @@ pub struct AnticipatoryArgs {
     out: PathBuf,
 }
 
+/// `experiment traffic`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct TrafficArgs {
+    /// Seeds per (site, fleet size, policy).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Simulated seconds per run.
+    #[arg(long, default_value_t = 300.0, value_parser = positive)]
+    seconds: f64,
+    /// Fleet sizes in the narrow-aisle warehouse (`warehouse-narrow`), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "10,20,40")]
+    narrow_fleets: Vec<usize>,
+    /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "10,20")]
+    hallway_fleets: Vec<usize>,
+    /// Planner stack of every robot.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: PlannerSpec,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder.
+    #[arg(long, default_value = "results/traffic")]
+    out: PathBuf,
+}
+
 /// `experiment asfm-estimates`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct AsfmEstimatesArgs {
@@ -314,6 +345,7 @@ impl Experiment {
             Experiment::Laned(args) => laned(args),
             Experiment::Anticipatory(args) => anticipatory(args),
             Experiment::AsfmEstimates(args) => asfm_estimates(args),
+            Experiment::Traffic(args) => traffic(args),
             Experiment::Summarize { dir } => summarize(&dir),
         }
     }
@@ -544,6 +576,46 @@ fn laned(args: LanedArgs) -> Result<()> {
             c.robot_caused_contacts
         );
     }
+    Ok(())
+}
+
+fn traffic(args: TrafficArgs) -> Result<()> {
+    let mut sites = Vec::new();
+    for (name, fleets) in [
+        ("warehouse-narrow", args.narrow_fleets),
+        ("hallway-fleet", args.hallway_fleets),
+    ] {
+        if fleets.is_empty() {
+            continue;
+        }
+        if let Some(&bad) = fleets.iter().find(|&&n| !(1..=10_000).contains(&n)) {
+            bail!("fleet size {bad} for {name} is not in [1, 10000]");
+        }
+        let scenario = Scenario::builtin(name)?;
+        sites.push(traffic_study::Site { scenario, fleets });
+    }
+    if sites.is_empty() {
+        bail!("no fleet sizes given: --narrow-fleets and --hallway-fleets are both empty");
+    }
+    let study = TrafficStudy {
+        sites,
+        planner: args.planner,
+        seeds: args.seeds,
+        seconds: args.seconds,
+    };
+    let started = Instant::now();
+    let (runs, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
+        study.execute(progress)
+    })?;
+    let runs = runs?;
+    let cells = traffic_study::write_outputs(&args.out, &study, &runs)?;
+    eprintln!(
+        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, summary.md and throughput.png",
+        runs.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    print!("{}", traffic_study::table(&cells));
     Ok(())
 }
 

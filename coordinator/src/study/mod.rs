@@ -21,6 +21,7 @@ pub mod replay;
 pub mod runs;
 pub mod stats;
 pub mod summary;
+pub mod traffic;
 
 pub use output::{StudyError, write_json};
 

@@ -1,0 +1,334 @@
+//! `gapfleet experiment traffic`: fleets of several sizes in the narrow-aisle warehouse and the
+//! fleet hallway, with the traffic policy (`world_sim::traffic_policy`) off and on, the same
+//! seeds both ways; deadlocks, stuck robot-seconds, tasks per minute, robot-caused contacts and
+//! people's delay per run, and throughput against fleet size.
+
+use super::csv_fields::to_csv;
+use super::output::{StudyError, write_json};
+use super::plots::{Series, write_lines};
+use super::stats::mean;
+use agent::planner::PlannerSpec;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use world_sim::fleet::{FleetOptions, FleetReport, NotAWarehouse, run_fleet_with};
+use world_sim::scenario::Scenario;
+use world_sim::traffic_policy::PolicyParams;
+
+/// People's delay is measured in windows of this length (s), as in the open-space study.
+const IMPACT_WINDOW_S: f64 = 5.0;
+
+/// One site of the study and the fleet sizes it runs.
+#[derive(Debug, Clone)]
+pub struct Site {
+    /// The scenario (its robot count is replaced per run, its seed per run).
+    pub scenario: Scenario,
+    /// Fleet sizes.
+    pub fleets: Vec<usize>,
+}
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct TrafficStudy {
+    /// The sites.
+    pub sites: Vec<Site>,
+    /// Planner stack of every robot.
+    pub planner: PlannerSpec,
+    /// Seeds 1..=seeds per (site, fleet size, policy).
+    pub seeds: u64,
+    /// Simulated seconds per run.
+    pub seconds: f64,
+}
+
+/// One run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrafficRun {
+    /// Scenario name.
+    pub scenario: String,
+    /// Robots.
+    pub robots: usize,
+    /// Whether the traffic policy was on.
+    pub policy: bool,
+    /// Seed.
+    pub seed: u64,
+    /// Tasks completed by the fleet.
+    pub tasks: u64,
+    /// Tasks per simulated minute.
+    pub tasks_per_min: f64,
+    /// Deadlocks that began (`world_sim::traffic`).
+    pub deadlocks: u64,
+    /// Robot-seconds deadlocked.
+    pub deadlocked_robot_s: f64,
+    /// Times a robot became stuck.
+    pub stuck_onsets: u64,
+    /// Robot-seconds stuck.
+    pub stuck_robot_s: f64,
+    /// Most robots stuck at once.
+    pub max_stuck: usize,
+    /// Contacts with people the robots caused (onsets).
+    pub robot_caused_contacts: u64,
+    /// Contacts people caused, walking into robots (onsets).
+    pub person_caused_contacts: u64,
+    /// Robot–robot contacts (onsets).
+    pub robot_robot_contacts: u64,
+    /// Person-seconds of delay the robots caused, against a crowd that ignores them.
+    pub human_delay_s: f64,
+    /// Segments granted (0 with the policy off).
+    pub grants: u64,
+    /// Waits for a segment.
+    pub waits: u64,
+    /// Retreats ordered.
+    pub retreats: u64,
+}
+
+impl TrafficRun {
+    fn new(scenario: &str, seed: u64, report: &FleetReport) -> Self {
+        let sum = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| -> u64 {
+            report.robots.iter().map(f).sum()
+        };
+        let policy = report.policy.unwrap_or_default();
+        Self {
+            scenario: scenario.to_owned(),
+            robots: report.robots.len(),
+            policy: report.policy.is_some(),
+            seed,
+            tasks: report.total_tasks(),
+            tasks_per_min: report.total_tasks() as f64 * 60.0 / report.seconds,
+            deadlocks: report.traffic.deadlocks,
+            deadlocked_robot_s: report.traffic.deadlocked_robot_s,
+            stuck_onsets: report.traffic.stuck_onsets,
+            stuck_robot_s: report.traffic.stuck_robot_s,
+            max_stuck: report.traffic.max_stuck,
+            robot_caused_contacts: sum(|m| m.robot_caused_contacts),
+            person_caused_contacts: sum(|m| m.person_caused_contacts),
+            robot_robot_contacts: sum(|m| m.robot_robot_contacts),
+            human_delay_s: report.robots.iter().map(|m| m.human_delay_s).sum(),
+            grants: policy.grants,
+            waits: policy.waits,
+            retreats: policy.retreats,
+        }
+    }
+}
+
+/// One (site, fleet size, policy) cell of the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Cell {
+    /// Scenario name.
+    pub scenario: String,
+    /// Robots.
+    pub robots: usize,
+    /// Policy on.
+    pub policy: bool,
+    /// Runs.
+    pub runs: usize,
+    /// Runs with at least one deadlock.
+    pub runs_with_deadlock: usize,
+    /// Deadlocks in all runs.
+    pub deadlocks: u64,
+    /// Mean tasks per minute.
+    pub tasks_per_min: f64,
+    /// Mean tasks per minute per robot.
+    pub tasks_per_min_per_robot: f64,
+    /// Mean stuck robot-seconds per run.
+    pub stuck_robot_s: f64,
+    /// Mean share of robot-time stuck.
+    pub stuck_share: f64,
+    /// Mean robot-caused contacts per run.
+    pub robot_caused_contacts: f64,
+    /// Mean robot–robot contacts per run.
+    pub robot_robot_contacts: f64,
+    /// Mean person-seconds of delay per run.
+    pub human_delay_s: f64,
+    /// Mean retreats per run.
+    pub retreats: f64,
+}
+
+impl TrafficStudy {
+    /// Every run, in (site, fleet, seed, policy off/on) order.
+    pub fn runs(&self) -> Vec<(usize, usize, u64, bool)> {
+        let mut out = Vec::new();
+        for (s, site) in self.sites.iter().enumerate() {
+            for &robots in &site.fleets {
+                for seed in 1..=self.seeds {
+                    out.push((s, robots, seed, false));
+                    out.push((s, robots, seed, true));
+                }
+            }
+        }
+        out
+    }
+
+    /// Runs everything on the current rayon pool; `progress` is called after each run.
+    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Result<Vec<TrafficRun>, NotAWarehouse> {
+        self.runs()
+            .par_iter()
+            .map(|&(s, robots, seed, policy)| {
+                let site = &self.sites[s];
+                let mut scenario = site.scenario.clone();
+                scenario.seed = seed;
+                scenario.set_fleet_size(Some(robots), None);
+                let options = FleetOptions {
+                    share_intents: true,
+                    policy: policy.then(PolicyParams::default),
+                    human_impact_window_s: Some(IMPACT_WINDOW_S),
+                };
+                let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
+                progress();
+                Ok(TrafficRun::new(&scenario.name, seed, &report))
+            })
+            .collect()
+    }
+}
+
+/// The cells, in the study's order.
+pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
+    let mut cells = Vec::new();
+    for site in &study.sites {
+        for &robots in &site.fleets {
+            for policy in [false, true] {
+                let mine: Vec<&TrafficRun> = runs
+                    .iter()
+                    .filter(|r| {
+                        r.scenario == site.scenario.name && r.robots == robots && r.policy == policy
+                    })
+                    .collect();
+                let m = |f: fn(&TrafficRun) -> f64| mean(mine.iter().map(|r| f(r))).unwrap_or(0.0);
+                cells.push(Cell {
+                    scenario: site.scenario.name.clone(),
+                    robots,
+                    policy,
+                    runs: mine.len(),
+                    runs_with_deadlock: mine.iter().filter(|r| r.deadlocks > 0).count(),
+                    deadlocks: mine.iter().map(|r| r.deadlocks).sum(),
+                    tasks_per_min: m(|r| r.tasks_per_min),
+                    tasks_per_min_per_robot: m(|r| r.tasks_per_min) / robots as f64,
+                    stuck_robot_s: m(|r| r.stuck_robot_s),
+                    stuck_share: m(|r| r.stuck_robot_s) / (robots as f64 * study.seconds),
+                    robot_caused_contacts: m(|r| r.robot_caused_contacts as f64),
+                    robot_robot_contacts: m(|r| r.robot_robot_contacts as f64),
+                    human_delay_s: m(|r| r.human_delay_s),
+                    retreats: m(|r| r.retreats as f64),
+                });
+            }
+        }
+    }
+    cells
+}
+
+/// The summary as a Markdown table.
+pub fn table(cells: &[Cell]) -> String {
+    let mut out = String::from(
+        "| site | robots | policy | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | robot-caused contacts | robot–robot contacts | people's delay (person-s) | retreats |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for c in cells {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} |\n",
+            c.scenario,
+            c.robots,
+            if c.policy { "on" } else { "off" },
+            c.runs,
+            c.runs_with_deadlock,
+            c.deadlocks,
+            c.tasks_per_min,
+            c.tasks_per_min_per_robot,
+            c.stuck_robot_s,
+            100.0 * c.stuck_share,
+            c.robot_caused_contacts,
+            c.robot_robot_contacts,
+            c.human_delay_s,
+            c.retreats,
+        ));
+    }
+    out
+}
+
+/// Writes `runs.csv`, `summary.json`, `summary.md` and `throughput.png` into `out`.
+pub fn write_outputs(
+    out: &Path,
+    study: &TrafficStudy,
+    runs: &[TrafficRun],
+) -> Result<Vec<Cell>, StudyError> {
+    std::fs::create_dir_all(out).map_err(StudyError::io(out))?;
+    let path = out.join("runs.csv");
+    std::fs::write(&path, to_csv(runs)).map_err(StudyError::io(&path))?;
+    let cells = summarize(study, runs);
+    write_json(&out.join("summary.json"), &cells)?;
+    let path = out.join("summary.md");
+    std::fs::write(&path, table(&cells)).map_err(StudyError::io(&path))?;
+    let panels: Vec<(String, Vec<Series>)> = study
+        .sites
+        .iter()
+        .map(|site| {
+            let series = [false, true]
+                .into_iter()
+                .map(|policy| {
+                    let points = cells
+                        .iter()
+                        .filter(|c| c.scenario == site.scenario.name && c.policy == policy)
+                        .map(|c| (c.robots as f64, c.tasks_per_min))
+                        .collect();
+                    let name = format!("policy {}", if policy { "on" } else { "off" });
+                    (name, points)
+                })
+                .collect();
+            (format!("robots ({})", site.scenario.name), series)
+        })
+        .collect();
+    let panels: Vec<_> = panels
+        .iter()
+        .map(|(x, series)| (x.as_str(), "tasks per minute", series.clone()))
+        .collect();
+    write_lines(
+        &out.join("throughput.png"),
+        "Fleet throughput against fleet size, traffic policy off and on",
+        &panels,
+    )?;
+    Ok(cells)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One short seed of each site, both ways: every run is there, and the summary counts them.
+    #[test]
+    fn a_smoke_study_runs_both_sites_both_ways() {
+        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
+        let hallway = Scenario::builtin("hallway-fleet").expect("valid");
+        let study = TrafficStudy {
+            sites: vec![
+                Site {
+                    scenario: narrow,
+                    fleets: vec![4],
+                },
+                Site {
+                    scenario: hallway,
+                    fleets: vec![4],
+                },
+            ],
+            planner: "pgp+orca".parse().expect("known"),
+            seeds: 1,
+            seconds: 30.0,
+        };
+        let runs = study.execute(&|| {}).expect("fleet sites");
+        assert_eq!(runs.len(), 4);
+        assert!(
+            runs.iter()
+                .filter(|r| r.policy)
+                .all(|r| r.grants + r.waits > 0 || r.scenario == "hallway-fleet")
+        );
+        assert!(runs.iter().filter(|r| !r.policy).all(|r| r.grants == 0));
+        let cells = summarize(&study, &runs);
+        assert_eq!(cells.len(), 4);
+        assert!(cells.iter().all(|c| c.runs == 1));
+        let dir = std::env::temp_dir().join(format!("gapfleet-traffic-{}", std::process::id()));
+        write_outputs(&dir, &study, &runs).expect("written");
+        for f in ["runs.csv", "summary.json", "summary.md", "throughput.png"] {
+            assert!(dir.join(f).is_file(), "{f}");
+        }
+        let csv = std::fs::read_to_string(dir.join("runs.csv")).expect("read");
+        assert_eq!(csv.lines().count(), 5, "{csv}");
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
+}
