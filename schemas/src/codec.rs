@@ -334,6 +334,7 @@ impl Message for FleetMetrics {
         finite("sim_time", self.sim_time)?;
         non_negative("collision_rate", self.collision_rate)?;
         non_negative("svr", self.svr)?;
+        non_negative("stuck_robot_s", self.stuck_robot_s)?;
         bounded("per_robot", self.per_robot.len(), MAX_ROBOTS)?;
         for r in &self.per_robot {
             non_negative("per_robot.collision_rate", r.collision_rate)?;
@@ -342,6 +343,46 @@ impl Message for FleetMetrics {
             if let Some(d) = r.min_human_distance {
                 finite("per_robot.min_human_distance", d)?;
             }
+            bounded("per_robot.waits_on", r.waits_on.len(), MAX_ROBOTS)?;
+        }
+        Ok(())
+    }
+}
+
+/// Largest segment index a [`TrafficMsg`] may name.
+pub const MAX_SEGMENTS: u32 = 1_000_000;
+
+impl Message for TrafficMsg {
+    const MAX_BYTES: usize = 256;
+    fn validate(&self) -> Result<(), DecodeError> {
+        finite("sim_time", self.sim_time)?;
+        if let Some(goal) = &self.goal {
+            finite_p("goal", goal)?;
+        }
+        let needs_goal = self.constraint != TrafficConstraint::Free;
+        if needs_goal != self.goal.is_some() {
+            return Err(DecodeError::Invalid {
+                field: "goal",
+                reason: "present exactly when the constraint is not free",
+            });
+        }
+        if self.constraint == TrafficConstraint::Hold && self.segment.is_none() {
+            return Err(DecodeError::Invalid {
+                field: "segment",
+                reason: "a hold names the segment it waits for",
+            });
+        }
+        if self.segment.is_some_and(|s| s >= MAX_SEGMENTS) {
+            return Err(DecodeError::Invalid {
+                field: "segment",
+                reason: "beyond the largest segment index",
+            });
+        }
+        if self.direction.is_some_and(|d| d != 1 && d != -1) {
+            return Err(DecodeError::Invalid {
+                field: "direction",
+                reason: "must be +1 or -1",
+            });
         }
         Ok(())
     }

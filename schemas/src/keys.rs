@@ -8,6 +8,7 @@
 //! | `gapfleet/<site>/robot/<id>/task` | coordinator → agent | [`TaskAssignment`](crate::TaskAssignment) |
 //! | `gapfleet/<site>/robot/<id>/info` | agent → fleet | [`AgentInfo`](crate::AgentInfo) |
 //! | `gapfleet/<site>/robot/<id>/fan` | agent → dashboards (opt-in) | [`FanMsg`](crate::FanMsg) |
+//! | `gapfleet/<site>/robot/<id>/traffic` | coordinator → agent, dashboards | [`TrafficMsg`](crate::TrafficMsg) |
 //! | `gapfleet/<site>/alive/<id>` | agent (liveliness token) | none |
 //! | `gapfleet/<site>/metrics` | coordinator → fleet | [`FleetMetrics`](crate::FleetMetrics) |
 //! | `gapfleet/<site>/map` | coordinator (queryable) | [`MapMsg`](crate::MapMsg) |
@@ -34,17 +35,20 @@ pub enum Channel {
     Info,
     /// PGP's candidate fan, when the agent shares it.
     Fan,
+    /// The traffic policy's constraint on the robot.
+    Traffic,
 }
 
 impl Channel {
     /// Every channel.
-    pub const ALL: [Channel; 6] = [
+    pub const ALL: [Channel; 7] = [
         Channel::Obs,
         Channel::Intent,
         Channel::Cmd,
         Channel::Task,
         Channel::Info,
         Channel::Fan,
+        Channel::Traffic,
     ];
 
     /// The last chunk of the key.
@@ -56,6 +60,7 @@ impl Channel {
             Channel::Task => "task",
             Channel::Info => "info",
             Channel::Fan => "fan",
+            Channel::Traffic => "traffic",
         }
     }
 }

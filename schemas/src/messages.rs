@@ -257,6 +257,13 @@ pub struct RobotRow {
     pub min_human_distance: Option<f64>,
     /// Mean total social force on the robot (N per kg).
     pub social_force: f64,
+    /// Whether it is stuck: a task and no progress for the traffic monitor's 30 s; absent
+    /// from older senders.
+    #[serde(default)]
+    pub stuck: bool,
+    /// The robots it waits on now (the wait-for graph's edges from it).
+    #[serde(default)]
+    pub waits_on: Vec<u32>,
 }
 
 /// Coordinator → fleet, key `…/metrics`, once per simulated second: the fleet's social metrics.
@@ -289,8 +296,51 @@ pub struct FleetMetrics {
     pub person_caused_contacts: u64,
     /// Commands that arrived too late or out of order and were dropped.
     pub dropped_commands: u64,
+    /// Deadlocks so far: sets of robots each waiting on another in the set for 10 s; absent
+    /// from older senders.
+    #[serde(default)]
+    pub deadlocks: u64,
+    /// Robots stuck now.
+    #[serde(default)]
+    pub stuck_robots: u32,
+    /// Robot-seconds spent stuck so far.
+    #[serde(default)]
+    pub stuck_robot_s: f64,
     /// Per-robot rows.
     pub per_robot: Vec<RobotRow>,
+}
+
+/// What the traffic policy asks of a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TrafficConstraint {
+    /// Drive to the route's waypoint.
+    Free,
+    /// Drive along the right-hand lane (keep right), toward `goal`.
+    Lane,
+    /// Wait at `goal` until `segment` is granted.
+    Hold,
+    /// Back off to `goal`: a wait-for cycle lasted.
+    Retreat,
+}
+
+/// Coordinator → agent and dashboards, key `…/robot/<id>/traffic`, every tick while the
+/// traffic policy runs: what it asks of the robot and why. The observation's `goal` already is
+/// the constrained goal, so an agent that ignores this message still obeys the policy.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrafficMsg {
+    /// Simulation tick.
+    pub tick: u64,
+    /// Simulation time (s).
+    pub sim_time: f64,
+    /// The constraint.
+    pub constraint: TrafficConstraint,
+    /// The goal it puts in place of the route's waypoint (absent for `free`).
+    pub goal: Option<P2>,
+    /// The one-way aisle segment it waits for (`hold`) or holds.
+    pub segment: Option<u32>,
+    /// The direction the held segment is travelled: +1 along x, −1 against.
+    pub direction: Option<i8>,
 }
 
 /// A static obstacle of the map. `{"polygon": [[x,y],...]}` or `{"wall": [[x,y],[x,y]]}`.

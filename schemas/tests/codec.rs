@@ -122,7 +122,23 @@ fn metrics() -> FleetMetrics {
             svr: 0.1,
             min_human_distance: Some(0.4),
             social_force: 0.7,
+            stuck: true,
+            waits_on: vec![1, 4],
         }],
+        deadlocks: 1,
+        stuck_robots: 1,
+        stuck_robot_s: 31.5,
+    }
+}
+
+fn traffic() -> TrafficMsg {
+    TrafficMsg {
+        tick: 120,
+        sim_time: 12.0,
+        constraint: TrafficConstraint::Hold,
+        goal: Some(P2(15.0, 4.5)),
+        segment: Some(7),
+        direction: None,
     }
 }
 
@@ -186,6 +202,101 @@ fn every_message_round_trips() {
     round_trip(metrics());
     round_trip(map());
     round_trip(fan());
+    round_trip(traffic());
+    round_trip(TrafficMsg {
+        constraint: TrafficConstraint::Free,
+        goal: None,
+        segment: Some(2),
+        direction: Some(-1),
+        ..traffic()
+    });
+}
+
+/// A traffic constraint says where to go exactly when it constrains, a hold names its
+/// segment, and directions are ±1.
+#[test]
+fn traffic_rules_are_enforced() {
+    let rejected = |m: TrafficMsg| decode::<TrafficMsg>(&encode(&m)).is_err();
+    assert!(rejected(TrafficMsg {
+        goal: None,
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        constraint: TrafficConstraint::Free,
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        segment: None,
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        direction: Some(0),
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        segment: Some(u32::MAX),
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        goal: Some(P2(f64::NAN, 0.0)),
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        sim_time: f64::INFINITY,
+        ..traffic()
+    }));
+    // Metrics from a coordinator before the traffic fields still decode.
+    #[derive(Serialize)]
+    struct OldRow {
+        robot_id: u32,
+        alive: bool,
+        tasks_done: u64,
+        collision_rate: f64,
+        svr: f64,
+        min_human_distance: Option<f64>,
+        social_force: f64,
+    }
+    #[derive(Serialize)]
+    struct OldMetrics {
+        v: u16,
+        tick: u64,
+        sim_time: f64,
+        robots: u32,
+        alive: u32,
+        humans: u32,
+        tasks_done: u64,
+        collision_rate: f64,
+        svr: f64,
+        near_misses: u64,
+        dropped_commands: u64,
+        per_robot: Vec<OldRow>,
+    }
+    let old = OldMetrics {
+        v: SCHEMA_VERSION,
+        tick: 1,
+        sim_time: 0.1,
+        robots: 1,
+        alive: 1,
+        humans: 0,
+        tasks_done: 0,
+        collision_rate: 0.0,
+        svr: 0.0,
+        near_misses: 0,
+        dropped_commands: 0,
+        per_robot: vec![OldRow {
+            robot_id: 0,
+            alive: true,
+            tasks_done: 0,
+            collision_rate: 0.0,
+            svr: 0.0,
+            min_human_distance: None,
+            social_force: 0.0,
+        }],
+    };
+    let bytes = rmp_serde::to_vec_named(&old).expect("encodes");
+    let m = decode::<FleetMetrics>(&bytes).expect("old metrics decode");
+    assert_eq!((m.deadlocks, m.stuck_robots), (0, 0));
+    assert!(!m.per_robot[0].stuck && m.per_robot[0].waits_on.is_empty());
 }
 
 #[test]

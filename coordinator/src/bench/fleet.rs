@@ -88,6 +88,7 @@ pub async fn bench_fleet(
         site: "bench".to_owned(),
         listen: None,
         share_intents: true,
+        traffic_policy: true,
         sinks: dashboards::Sinks::default(),
         round_trips: Some(round_trips_tx),
     };

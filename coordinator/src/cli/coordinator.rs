@@ -35,6 +35,10 @@ pub struct CoordinatorArgs {
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
+    /// Leave the robots' goals to their routes: no one-way aisles, keep-right lanes or
+    /// retreats (`world_sim::traffic_policy`).
+    #[arg(long)]
+    no_traffic_policy: bool,
     #[command(flatten)]
     net: NetArgs,
     #[command(flatten)]
@@ -57,6 +61,9 @@ impl CoordinatorArgs {
         }
         let mut fleet = Fleet::new(&scenario)?;
         fleet.share_intents = !self.no_intent_sharing;
+        if !self.no_traffic_policy {
+            fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
+        }
         let mut config_ = CoordinatorConfig::new(&self.site);
         config_.speed = self.speed;
         config_.seconds = self.seconds;

@@ -41,6 +41,10 @@ pub struct DemoArgs {
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
+    /// Leave the robots' goals to their routes: no one-way aisles, keep-right lanes or
+    /// retreats (`world_sim::traffic_policy`).
+    #[arg(long)]
+    no_traffic_policy: bool,
     /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
     /// planners run (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
@@ -80,6 +84,7 @@ impl DemoArgs {
             site: self.site,
             listen: self.listen,
             share_intents: !self.no_intent_sharing,
+            traffic_policy: !self.no_traffic_policy,
             sinks: self.rerun.sinks(),
             round_trips: None,
         };

@@ -15,6 +15,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use world_sim::fleet::Fleet;
 use world_sim::scenario::Scenario;
+use world_sim::traffic::TrafficTotals;
+use world_sim::traffic_policy::{PolicyParams, PolicyTotals, TrafficPolicy};
 
 /// What to run.
 #[derive(Debug, Clone)]
@@ -33,6 +35,8 @@ pub struct DemoOptions {
     pub listen: Option<String>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
+    /// Whether the traffic policy (`world_sim::traffic_policy`) constrains the robots' goals.
+    pub traffic_policy: bool,
     /// Rerun sinks (none: no dashboard).
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
@@ -52,6 +56,10 @@ pub struct DemoReport {
     pub tasks_done: Vec<u64>,
     /// Dashboard frames logged and dropped, when a dashboard ran.
     pub dashboard: Option<dashboards::DashboardStats>,
+    /// Stuck robots and deadlocks, as the traffic monitor counted them.
+    pub traffic: TrafficTotals,
+    /// What the traffic policy did, when on.
+    pub policy: Option<PolicyTotals>,
 }
 
 /// Why a demo could not run.
@@ -93,6 +101,7 @@ pub async fn run_demo(
 ) -> Result<DemoReport, DemoError> {
     let mut fleet = Fleet::new(&options.scenario)?;
     fleet.share_intents = options.share_intents;
+    fleet.set_traffic_policy(options.traffic_policy.then(PolicyParams::default));
     let dashboard = if options.sinks.any() {
         fleet.measure_human_impact(HUMAN_IMPACT_WINDOW_S);
         let d = DashboardObserver::start(&fleet, &options.sinks, &options.planner.to_string())?;
@@ -149,6 +158,8 @@ pub async fn run_demo(
         final_fleet = Some((
             (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
             (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),
+            fleet.traffic().totals(),
+            fleet.traffic_policy().map(TrafficPolicy::totals),
         ));
     };
     let mut observers = (status_line, dashboard);
@@ -160,13 +171,15 @@ pub async fn run_demo(
     }
     drop(presence);
     router.close().await.map_err(DemoError::Close)?;
-    let (fleet_metrics, tasks_done) = final_fleet.unwrap_or_default();
+    let (fleet_metrics, tasks_done, traffic, policy) = final_fleet.unwrap_or_default();
     Ok(DemoReport {
         status,
         agents: counters,
         fleet_metrics,
         tasks_done,
         dashboard,
+        traffic,
+        policy,
     })
 }
 
@@ -174,11 +187,13 @@ pub async fn run_demo(
 pub fn status_line(s: &Status) -> String {
     let m = s.metrics.as_ref();
     format!(
-        "t {:6.1} s | agents {}/{} | tasks {:3} | SVR {:.3} | collisions {:.2}% | rtt p50 {:.2} ms p99 {:.2} ms | stale {}",
+        "t {:6.1} s | agents {}/{} | tasks {:3} | stuck {} | deadlocks {} | SVR {:.3} | collisions {:.2}% | rtt p50 {:.2} ms p99 {:.2} ms | stale {}",
         s.sim_time,
         s.alive,
         s.robots,
         s.tasks_done,
+        m.map_or(0, |m| m.stuck_robots),
+        m.map_or(0, |m| m.deadlocks),
         m.map_or(0.0, |m| m.svr),
         m.map_or(0.0, |m| m.collision_rate * 100.0),
         s.round_trip_ms.0,
@@ -245,6 +260,20 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         total(|m| m.robot_robot_contacts),
         total(|m| m.wall_contacts),
     ));
+    let t = &report.traffic;
+    out.push_str(&format!(
+        "traffic: {} deadlocks ({:.0} robot-s deadlocked); {} times a robot got stuck, {:.0} \
+         robot-s stuck, at most {} at once\n",
+        t.deadlocks, t.deadlocked_robot_s, t.stuck_onsets, t.stuck_robot_s, t.max_stuck
+    ));
+    out.push_str(&match &report.policy {
+        Some(p) => format!(
+            "traffic policy: {} one-way aisle segments granted, {} waits for one, {} retreats, \
+             {} robots found against a segment's direction\n",
+            p.grants, p.waits, p.retreats, p.intrusions
+        ),
+        None => "traffic policy: off\n".to_owned(),
+    });
     if let Some(d) = &report.dashboard {
         out.push_str(&format!(
             "dashboard: {} frames logged, {} dropped\n",

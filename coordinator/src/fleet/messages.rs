@@ -1,13 +1,17 @@
-//! What the coordinator sends: each robot's observation, the static map served to agents,
-//! and the fleet metrics frame.
+//! What the coordinator sends: each robot's observation and traffic constraint, the static
+//! map served to agents, and the fleet metrics frame.
 
 use super::links::Link;
 use super::status::Status;
 use agent::map::{LocalMap, StaticMap};
 use agent::math::{Real, vec2};
 use agent::runtime::wire;
-use schemas::{FleetMetrics, Observation, RobotRow, StationMsg, TaskRef, TaskStage};
+use schemas::{
+    FleetMetrics, Observation, RobotRow, StationMsg, TaskRef, TaskStage, TrafficConstraint,
+    TrafficMsg,
+};
 use world_sim::fleet::{Fleet, Stage};
+use world_sim::traffic_policy::Constraint;
 
 /// Version of the map the coordinator serves (the generated map never changes during a run).
 pub const MAP_VERSION: u32 = 1;
@@ -44,6 +48,31 @@ pub fn observation(fleet: &mut Fleet, i: usize, seq: u64) -> Observation {
     }
 }
 
+/// What the traffic policy asks of robot `i` at `tick`, when the policy is on.
+pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg> {
+    let policy = fleet.traffic_policy()?;
+    let (constraint, goal) = match policy.constraint(i) {
+        Constraint::Free => (TrafficConstraint::Free, None),
+        Constraint::Lane(p) => (TrafficConstraint::Lane, Some(p)),
+        Constraint::Hold { at, .. } => (TrafficConstraint::Hold, Some(at)),
+        Constraint::Retreat(p) => (TrafficConstraint::Retreat, Some(p)),
+    };
+    let waiting = match policy.constraint(i) {
+        Constraint::Hold { segment, .. } => Some(segment),
+        _ => None,
+    };
+    let held = (0..policy.segments().len()).find(|&s| policy.reservation(s).holders.contains(&i));
+    let segment = waiting.or(held);
+    Some(TrafficMsg {
+        tick,
+        sim_time: fleet.world.time,
+        constraint,
+        goal: goal.map(wire::p2),
+        segment: segment.map(|s| s as u32),
+        direction: held.and_then(|s| policy.reservation(s).dir),
+    })
+}
+
 /// The site's static map and stations as served by the `…/map` queryable.
 pub fn map_message(fleet: &Fleet) -> schemas::MapMsg {
     let site = fleet.site();
@@ -76,8 +105,16 @@ pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> F
                 .is_finite()
                 .then_some(m.min_human_distance_m),
             social_force: m.social_force,
+            stuck: fleet.traffic().is_stuck(i),
+            waits_on: fleet
+                .traffic()
+                .waits_on(i)
+                .iter()
+                .map(|&j| j as u32)
+                .collect(),
         })
         .collect();
+    let traffic = fleet.traffic().totals();
     let mean = |f: &dyn Fn(&RobotRow) -> Real| {
         if per_robot.is_empty() {
             0.0
@@ -98,6 +135,9 @@ pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> F
         robot_caused_contacts: metrics.iter().map(|m| m.robot_caused_contacts).sum(),
         person_caused_contacts: metrics.iter().map(|m| m.person_caused_contacts).sum(),
         dropped_commands: status.stale_commands,
+        deadlocks: traffic.deadlocks,
+        stuck_robots: per_robot.iter().filter(|r| r.stuck).count() as u32,
+        stuck_robot_s: traffic.stuck_robot_s,
         per_robot,
     }
 }

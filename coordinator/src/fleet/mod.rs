@@ -18,7 +18,7 @@ mod links;
 mod messages;
 mod status;
 
-pub use messages::{MAP_VERSION, map_message, observation};
+pub use messages::{MAP_VERSION, map_message, observation, traffic_message};
 pub use status::{CoordinatorConfig, CoordinatorError, Event, Observer, RoundTrip, Status};
 
 use agent::model::Command;
@@ -66,6 +66,7 @@ struct Wire<'s> {
     fans: Subscriber<RingChannelHandler<Sample>>,
     observations: Vec<Publisher<'s>>,
     tasks: Vec<Publisher<'s>>,
+    traffic: Vec<Publisher<'s>>,
     metrics: Publisher<'s>,
     map_server: tokio::task::JoinHandle<()>,
     _presence: Option<zenoh::liveliness::LivelinessToken>,
@@ -144,7 +145,14 @@ impl<'s> Wire<'s> {
             .map_err(zerr("fan subscriber"))?;
         let mut observations = Vec::with_capacity(n);
         let mut tasks = Vec::with_capacity(n);
+        let mut traffic = Vec::with_capacity(n);
         for i in 0..n as u32 {
+            traffic.push(
+                session
+                    .declare_publisher(keys.robot(i, Channel::Traffic))
+                    .await
+                    .map_err(zerr("traffic publisher"))?,
+            );
             observations.push(
                 session
                     .declare_publisher(keys.robot(i, Channel::Obs))
@@ -173,6 +181,7 @@ impl<'s> Wire<'s> {
             fans,
             observations,
             tasks,
+            traffic,
             metrics,
             map_server,
             _presence: presence,
@@ -362,6 +371,11 @@ impl Coordinator<'_> {
                 self.status.observations += 1;
                 if let Err(e) = self.wire.observations[i].put(bytes).await {
                     tracing::warn!(robot = i, "observation not sent: {e}");
+                }
+                if let Some(msg) = traffic_message(&self.fleet, i, self.status.tick)
+                    && let Err(e) = self.wire.traffic[i].put(encode(&msg)).await
+                {
+                    tracing::warn!(robot = i, "traffic constraint not sent: {e}");
                 }
             }
         }
