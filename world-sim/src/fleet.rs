@@ -365,7 +365,14 @@ impl Fleet {
                 continue;
             };
             let last = job.waypoints.len() == 1;
-            let reach = if last { tolerance } else { WAYPOINT_REACHED_M };
+            let reach = if last {
+                tolerance
+            } else {
+                let margin = PolicyParams::default().passing_margin_m;
+                let radius = robot.state.radius;
+                self.site
+                    .corner_reach(target, radius, margin, WAYPOINT_REACHED_M)
+            };
             if (target - here).norm() >= reach {
                 continue;
             }

@@ -7,8 +7,9 @@
 //!   way: in i's line of sight, within [`TrafficParams::blocking_gap_m`] of i (surface to
 //!   surface) and ahead of i (within [`TrafficParams::blocking_cone_rad`] of the direction to
 //!   i's waypoint), where j is now or where j's shared intent puts it within
-//!   [`TrafficParams::intent_horizon_s`]. The traffic policy adds its own edges: a robot held
-//!   at a reserved segment waits on the robots holding it.
+//!   [`TrafficParams::intent_horizon_s`] (intents count only for a j not behind i: a robot
+//!   behind that means to overtake blocks nobody). The traffic policy adds its own edges: a
+//!   robot held at a reserved segment waits on the robots holding it.
 //! - A **deadlock** is a set of robots each waiting on another in the set: a strongly
 //!   connected component of two or more robots of the wait-for graph, every member of which has
 //!   been in such a component for [`TrafficParams::deadlock_after_s`] (brief cycles, two
@@ -241,11 +242,13 @@ impl TrafficMonitor {
                     dist <= reach && (dist == 0.0 || d.dot(&ahead) >= cos_cone * dist)
                 };
                 let now_in_way = in_way(o.position);
+                let behind = (o.position - r.position).dot(&ahead) < 0.0;
                 let soon_in_way = || {
-                    o.intent
-                        .iter()
-                        .take_while(|(t, _)| *t <= p.intent_horizon_s)
-                        .any(|&(_, q)| in_way(q))
+                    !behind
+                        && o.intent
+                            .iter()
+                            .take_while(|(t, _)| *t <= p.intent_horizon_s)
+                            .any(|&(_, q)| in_way(q))
                 };
                 if (now_in_way || soon_in_way()) && map.line_of_sight(r.position, o.position) {
                     edges.push(j);

@@ -302,6 +302,20 @@ impl Site {
         ]
     }
 
+    /// How close a robot of `radius` must come to route corner `p` before it heads for the
+    /// next waypoint: `default` (m), unless `p` lies on an aisle too narrow for two robots to
+    /// pass (4·radius + `margin`), where cutting the corner would aim the robot at the shelf's
+    /// end: then what the aisle leaves beside the robot, half its width minus the radius (at
+    /// least 0.25 m).
+    pub fn corner_reach(&self, p: Vec2, radius: Real, margin: Real, default: Real) -> Real {
+        match self.corridor_of(p) {
+            Some(k) if 2.0 * self.corridors[k].1 < 4.0 * radius + margin => {
+                (self.corridors[k].1 - radius).clamp(0.25, default)
+            }
+            _ => default,
+        }
+    }
+
     /// The cross-aisles on either side of `p` (left, right), if it is between two.
     pub fn cross_aisles_around(&self, p: Vec2) -> Option<(usize, usize)> {
         let right = self.cross_aisles.iter().position(|&(x, _)| x > p.x)?;
@@ -378,6 +392,23 @@ mod tests {
                 assert_eq!(at, b.position);
             }
         }
+    }
+
+    /// Corners on an aisle too narrow for two robots must be reached closely (cutting them
+    /// aims the robot at the shelf's end); elsewhere the fleet's 1 m holds.
+    #[test]
+    fn corners_on_narrow_aisles_are_reached_closely() {
+        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
+        let spec = narrow.warehouse.expect("layout");
+        let tight = Site::generate(&spec);
+        let r = narrow.robot.radius_m;
+        let aisle = vec2(tight.cross_aisles[1].0, tight.corridors[1].0);
+        assert!((tight.corner_reach(aisle, r, 0.2, 1.0) - 0.35).abs() < 1e-9);
+        let corridor = vec2(tight.cross_aisles[1].0, tight.corridors[0].0);
+        assert_eq!(tight.corner_reach(corridor, r, 0.2, 1.0), 1.0);
+        let wide = site();
+        let aisle = vec2(wide.cross_aisles[1].0, wide.corridors[1].0);
+        assert_eq!(wide.corner_reach(aisle, 0.3, 0.2, 1.0), 1.0);
     }
 
     #[test]
