@@ -407,9 +407,16 @@ impl Fleet {
             }
         }
         self.update_goals();
+        self.update_traffic();
+        events
+    }
+
+    /// The coordinator's traffic step, run at the end of every [`Fleet::step`]: the monitor
+    /// takes the robots' state (stuck robots, the wait-for graph, deadlocks), then the policy,
+    /// when on, sets each robot's constraint and goal.
+    pub fn update_traffic(&mut self) {
         self.watch_traffic();
         self.apply_policy();
-        events
     }
 
     /// Runs the traffic policy on the state after a step and puts its goals in place.
