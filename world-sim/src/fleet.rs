@@ -771,6 +771,24 @@ mod tests {
         );
     }
 
+    /// Every person asked for fits between the robots, however many the fleet sites hold.
+    #[test]
+    fn fleet_sites_hold_all_their_people_at_every_studied_fleet_size() {
+        for (name, sizes) in [("hallway-fleet", [10, 20]), ("warehouse-narrow", [10, 40])] {
+            for robots in sizes {
+                let mut s = Scenario::builtin(name).expect("valid");
+                s.set_fleet_size(Some(robots), None);
+                let fleet = Fleet::new(&s).expect("site");
+                let asked = s.fleet_size().expect("a fleet site").1;
+                assert_eq!(
+                    fleet.world.humans.crowd.len(),
+                    asked,
+                    "{name} with {robots}"
+                );
+            }
+        }
+    }
+
     /// A fleet hallway: stations at both ends, robots travelling both ways.
     #[test]
     fn a_fleet_hallway_runs_tasks_both_ways() {

@@ -114,6 +114,9 @@ impl World {
                 max_group_size: hall.max_group_size,
                 avoid_obstacles: true,
                 people_to_stations: false,
+                // Robots stand every length/N along the centre line (2 m for 20 in 40 m),
+                // where the usual 1.5 m would leave no room for anyone.
+                robot_clearance: scenario.robot.radius_m + scenario.humans.radius_m + 0.2,
             };
             return Self::build_with_site(scenario, layout, Some(site));
         }
@@ -139,6 +142,7 @@ impl World {
                 max_group_size: hall.max_group_size,
                 avoid_obstacles: false,
                 people_to_stations: false,
+                robot_clearance: ROBOT_CLEARANCE_M,
             };
             let mut world = Self::build(scenario, layout);
             if let Some(lanes) = hall.lanes {
@@ -168,6 +172,7 @@ impl World {
                 max_group_size: spec.max_group_size,
                 avoid_obstacles: true,
                 people_to_stations: true,
+                robot_clearance: ROBOT_CLEARANCE_M,
             };
             return Self::build_with_site(scenario, layout, Some(site));
         }
@@ -203,6 +208,7 @@ impl World {
             max_group_size: open.max_group_size,
             avoid_obstacles: false,
             people_to_stations: false,
+            robot_clearance: ROBOT_CLEARANCE_M,
         };
         Self::build(scenario, layout)
     }
@@ -263,7 +269,9 @@ impl World {
                     };
                     let inside = p.x >= min.x && p.y >= min.y && p.x <= max.x && p.y <= max.y;
                     let free = positions.iter().all(|q: &Vec2| (q - p).norm() >= min_gap)
-                        && starts.iter().all(|s| (p - s).norm() >= ROBOT_CLEARANCE_M)
+                        && starts
+                            .iter()
+                            .all(|s| (p - s).norm() >= layout.robot_clearance)
                         && (!layout.avoid_obstacles
                             || (!layout.map.is_inside(&p)
                                 && layout.map.distance(&p) >= h.radius_m + 0.05));
@@ -491,6 +499,8 @@ struct Layout {
     /// With a site: people walk between its stations (a warehouse); else by `goals` (a fleet
     /// hallway, where the stations are the robots').
     people_to_stations: bool,
+    /// People do not spawn closer than this to a robot's start (m).
+    robot_clearance: Real,
 }
 
 /// Where a group goes when one of its members arrives.
