@@ -12,7 +12,7 @@ use agent::model::Command;
 use agent::planner::PlannerStack;
 use criterion::{Criterion, criterion_group, criterion_main};
 use world_sim::episode::guards;
-use world_sim::fleet::{Fleet, plan_all};
+use world_sim::fleet::{Fleet, drive};
 use world_sim::scenario::Scenario;
 use world_sim::traffic_policy::PolicyParams;
 
@@ -35,15 +35,7 @@ fn fleet() -> Fleet {
     let mut guards = guards(&s, n);
     let mut commands = vec![Command::STOP; n];
     for _ in 0..200 {
-        fleet.dispatch();
-        plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
-            let mut plan = stack.plan(input);
-            if let Some(guard) = &mut guards[i] {
-                plan.command = guard.check(plan.command, input).command;
-            }
-            plan
-        });
-        fleet.step(&commands);
+        drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
     }
     fleet
 }

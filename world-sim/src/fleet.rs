@@ -22,6 +22,7 @@ use agent::math::{Real, Vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use agent::planner::Plan;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::safety::Guard;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
@@ -587,6 +588,25 @@ pub fn plan_all(
     }
 }
 
+/// One in-process fleet step: dispatch, every robot plans (its command checked by its guard,
+/// when it has one), the fleet steps.
+pub fn drive(
+    fleet: &mut Fleet,
+    stacks: &mut [PlannerStack],
+    guards: &mut [Option<Guard>],
+    commands: &mut [Command],
+) {
+    fleet.dispatch();
+    plan_all(fleet, stacks, commands, |i, stack, input| {
+        let mut plan = stack.plan(input);
+        if let Some(guard) = &mut guards[i] {
+            plan.command = guard.check(plan.command, input).command;
+        }
+        plan
+    });
+    fleet.step(commands);
+}
+
 /// Runs a warehouse for `seconds` with every robot planning in-process with `planner` (under
 /// `agent::safety` unless the scenario's `[robot] safety` is off); `share_intents` switches
 /// intent sharing between robots. No traffic policy.
@@ -640,15 +660,7 @@ pub fn run_fleet_with(
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut commands = vec![Command::STOP; fleet.robots()];
     for _ in 0..steps {
-        fleet.dispatch();
-        plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
-            let mut plan = stack.plan(input);
-            if let Some(guard) = &mut guards[i] {
-                plan.command = guard.check(plan.command, input).command;
-            }
-            plan
-        });
-        fleet.step(&commands);
+        drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
     }
     Ok(FleetReport {
         seconds: fleet.world.time,

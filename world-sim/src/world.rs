@@ -95,29 +95,13 @@ impl World {
         {
             // A fleet hallway: a site with stations at both ends, robots along the centre line.
             let site = Site::hallway(hall.length_m, hall.width_m, hall.stations());
-            let margin = scenario.humans.radius_m + 0.05;
-            let robots = (0..robots)
-                .map(|i| {
-                    let x = hall.length_m * (i as Real + 0.5) / robots as Real;
-                    let p = vec2(x, hall.width_m / 2.0);
-                    (p, p)
-                })
-                .collect();
-            let layout = Layout {
-                spawn_min: vec2(margin, margin),
-                spawn_max: site.size - vec2(margin, margin),
-                map: site.map(),
-                robots,
-                // People walk the hallway's length both ways, past the robots' stations.
-                goals: GoalRule::Anywhere,
-                people: hall.humans,
-                max_group_size: hall.max_group_size,
-                avoid_obstacles: true,
-                people_to_stations: false,
-                // Robots stand every length/N along the centre line (2 m for 20 in 40 m),
-                // where the usual 1.5 m would leave no room for anyone.
-                robot_clearance: scenario.robot.radius_m + scenario.humans.radius_m + 0.2,
-            };
+            let robots = in_a_row(robots, hall.length_m, hall.width_m / 2.0);
+            let mut layout = site_layout(scenario, &site, robots, hall.humans, hall.max_group_size);
+            // People walk the hallway's length both ways, past the robots' stations.
+            layout.people_to_stations = false;
+            // Robots stand every length/N along the centre line (2 m for 20 in 40 m), where the
+            // usual 1.5 m would leave no room for anyone.
+            layout.robot_clearance = scenario.robot.radius_m + scenario.humans.radius_m + 0.2;
             return Self::build_with_site(scenario, layout, Some(site));
         }
         if let Some(hall) = &scenario.hallway {
@@ -152,28 +136,8 @@ impl World {
         }
         if let Some(spec) = &scenario.warehouse {
             let site = Site::generate(spec);
-            let margin = scenario.humans.radius_m + 0.05;
-            let dock_y = site.stations[0].position.y;
-            let robots = (0..spec.robots)
-                .map(|i| {
-                    let x = site.size.x * (i as Real + 0.5) / spec.robots as Real;
-                    let p = vec2(x, dock_y);
-                    (p, p)
-                })
-                .collect();
-            let layout = Layout {
-                spawn_min: vec2(margin, margin),
-                spawn_max: site.size - vec2(margin, margin),
-                map: site.map(),
-                robots,
-                // Unused: in a warehouse, groups walk between the site's stations.
-                goals: GoalRule::Anywhere,
-                people: spec.humans,
-                max_group_size: spec.max_group_size,
-                avoid_obstacles: true,
-                people_to_stations: true,
-                robot_clearance: ROBOT_CLEARANCE_M,
-            };
+            let robots = in_a_row(spec.robots, site.size.x, site.stations[0].position.y);
+            let layout = site_layout(scenario, &site, robots, spec.humans, spec.max_group_size);
             return Self::build_with_site(scenario, layout, Some(site));
         }
         Self::open_space(scenario)
@@ -538,6 +502,42 @@ impl GoalRule {
                 vec2(x, rng.random_range(min.y..=max.y))
             }
         }
+    }
+}
+
+/// `n` robots standing evenly along y = `y`, each in the middle of its `length`/`n` (start
+/// and first goal the same).
+fn in_a_row(n: usize, length: Real, y: Real) -> Vec<(Vec2, Vec2)> {
+    (0..n)
+        .map(|i| {
+            let p = vec2(length * (i as Real + 0.5) / n as Real, y);
+            (p, p)
+        })
+        .collect()
+}
+
+/// A fleet site's layout: people spawn anywhere on it clear of shelves and walls and walk
+/// between its stations; the robots at `robots`.
+fn site_layout(
+    scenario: &Scenario,
+    site: &Site,
+    robots: Vec<(Vec2, Vec2)>,
+    people: usize,
+    max_group_size: usize,
+) -> Layout {
+    let margin = scenario.humans.radius_m + 0.05;
+    Layout {
+        spawn_min: vec2(margin, margin),
+        spawn_max: site.size - vec2(margin, margin),
+        map: site.map(),
+        robots,
+        // Unused while people walk between the site's stations.
+        goals: GoalRule::Anywhere,
+        people,
+        max_group_size,
+        avoid_obstacles: true,
+        people_to_stations: true,
+        robot_clearance: ROBOT_CLEARANCE_M,
     }
 }
 
