@@ -1,6 +1,7 @@
 """A gapfleet client written from schemas/README.md alone: subscribes to every robot's intent
-on a live fleet, decodes the MessagePack payloads, checks them against the documented shape,
-fetches the map from the coordinator's queryable, and prints a JSON summary on stdout.
+and traffic constraint on a live fleet, decodes the MessagePack payloads, checks them against
+the documented shape, fetches the map from the coordinator's queryable, and prints a JSON
+summary on stdout.
 
     python intent_client.py --connect tcp/127.0.0.1:7447 --site demo --count 40
 
@@ -40,6 +41,26 @@ def check_intent(key, msg):
     return msg
 
 
+TRAFFIC_CONSTRAINTS = ("free", "lane", "hold", "retreat")
+
+
+def check_traffic(msg):
+    """Raises AssertionError unless msg is a Traffic message as schemas/README.md documents it."""
+    assert isinstance(msg, dict), "payload is a map"
+    assert msg["v"] == SCHEMA_VERSION, "version 1"
+    for field in ("tick", "sim_time", "constraint", "goal", "segment", "direction"):
+        assert field in msg, f"field {field}"
+    assert math.isfinite(msg["sim_time"])
+    assert msg["constraint"] in TRAFFIC_CONSTRAINTS, msg["constraint"]
+    assert (msg["goal"] is None) == (msg["constraint"] == "free"), "goal exactly when constrained"
+    if msg["goal"] is not None:
+        assert len(msg["goal"]) == 2 and all(math.isfinite(c) for c in msg["goal"])
+    if msg["constraint"] == "hold":
+        assert msg["segment"] is not None, "a hold names its segment"
+    assert msg["direction"] in (None, 1, -1)
+    return msg
+
+
 def open_session(endpoint, timeout_s):
     conf = zenoh.Config()
     conf.insert_json5("mode", '"client"')
@@ -66,12 +87,21 @@ def main():
     session = open_session(args.connect, args.timeout)
     prefix = f"gapfleet/{args.site}"
     sub = session.declare_subscriber(f"{prefix}/robot/*/intent")
+    traffic = session.declare_subscriber(f"{prefix}/robot/*/traffic")
     received, robots, planners, samples = 0, set(), set(), 0
+    traffic_received, constraints = 0, set()
     deadline = time.time() + args.timeout
-    while received < args.count and time.time() < deadline:
-        sample = sub.try_recv()
+    # Traffic constraints come ten per robot per simulated second: wait for five times as many.
+    while (received < args.count or traffic_received < 5 * args.count) and time.time() < deadline:
+        t = traffic.try_recv()
+        if t is not None:
+            m = check_traffic(msgpack.unpackb(t.payload.to_bytes(), raw=False))
+            traffic_received += 1
+            constraints.add(m["constraint"])
+        sample = sub.try_recv() if received < args.count else None
         if sample is None:
-            time.sleep(0.01)
+            if t is None:
+                time.sleep(0.01)
             continue
         msg = msgpack.unpackb(sample.payload.to_bytes(), raw=False)
         check_intent(str(sample.key_expr), msg)
@@ -98,6 +128,8 @@ def main():
             "max_samples": samples,
             "map_obstacles": obstacles,
             "map_stations": stations,
+            "traffic_received": traffic_received,
+            "traffic_constraints": sorted(constraints),
         },
         sys.stdout,
     )

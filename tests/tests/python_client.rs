@@ -1,5 +1,6 @@
 //! A Python client (eclipse-zenoh 1.10.2 + msgpack, installed by tests/run.sh) subscribes to a
-//! live fleet's intents and decodes them using nothing but schemas/README.md.
+//! live fleet's intents and traffic constraints and decodes them using nothing but
+//! schemas/README.md.
 
 use gapfleet_tests::{binary, free_endpoint};
 use std::process::{Command, Stdio};
@@ -67,4 +68,12 @@ fn python_client_decodes_a_live_fleets_intents() {
         "PGP's 8 s horizon at 4 Hz: {summary}"
     );
     assert!(summary["map_obstacles"].as_u64().is_some_and(|n| n > 4));
+    // The traffic policy runs by default: every robot's constraint arrives beside its
+    // observation, and robots driving along the 3 m corridors are asked to keep right.
+    assert!(
+        summary["traffic_received"].as_u64().is_some_and(|n| n > 0),
+        "{summary}"
+    );
+    let kinds = summary["traffic_constraints"].as_array().expect("a list");
+    assert!(kinds.contains(&serde_json::json!("lane")), "{summary}");
 }
