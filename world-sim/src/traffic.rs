@@ -134,6 +134,7 @@ pub struct TrafficMonitor {
     stuck: Vec<bool>,
     cyclic_since: Vec<Option<Real>>,
     waits_on: Vec<Vec<usize>>,
+    cycles: Vec<Vec<usize>>,
     deadlocked: Vec<Vec<usize>>,
     totals: TrafficTotals,
 }
@@ -147,6 +148,7 @@ impl TrafficMonitor {
             stuck: vec![false; robots],
             cyclic_since: vec![None; robots],
             waits_on: vec![Vec::new(); robots],
+            cycles: Vec::new(),
             deadlocked: Vec::new(),
             totals: TrafficTotals::default(),
         }
@@ -264,12 +266,12 @@ impl TrafficMonitor {
 
     fn find_deadlocks(&mut self, now: Real, dt: Real, events: &mut Vec<TrafficEvent>) {
         let p = self.params;
-        let cycles: Vec<Vec<usize>> = strongly_connected(&self.waits_on)
+        self.cycles = strongly_connected(&self.waits_on)
             .into_iter()
             .filter(|c| c.len() >= 2)
             .collect();
         let mut cyclic = vec![false; self.waits_on.len()];
-        for &i in cycles.iter().flatten() {
+        for &i in self.cycles.iter().flatten() {
             cyclic[i] = true;
         }
         for (since, &now_cyclic) in self.cyclic_since.iter_mut().zip(&cyclic) {
@@ -279,13 +281,15 @@ impl TrafficMonitor {
                 (kept, true) => kept,
             };
         }
-        let deadlocked: Vec<Vec<usize>> = cycles
-            .into_iter()
+        let deadlocked: Vec<Vec<usize>> = self
+            .cycles
+            .iter()
             .filter(|c| {
                 c.iter().all(|&i| {
                     self.cyclic_since[i].is_some_and(|s| now - s >= p.deadlock_after_s - 1e-9)
                 })
             })
+            .cloned()
             .collect();
         for set in &deadlocked {
             let known = self
@@ -311,6 +315,16 @@ impl TrafficMonitor {
     /// The robots robot `i` waits on now.
     pub fn waits_on(&self, i: usize) -> &[usize] {
         &self.waits_on[i]
+    }
+
+    /// The wait-for cycles now: strongly connected sets of two or more robots, each ascending.
+    pub fn cycles(&self) -> &[Vec<usize>] {
+        &self.cycles
+    }
+
+    /// Since when robot `i` has been in a wait-for cycle without a break, if it is in one.
+    pub fn in_cycle_since(&self, i: usize) -> Option<Real> {
+        self.cyclic_since[i]
     }
 
     /// The deadlocked sets now, each ascending.

@@ -37,7 +37,7 @@
 //! exclude is physical blocking in the open areas (people, robots jostling at a crossing);
 //! that is what the retreat rule and the measured deadlock count are for.
 
-use crate::traffic::{TrafficMonitor, strongly_connected};
+use crate::traffic::TrafficMonitor;
 use crate::warehouse::{Segment, Site};
 use agent::math::{Real, Vec2, vec2};
 
@@ -197,7 +197,6 @@ pub struct TrafficPolicy {
     constraints: Vec<Constraint>,
     retreat_until: Vec<Real>,
     retreat_at: Vec<Vec2>,
-    cycle_since: Vec<Option<Real>>,
     lanes: LaneGeometry,
     totals: PolicyTotals,
 }
@@ -221,7 +220,6 @@ impl TrafficPolicy {
             constraints: vec![Constraint::Free; robots],
             retreat_until: vec![Real::NEG_INFINITY; robots],
             retreat_at: vec![vec2(0.0, 0.0); robots],
-            cycle_since: vec![None; robots],
             lanes: LaneGeometry {
                 site: site.clone(),
                 min_width,
@@ -522,27 +520,12 @@ impl TrafficPolicy {
         monitor: &TrafficMonitor,
         events: &mut Vec<PolicyEvent>,
     ) {
-        let edges: Vec<Vec<usize>> = (0..robots.len())
-            .map(|i| monitor.waits_on(i).to_vec())
-            .collect();
-        let mut cyclic = vec![false; robots.len()];
-        let cycles: Vec<Vec<usize>> = strongly_connected(&edges)
-            .into_iter()
-            .filter(|c| c.len() >= 2)
-            .collect();
-        for &i in cycles.iter().flatten() {
-            cyclic[i] = true;
-        }
-        for (since, &c) in self.cycle_since.iter_mut().zip(&cyclic) {
-            *since = match (*since, c) {
-                (_, false) => None,
-                (None, true) => Some(now),
-                (kept, true) => kept,
-            };
-        }
-        for cycle in &cycles {
+        // The monitor has just seen this step's wait-for graph and its cycles.
+        for cycle in monitor.cycles() {
             let old = cycle.iter().all(|&i| {
-                self.cycle_since[i].is_some_and(|s| now - s >= self.params.retreat_after_s - 1e-9)
+                monitor
+                    .in_cycle_since(i)
+                    .is_some_and(|s| now - s >= self.params.retreat_after_s - 1e-9)
             });
             let retreating = cycle.iter().any(|&i| self.retreat_until[i] > now);
             if !old || retreating {
