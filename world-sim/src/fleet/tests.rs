@@ -1,0 +1,137 @@
+//! The fleet's tests: tasks along corridors, determinism, shared intents, held robots, the
+//! traffic policy in narrow aisles, fleet hallways.
+
+use super::*;
+
+fn small() -> Scenario {
+    let mut s = Scenario::builtin("warehouse").expect("valid");
+    let w = s.warehouse.as_mut().expect("layout");
+    w.robots = 3;
+    w.humans = 10;
+    s
+}
+
+#[test]
+fn robots_complete_pick_and_drop_tasks_along_corridors() {
+    let report =
+        run_fleet(&small(), "pgp+orca".parse().expect("known"), 120.0, true).expect("a warehouse");
+    println!("{report:?}");
+    assert!(
+        report.tasks_done.iter().all(|&n| n >= 1),
+        "every robot finishes a task in 2 minutes: {:?}",
+        report.tasks_done
+    );
+    for m in &report.robots {
+        assert!(m.path_length_m > 10.0, "{m:?}");
+    }
+}
+
+#[test]
+fn fleet_runs_are_deterministic() {
+    let spec = "pgp+dwa".parse().expect("known");
+    let a = run_fleet(&small(), spec, 20.0, true).expect("warehouse");
+    let b = run_fleet(&small(), spec, 20.0, true).expect("warehouse");
+    assert_eq!(format!("{a:?}"), format!("{b:?}"));
+}
+
+#[test]
+fn shared_intents_reach_robots_that_see_each_other() {
+    let mut fleet = Fleet::new(&small()).expect("warehouse");
+    fleet.dispatch();
+    let robot1 = fleet.world.robots[1].state.position;
+    fleet.world.robots[0].state.position = robot1 + agent::math::vec2(2.0, 0.0);
+    let samples: Vec<TrajectorySample> = (1..=4)
+        .map(|k| TrajectorySample {
+            t: 0.25 * k as Real,
+            position: robot1,
+            sigma: 0.2,
+        })
+        .collect();
+    fleet.set_intent(1, 0.0, samples);
+    fleet.step(&[Command::STOP; 3]);
+    let (_, seen) = fleet.observe(0);
+    let other = seen
+        .iter()
+        .find(|n| n.id == ROBOT_ID_BIT | 1)
+        .expect("robot 1 is 2 m away");
+    let intent = other.intent.as_ref().expect("shared");
+    // 0.1 s later the samples start 0.1 s earlier; the first (t = 0.25) is kept.
+    assert_eq!(intent.samples.len(), 4);
+    assert!((intent.samples[0].t - 0.15).abs() < 1e-9);
+    fleet.share_intents = false;
+    let (_, seen) = fleet.observe(0);
+    assert!(seen.iter().all(|n| n.intent.is_none()));
+}
+
+#[test]
+fn held_robots_take_no_tasks_and_stand_still() {
+    let mut fleet = Fleet::new(&small()).expect("warehouse");
+    fleet.set_held(2, true);
+    let events = fleet.dispatch();
+    assert_eq!(events.len(), 2);
+    assert!(fleet.job(2).is_none());
+    let start = fleet.world.robots[2].state.position;
+    fleet.step(&[Command::Velocity(agent::math::vec2(1.0, 0.0)); 3]);
+    assert_eq!(fleet.world.robots[2].state.position, start);
+}
+
+/// Ten robots and no people in 1.5 m aisles: without the traffic policy robots meet face
+/// to face in aisles and deadlock; with it none do, and the fleet does no fewer tasks.
+#[test]
+fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(10), Some(0));
+    let planner = "pgp+orca".parse().expect("known");
+    let run = |policy| {
+        let options = FleetOptions {
+            share_intents: true,
+            policy,
+            human_impact_window_s: None,
+        };
+        run_fleet_with(&s, planner, 300.0, options).expect("warehouse")
+    };
+    let (off, on) = (run(None), run(Some(PolicyParams::default())));
+    assert!(off.traffic.deadlocks > 0, "{:?}", off.traffic);
+    assert_eq!(on.traffic.deadlocks, 0, "{:?}", on.traffic);
+    let policy = on.policy.expect("on");
+    assert!(policy.grants > 0 && policy.waits > 0, "{policy:?}");
+    assert!(
+        on.total_tasks() >= off.total_tasks(),
+        "{} < {}",
+        on.total_tasks(),
+        off.total_tasks()
+    );
+}
+
+/// Every person asked for fits between the robots, however many the fleet sites hold.
+#[test]
+fn fleet_sites_hold_all_their_people_at_every_studied_fleet_size() {
+    for (name, sizes) in [("hallway-fleet", [10, 20]), ("warehouse-narrow", [10, 40])] {
+        for robots in sizes {
+            let mut s = Scenario::builtin(name).expect("valid");
+            s.set_fleet_size(Some(robots), None);
+            let fleet = Fleet::new(&s).expect("site");
+            let asked = s.fleet_size().expect("a fleet site").1;
+            assert_eq!(
+                fleet.world.humans.crowd.len(),
+                asked,
+                "{name} with {robots}"
+            );
+        }
+    }
+}
+
+/// A fleet hallway: stations at both ends, robots travelling both ways.
+#[test]
+fn a_fleet_hallway_runs_tasks_both_ways() {
+    let mut s = Scenario::builtin("hallway-fleet").expect("valid");
+    s.set_fleet_size(Some(4), Some(0));
+    let report = run_fleet(&s, "pgp+orca".parse().expect("known"), 120.0, true).expect("site");
+    assert!(report.total_tasks() >= 4, "{:?}", report.tasks_done);
+}
+
+#[test]
+fn a_scenario_without_warehouse_is_refused() {
+    let s = Scenario::builtin("open-space").expect("valid");
+    assert!(Fleet::new(&s).is_err());
+}
