@@ -12,6 +12,11 @@
 //!   `world/robots/heading` (arrows), `world/intents` (planned paths), `world/subgoals`,
 //!   `world/fan/<robot>` (PGP candidates coloured by survival, when the planner shares them),
 //!   `world/events` (markers)
+//! - `world/traffic/segments` (one-way aisle segments: grey free, green reserved along +x,
+//!   violet along −x, labelled with holders and waiting robots), `world/traffic/directions`
+//!   (arrows), `world/traffic/waits` (who waits on whom: amber, red in a cycle),
+//!   `world/traffic/stuck` (rings round stuck robots), `world/traffic/goals` (where robots are
+//!   told to hold, queue or retreat), when the fleet runs a traffic policy or monitor
 //! - `events` (text log)
 //! - `metrics/<name>/fleet` and `metrics/<name>/robot/<id>` (scalars), so that one plot per
 //!   metric holds the fleet's series and every robot's (`/metrics/<name>/**`)
@@ -129,6 +134,48 @@ pub struct EventView {
     pub warning: bool,
 }
 
+/// A one-way aisle segment and its reservation.
+#[derive(Debug, Clone)]
+pub struct SegmentView {
+    /// Segment index.
+    pub id: u32,
+    /// Lower-left corner.
+    pub min: P,
+    /// Upper-right corner.
+    pub max: P,
+    /// The direction it is reserved in (+1 along x, −1 against), `None` when free.
+    pub direction: Option<i8>,
+    /// Robots holding it.
+    pub holders: Vec<u32>,
+    /// Robots waiting for it.
+    pub waiting: Vec<u32>,
+}
+
+/// A robot's goal as the traffic policy set it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TrafficGoal {
+    /// Waiting short of a segment.
+    Hold,
+    /// Waiting in line for a station.
+    Queue,
+    /// Backing off out of a wait-for cycle.
+    Retreat,
+}
+
+/// The fleet's traffic: reservations, who waits on whom, stuck robots.
+#[derive(Debug, Clone, Default)]
+pub struct TrafficView {
+    /// One-way segments (empty where aisles are wide).
+    pub segments: Vec<SegmentView>,
+    /// Wait-for edges: from the waiting robot's position to the one it waits on, and whether
+    /// the edge is part of a cycle.
+    pub waits: Vec<(P, P, bool)>,
+    /// Stuck robots: id, position, radius.
+    pub stuck: Vec<(u32, P, f32)>,
+    /// Goals the policy set: robot, point, kind.
+    pub goals: Vec<(u32, P, TrafficGoal)>,
+}
+
 /// One frame of the world.
 #[derive(Debug, Clone, Default)]
 pub struct Frame {
@@ -152,6 +199,8 @@ pub struct Frame {
     pub fields: Vec<FieldView>,
     /// Events since the last frame.
     pub events: Vec<EventView>,
+    /// Traffic, when the fleet runs a policy or a monitor.
+    pub traffic: Option<TrafficView>,
     /// Fleet-wide series: name → value.
     pub fleet_metrics: Vec<(&'static str, f64)>,
     /// Per-robot series: robot → (name → value).
@@ -370,6 +419,13 @@ fn blueprint() -> rerun::blueprint::Blueprint {
                     TimeSeriesView::new("tasks / min, live agents")
                         .with_contents(["/metrics/tasks_per_minute/**", "/metrics/live_agents/**"])
                         .into(),
+                    TimeSeriesView::new("traffic: stuck robots, deadlocks, waiting")
+                        .with_contents([
+                            "/metrics/stuck_robots/**",
+                            "/metrics/deadlocks/**",
+                            "/metrics/waiting_robots/**",
+                        ])
+                        .into(),
                     TimeSeriesView::new("planner p99 (µs), dropped frames")
                         .with_contents([
                             "/metrics/planner_p99_us/**",
@@ -487,6 +543,113 @@ fn log_fields(
     Ok(())
 }
 
+/// A closed circle of `radius` round `centre`.
+fn ring(centre: P, radius: f32) -> Vec<P> {
+    const SIDES: usize = 20;
+    (0..=SIDES)
+        .map(|k| {
+            let a = std::f32::consts::TAU * k as f32 / SIDES as f32;
+            [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+        })
+        .collect()
+}
+
+/// Segments coloured by their reservation, arrows along reserved ones, wait-for edges, rings
+/// round stuck robots and the goals the policy set.
+fn log_traffic(rec: &rerun::RecordingStream, t: &TrafficView) -> rerun::RecordingStreamResult<()> {
+    let segment_colour = |d: Option<i8>| match d {
+        None => rerun::Color::from_unmultiplied_rgba(160, 160, 160, 90),
+        Some(d) if d > 0 => rerun::Color::from_unmultiplied_rgba(40, 170, 80, 150),
+        Some(_) => rerun::Color::from_unmultiplied_rgba(150, 70, 200, 150),
+    };
+    let ids = |v: &[u32]| v.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
+    if !t.segments.is_empty() {
+        rec.log(
+            "world/traffic/segments",
+            &rerun::Boxes2D::from_mins_and_sizes(
+                t.segments.iter().map(|s| s.min),
+                t.segments
+                    .iter()
+                    .map(|s| [s.max[0] - s.min[0], s.max[1] - s.min[1]]),
+            )
+            .with_colors(t.segments.iter().map(|s| segment_colour(s.direction)))
+            .with_labels(t.segments.iter().map(|s| {
+                let arrow = match s.direction {
+                    None => "free",
+                    Some(d) if d > 0 => "→",
+                    Some(_) => "←",
+                };
+                let mut label = format!("seg {} {arrow}", s.id);
+                if !s.holders.is_empty() {
+                    label += &format!(" in: {}", ids(&s.holders));
+                }
+                if !s.waiting.is_empty() {
+                    label += &format!(" waiting: {}", ids(&s.waiting));
+                }
+                label
+            })),
+        )?;
+        let reserved: Vec<&SegmentView> = t
+            .segments
+            .iter()
+            .filter(|s| s.direction.is_some())
+            .collect();
+        rec.log(
+            "world/traffic/directions",
+            &rerun::Arrows2D::from_vectors(reserved.iter().map(|s| {
+                let d = f32::from(s.direction.unwrap_or(1));
+                [d * 0.4 * (s.max[0] - s.min[0]), 0.0]
+            }))
+            .with_origins(reserved.iter().map(|s| {
+                let d = f32::from(s.direction.unwrap_or(1));
+                let mid = [(s.min[0] + s.max[0]) / 2.0, (s.min[1] + s.max[1]) / 2.0];
+                [mid[0] - d * 0.2 * (s.max[0] - s.min[0]), mid[1]]
+            }))
+            .with_colors(reserved.iter().map(|s| segment_colour(s.direction))),
+        )?;
+    }
+    rec.log(
+        "world/traffic/waits",
+        &rerun::Arrows2D::from_vectors(
+            t.waits
+                .iter()
+                .map(|(a, b, _)| [0.85 * (b[0] - a[0]), 0.85 * (b[1] - a[1])]),
+        )
+        .with_origins(t.waits.iter().map(|w| w.0))
+        .with_colors(t.waits.iter().map(|w| {
+            if w.2 {
+                rerun::Color::from_rgb(230, 30, 30)
+            } else {
+                rerun::Color::from_rgb(240, 170, 0)
+            }
+        })),
+    )?;
+    rec.log(
+        "world/traffic/stuck",
+        &rerun::LineStrips2D::new(t.stuck.iter().map(|s| ring(s.1, s.2 + 0.2)))
+            .with_colors([rerun::Color::from_rgb(230, 30, 30)])
+            .with_labels(t.stuck.iter().map(|s| format!("{} stuck", s.0))),
+    )?;
+    rec.log(
+        "world/traffic/goals",
+        &rerun::Points2D::new(t.goals.iter().map(|g| g.1))
+            .with_radii([0.1])
+            .with_labels(t.goals.iter().map(|g| {
+                let kind = match g.2 {
+                    TrafficGoal::Hold => "hold",
+                    TrafficGoal::Queue => "queue",
+                    TrafficGoal::Retreat => "retreat",
+                };
+                format!("{} {kind}", g.0)
+            }))
+            .with_colors(t.goals.iter().map(|g| match g.2 {
+                TrafficGoal::Hold | TrafficGoal::Queue => rerun::Color::from_rgb(240, 170, 0),
+                TrafficGoal::Retreat => rerun::Color::from_rgb(230, 30, 30),
+            })),
+    )?;
+    Ok(())
+}
+
 fn log_frame(
     rec: &rerun::RecordingStream,
     f: &Frame,
@@ -538,6 +701,9 @@ fn log_frame(
     )?;
     if !f.fields.is_empty() {
         log_fields(rec, &f.fields)?;
+    }
+    if let Some(traffic) = &f.traffic {
+        log_traffic(rec, traffic)?;
     }
     for fan in &f.fans {
         rec.log(

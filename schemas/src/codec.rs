@@ -351,6 +351,8 @@ impl Message for FleetMetrics {
 
 /// Largest segment index a [`TrafficMsg`] may name.
 pub const MAX_SEGMENTS: u32 = 1_000_000;
+/// Largest station index a [`TrafficMsg`] may name.
+pub const MAX_STATIONS: u32 = 1_000_000;
 
 impl Message for TrafficMsg {
     const MAX_BYTES: usize = 256;
@@ -370,6 +372,18 @@ impl Message for TrafficMsg {
             return Err(DecodeError::Invalid {
                 field: "segment",
                 reason: "a hold names the segment it waits for",
+            });
+        }
+        if self.constraint == TrafficConstraint::Queue && self.station.is_none() {
+            return Err(DecodeError::Invalid {
+                field: "station",
+                reason: "a queue names the station it waits for",
+            });
+        }
+        if self.station.is_some_and(|s| s >= MAX_STATIONS) {
+            return Err(DecodeError::Invalid {
+                field: "station",
+                reason: "beyond the largest station index",
             });
         }
         if self.segment.is_some_and(|s| s >= MAX_SEGMENTS) {

@@ -320,6 +320,8 @@ pub enum TrafficConstraint {
     Lane,
     /// Wait at `goal` until `segment` is granted.
     Hold,
+    /// Wait in line at `goal` until `station` is granted.
+    Queue,
     /// Back off to `goal`: a wait-for cycle lasted.
     Retreat,
 }
@@ -341,6 +343,9 @@ pub struct TrafficMsg {
     pub segment: Option<u32>,
     /// The direction the held segment is travelled: +1 along x, −1 against.
     pub direction: Option<i8>,
+    /// The station it waits in line for (`queue`) or holds; absent from older senders.
+    #[serde(default)]
+    pub station: Option<u32>,
 }
 
 /// A static obstacle of the map. `{"polygon": [[x,y],...]}` or `{"wall": [[x,y],[x,y]]}`.

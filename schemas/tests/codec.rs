@@ -139,6 +139,7 @@ fn traffic() -> TrafficMsg {
         goal: Some(P2(15.0, 4.5)),
         segment: Some(7),
         direction: None,
+        station: None,
     }
 }
 
@@ -210,10 +211,16 @@ fn every_message_round_trips() {
         direction: Some(-1),
         ..traffic()
     });
+    round_trip(TrafficMsg {
+        constraint: TrafficConstraint::Queue,
+        segment: None,
+        station: Some(4),
+        ..traffic()
+    });
 }
 
 /// A traffic constraint says where to go exactly when it constrains, a hold names its
-/// segment, and directions are ±1.
+/// segment, a queue its station, and directions are ±1.
 #[test]
 fn traffic_rules_are_enforced() {
     let rejected = |m: TrafficMsg| decode::<TrafficMsg>(&encode(&m)).is_err();
@@ -235,6 +242,15 @@ fn traffic_rules_are_enforced() {
     }));
     assert!(rejected(TrafficMsg {
         segment: Some(u32::MAX),
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        constraint: TrafficConstraint::Queue,
+        station: None,
+        ..traffic()
+    }));
+    assert!(rejected(TrafficMsg {
+        station: Some(u32::MAX),
         ..traffic()
     }));
     assert!(rejected(TrafficMsg {

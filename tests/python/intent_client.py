@@ -41,7 +41,7 @@ def check_intent(key, msg):
     return msg
 
 
-TRAFFIC_CONSTRAINTS = ("free", "lane", "hold", "retreat")
+TRAFFIC_CONSTRAINTS = ("free", "lane", "hold", "queue", "retreat")
 
 
 def check_traffic(msg):
@@ -57,6 +57,8 @@ def check_traffic(msg):
         assert len(msg["goal"]) == 2 and all(math.isfinite(c) for c in msg["goal"])
     if msg["constraint"] == "hold":
         assert msg["segment"] is not None, "a hold names its segment"
+    if msg["constraint"] == "queue":
+        assert msg.get("station") is not None, "a queue names its station"
     assert msg["direction"] in (None, 1, -1)
     return msg
 

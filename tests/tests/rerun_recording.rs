@@ -197,3 +197,74 @@ fn spawn_starts_a_viewer_process_and_streams_to_it() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// In the narrow warehouse the dashboard draws the traffic policy: the one-way segments with
+/// their reservations (a label with the direction and who is inside), who waits on whom,
+/// stuck robots, the goals the policy set, its grants in the event log, and the traffic
+/// series. `rerun rrd print -vvv` lists the logged values.
+#[test]
+fn narrow_warehouse_rrd_shows_reserved_segments_and_grants() {
+    let dir = std::env::temp_dir().join(format!("gapfleet-traffic-rrd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let rrd = dir.join("narrow.rrd");
+    let out = Command::new(binary("gapfleet"))
+        .args([
+            "demo",
+            "--scenario",
+            "warehouse-narrow",
+            "--robots",
+            "10",
+            "--humans",
+            "20",
+            "--seconds",
+            "30",
+            "--speed",
+            "4",
+        ])
+        .arg("--rrd")
+        .arg(&rrd)
+        .output()
+        .expect("gapfleet demo runs");
+    assert!(
+        out.status.success(),
+        "demo failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cli = rerun_cli();
+    let print = Command::new(&cli)
+        .args(["rrd", "print", "-vvv"])
+        .arg(&rrd)
+        .env("RERUN_ANALYTICS", "0")
+        .output()
+        .unwrap_or_else(|e| panic!("{cli} runs (bash tests/run.sh installs it): {e}"));
+    let listing = String::from_utf8_lossy(&print.stdout);
+    assert!(
+        print.status.success(),
+        "{}",
+        String::from_utf8_lossy(&print.stderr)
+    );
+    for entity in [
+        "/world/traffic/segments",
+        "/world/traffic/directions",
+        "/world/traffic/waits",
+        "/world/traffic/stuck",
+        "/world/traffic/goals",
+        "/metrics/stuck_robots/fleet",
+        "/metrics/deadlocks/fleet",
+        "/metrics/waiting_robots/fleet",
+    ] {
+        assert!(
+            listing.contains(entity),
+            "{entity} missing from the recording"
+        );
+    }
+    assert!(
+        listing.contains("granted to robot"),
+        "no segment grant in the event log"
+    );
+    let reserved = listing
+        .lines()
+        .any(|l| l.contains("seg ") && (l.contains("→ in: ") || l.contains("← in: ")));
+    assert!(reserved, "no segment drawn as reserved with robots inside");
+    let _ = std::fs::remove_dir_all(&dir);
+}

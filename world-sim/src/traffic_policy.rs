@@ -16,13 +16,26 @@
 //!   for a station in an aisle enters it from the cross-aisle nearer to where it comes from.
 //! - **Keep right** in corridors and cross-aisles wide enough for two robots: the goal leads
 //!   the robot [`PolicyParams::lane_lookahead_m`] along the lane right of the centre line.
+//! - **One robot at a time at a station.** A station outside every segment (a dock on a
+//!   corridor, a pick face on a wide corridor, a hallway's end) is granted to one robot at a
+//!   time. A robot asks for it [`PolicyParams::station_request_m`] (along its route) before it,
+//!   when no segment lies ahead; the others wait in line on the right-hand lane, the first
+//!   [`PolicyParams::queue_back_m`] back along its route, each next one a body length plus
+//!   [`PolicyParams::queue_gap_m`] further back (a robot nearer than its place backs up to
+//!   it). A free station goes to the robot in line nearest to it, so the robot let through
+//!   never has to pass the line; newcomers join behind. (Without lines, 20 robots converging
+//!   on a hallway's three docks packed its end: 7 and 4 deadlocks in two of ten seeds. With
+//!   first come first served instead of nearest first, an older robot further back was let
+//!   through and blocked by the line: 2 deadlocks in hallway seeds 1–16.)
 //! - **Retreat when a cycle lasts.** If robots wait on each other in a cycle for
 //!   [`PolicyParams::retreat_after_s`] (the traffic monitor's wait-for graph), the
 //!   lowest-priority member with room behind it (not holding a segment; then the highest
 //!   index) backs off [`PolicyParams::retreat_m`] for [`PolicyParams::retreat_s`]. A member
-//!   with another robot within that distance behind it does not back into it. (Giving the
-//!   next turn to another member when a retreat ended without breaking the cycle was tried:
-//!   13 deadlocks instead of 5 at 20 robots, 40 instead of 34 at 40, in 10 seeds.)
+//!   with another robot within that distance behind it does not back into it. (Tried and
+//!   dropped: giving the next turn to another member when a retreat ended without breaking
+//!   the cycle, 13 deadlocks instead of 5 at 20 robots and 40 instead of 34 at 40 in 10 seeds;
+//!   backing off in trains of up to three robots, the robots behind the one retreating with
+//!   it, 1 deadlock instead of 0 in hallway seeds 1–11 at 20 robots.)
 //!
 //! **Why reserved segments cannot deadlock.** A robot waits for a segment only while it is
 //! outside every segment (it asks only from the cross-aisles and corridors), so a robot never
@@ -31,9 +44,17 @@
 //! cross-aisle, which no one reserves, so the robots inside never wait on the policy, and
 //! those outside wait only on robots inside. The wait-for edges the policy creates therefore
 //! all point from outside robots to inside ones, and inside robots have none of their own: no
-//! cycle can pass through a reservation. Starvation is excluded by the closing rule: once a
+//! cycle can pass through a reservation. Stations add one level above: a robot waits in line
+//! for a station only while outside every segment with none ahead, and the robot holding the
+//! station waits at most for a segment (then on robots inside it, who wait on nothing). Every
+//! wait the policy creates goes down these levels (station line → station holder or segment
+//! request → segment holder), so none closes a cycle. Starvation is excluded by the closing rule: once a
 //! request for the other direction waits, entries stop, the robots inside (a finite set moving
-//! toward the exit) leave, and the oldest request is served next. What the policy cannot
+//! toward the exit) leave, and the oldest request is served next. A station's line is served
+//! nearest first and its holder gives the station up when it reaches it (its leg ends).
+//! Newcomers normally join behind those in line; one arriving from the station's other side
+//! could be nearer and go first, and nothing bounds how often that happens (the stuck count
+//! would show it). What the policy cannot
 //! exclude is physical blocking in the open areas (people, robots jostling at a crossing);
 //! that is what the retreat rule and the measured deadlock count are for.
 
@@ -73,6 +94,14 @@ pub struct PolicyParams {
     pub retreat_s: Real,
     /// How far back a robot retreats (m). 1.5 m.
     pub retreat_m: Real,
+    /// A robot asks for its station this far (along its route) before it (m). 6 m: the first
+    /// in line stops 3 m short, and behind it two more fit before the request point.
+    pub station_request_m: Real,
+    /// The first robot in a station's line waits this far (along its route) before it (m).
+    /// 3 m: the robot at the station turns and leaves without meeting the line.
+    pub queue_back_m: Real,
+    /// Room between robots in line (m). 0.4 m.
+    pub queue_gap_m: Real,
 }
 
 impl Default for PolicyParams {
@@ -87,6 +116,9 @@ impl Default for PolicyParams {
             retreat_after_s: 4.0,
             retreat_s: 5.0,
             retreat_m: 1.5,
+            station_request_m: 6.0,
+            queue_back_m: 3.0,
+            queue_gap_m: 0.4,
         }
     }
 }
@@ -98,6 +130,8 @@ pub struct PolicyRobot<'a> {
     pub position: Vec2,
     /// Its route's waypoints left (the first is the point it drives to), empty when idle.
     pub route: &'a [Vec2],
+    /// The station its route ends at (the site's station index), `None` when idle.
+    pub station: Option<usize>,
 }
 
 /// What the policy asks of one robot now.
@@ -114,6 +148,13 @@ pub enum Constraint {
         /// The segment it waits for.
         segment: usize,
     },
+    /// Wait at this point, in line for station `station`.
+    Queue {
+        /// Where to wait.
+        at: Vec2,
+        /// The station it waits for.
+        station: usize,
+    },
     /// Back off to this point.
     Retreat(Vec2),
 }
@@ -123,9 +164,10 @@ impl Constraint {
     pub fn goal(&self) -> Option<Vec2> {
         match *self {
             Constraint::Free => None,
-            Constraint::Lane(p) | Constraint::Retreat(p) | Constraint::Hold { at: p, .. } => {
-                Some(p)
-            }
+            Constraint::Lane(p)
+            | Constraint::Retreat(p)
+            | Constraint::Hold { at: p, .. }
+            | Constraint::Queue { at: p, .. } => Some(p),
         }
     }
 }
@@ -156,6 +198,20 @@ pub enum PolicyEvent {
         /// Segment index.
         segment: usize,
     },
+    /// A robot was granted its station.
+    StationGranted {
+        /// Robot index.
+        robot: usize,
+        /// Station index.
+        station: usize,
+    },
+    /// A robot began to wait in line for its station.
+    Queued {
+        /// Robot index.
+        robot: usize,
+        /// Station index.
+        station: usize,
+    },
     /// A robot in a lasting wait-for cycle began to retreat.
     Retreat {
         /// Robot index.
@@ -185,6 +241,19 @@ pub struct PolicyTotals {
     pub retreats: u64,
     /// Robots found inside a segment against its direction (pushed in, or there at the start).
     pub intrusions: u64,
+    /// Stations granted.
+    pub station_grants: u64,
+    /// Times a robot began to wait in line for a station.
+    pub queued: u64,
+}
+
+/// A station's line: who holds it and who waits, oldest first.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StationLine {
+    /// The robot granted it.
+    pub holder: Option<usize>,
+    /// Robots waiting, with the time each began to (s).
+    pub waiting: Vec<(usize, Real)>,
 }
 
 /// The policy's state.
@@ -194,6 +263,11 @@ pub struct TrafficPolicy {
     pub params: PolicyParams,
     segments: Vec<Segment>,
     reservations: Vec<Reservation>,
+    /// Per station of the site: its line, `None` for stations inside a segment (the
+    /// segment's reservation already admits one direction at a time).
+    lines: Vec<Option<StationLine>>,
+    /// Spacing of robots in line (m): a body length plus the gap.
+    queue_spacing: Real,
     constraints: Vec<Constraint>,
     retreat_until: Vec<Real>,
     retreat_at: Vec<Vec2>,
@@ -213,10 +287,20 @@ impl TrafficPolicy {
     pub fn new(site: &Site, robots: usize, robot_radius: Real, params: PolicyParams) -> Self {
         let min_width = 4.0 * robot_radius + params.passing_margin_m;
         let segments = site.narrow_segments(min_width);
+        let lines = site
+            .stations
+            .iter()
+            .map(|st| {
+                let inside = segments.iter().any(|s| s.contains(st.position));
+                (!inside).then(StationLine::default)
+            })
+            .collect();
         Self {
             params,
             reservations: vec![Reservation::default(); segments.len()],
             segments,
+            lines,
+            queue_spacing: 2.0 * robot_radius + params.queue_gap_m,
             constraints: vec![Constraint::Free; robots],
             retreat_until: vec![Real::NEG_INFINITY; robots],
             retreat_at: vec![vec2(0.0, 0.0); robots],
@@ -238,6 +322,11 @@ impl TrafficPolicy {
         &self.reservations[s]
     }
 
+    /// Station `s`'s line, `None` when the station is inside a segment (not queued).
+    pub fn station_line(&self, s: usize) -> Option<&StationLine> {
+        self.lines.get(s)?.as_ref()
+    }
+
     /// What robot `i` is asked to do now.
     pub fn constraint(&self, i: usize) -> Constraint {
         self.constraints[i]
@@ -248,13 +337,20 @@ impl TrafficPolicy {
         self.totals
     }
 
-    /// The wait-for edges the policy's holds create: each waiting robot on each holder of the
-    /// segment it waits for.
+    /// The wait-for edges the policy's holds and lines create: each waiting robot on each
+    /// holder of the segment or station it waits for.
     pub fn wait_edges(&self) -> Vec<(usize, usize)> {
         let mut edges = Vec::new();
         for (i, c) in self.constraints.iter().enumerate() {
-            if let Constraint::Hold { segment, .. } = *c {
-                edges.extend(self.reservations[segment].holders.iter().map(|&h| (i, h)));
+            match *c {
+                Constraint::Hold { segment, .. } => {
+                    edges.extend(self.reservations[segment].holders.iter().map(|&h| (i, h)));
+                }
+                Constraint::Queue { station, .. } => {
+                    let holder = self.lines[station].as_ref().and_then(|l| l.holder);
+                    edges.extend(holder.map(|h| (i, h)));
+                }
+                _ => {}
             }
         }
         edges
@@ -286,9 +382,11 @@ impl TrafficPolicy {
         let wants: Vec<Option<Want>> = robots.iter().map(|r| self.want(r)).collect();
         self.release(&wants, &mut events);
         self.admit(now, &wants, &mut events);
+        self.serve_stations(now, robots, &wants, &mut events);
         for (i, r) in robots.iter().enumerate() {
             self.constraints[i] = self.constraint_for(i, r, &wants[i]);
         }
+        self.line_up(robots);
         self.retreat(now, robots, monitor, &mut events);
         events
     }
@@ -436,6 +534,108 @@ impl TrafficPolicy {
         }
     }
 
+    /// Station lines: holders that reached their station (or changed it) let go; robots near
+    /// a queued station with no segment ahead join its line; a free station goes to the
+    /// oldest in line.
+    fn serve_stations(
+        &mut self,
+        now: Real,
+        robots: &[PolicyRobot<'_>],
+        wants: &[Option<Want>],
+        events: &mut Vec<PolicyEvent>,
+    ) {
+        let request = self.params.station_request_m;
+        for (s, line) in self.lines.iter_mut().enumerate() {
+            let Some(line) = line else {
+                continue;
+            };
+            let bound_here = |i: usize| robots[i].station == Some(s);
+            line.holder = line.holder.filter(|&h| bound_here(h));
+            line.waiting
+                .retain(|&(i, _)| bound_here(i) && wants[i].is_none() && Some(i) != line.holder);
+        }
+        for (i, r) in robots.iter().enumerate() {
+            let Some(s) = r.station else {
+                continue;
+            };
+            let Some(line) = self.lines.get_mut(s).and_then(Option::as_mut) else {
+                continue;
+            };
+            let listed = line.holder == Some(i) || line.waiting.iter().any(|&(w, _)| w == i);
+            if listed || wants[i].is_some() || route_length(r.position, r.route) > request {
+                continue;
+            }
+            line.waiting.push((i, now));
+            self.totals.queued += 1;
+            events.push(PolicyEvent::Queued {
+                robot: i,
+                station: s,
+            });
+        }
+        for (s, line) in self.lines.iter_mut().enumerate() {
+            let Some(line) = line else {
+                continue;
+            };
+            if line.holder.is_some() || line.waiting.is_empty() {
+                continue;
+            }
+            // The nearest in line (along its route; ties: the oldest, then the lower index),
+            // so that the robot let through never has to pass the line: robots join it
+            // behind those already in it.
+            let to_go = |i: usize| route_length(robots[i].position, robots[i].route);
+            let next = (0..line.waiting.len())
+                .min_by(|&a, &b| {
+                    let (ra, sa) = line.waiting[a];
+                    let (rb, sb) = line.waiting[b];
+                    to_go(ra)
+                        .total_cmp(&to_go(rb))
+                        .then(sa.total_cmp(&sb))
+                        .then(ra.cmp(&rb))
+                })
+                .expect("not empty");
+            let (robot, _) = line.waiting.remove(next);
+            line.holder = Some(robot);
+            self.totals.station_grants += 1;
+            events.push(PolicyEvent::StationGranted { robot, station: s });
+        }
+    }
+
+    /// Robots in a station's line wait at distinct points back along their routes from the
+    /// station: the oldest first, each at the first place from [`PolicyParams::queue_back_m`]
+    /// back, in steps of a body length plus the gap, at least that far from every place
+    /// taken. A robot nearer than its place backs up to it, along its last leg's line.
+    fn line_up(&mut self, robots: &[PolicyRobot<'_>]) {
+        let mut queue: Vec<(Real, usize, usize)> = self
+            .lines
+            .iter()
+            .enumerate()
+            .filter_map(|(s, l)| Some((s, l.as_ref()?)))
+            .flat_map(|(s, l)| l.waiting.iter().map(move |&(i, since)| (since, i, s)))
+            .collect();
+        queue.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let spacing = self.queue_spacing;
+        let mut taken: Vec<Vec2> = Vec::with_capacity(queue.len());
+        for (_, i, station) in queue {
+            let r = &robots[i];
+            let to_go = route_length(r.position, r.route);
+            let place = (0..)
+                .map(|k| {
+                    let back = self.params.queue_back_m + Real::from(k) * spacing;
+                    (
+                        back,
+                        self.right_of_point(back_along(r.position, r.route, back)),
+                    )
+                })
+                .find(|&(back, p)| {
+                    back > to_go + 20.0 || taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
+                })
+                .map(|(_, p)| p)
+                .unwrap_or(r.position);
+            taken.push(place);
+            self.constraints[i] = Constraint::Queue { at: place, station };
+        }
+    }
+
     fn constraint_for(&self, i: usize, r: &PolicyRobot<'_>, want: &Option<Want>) -> Constraint {
         if let Some(w) = want
             && !w.inside
@@ -452,6 +652,11 @@ impl TrafficPolicy {
             return Constraint::Free;
         }
         self.lane(r).map_or(Constraint::Free, Constraint::Lane)
+    }
+
+    /// [`Self::right_of`] for an `(at, heading)` pair.
+    fn right_of_point(&self, (at, heading): (Vec2, Vec2)) -> Vec2 {
+        self.right_of(at, heading)
     }
 
     /// `at` moved onto the right-hand lane for travel along `heading` (a unit vector, or zero),
@@ -580,6 +785,42 @@ struct Want {
     distance: Real,
 }
 
+/// The point `back` (m) before the route's end, along the route from `from`; nearer than that,
+/// on the last leg's line extended back past `from` (`from` itself on an empty route), and the
+/// direction of travel there (a unit vector, or zero).
+fn back_along(from: Vec2, route: &[Vec2], back: Real) -> (Vec2, Vec2) {
+    let to_go = route_length(from, route);
+    if back <= to_go {
+        return along(from, route, to_go - back);
+    }
+    let Some(&end) = route.last() else {
+        return (from, vec2(0.0, 0.0));
+    };
+    let start = if route.len() >= 2 {
+        route[route.len() - 2]
+    } else {
+        from
+    };
+    let leg = end - start;
+    let norm = leg.norm();
+    if norm == 0.0 {
+        return (from, vec2(0.0, 0.0));
+    }
+    let heading = leg / norm;
+    (end - heading * back, heading)
+}
+
+/// The length of the route from `from` through every waypoint (m).
+fn route_length(from: Vec2, route: &[Vec2]) -> Real {
+    let mut at = from;
+    let mut total = 0.0;
+    for &w in route {
+        total += (w - at).norm();
+        at = w;
+    }
+    total
+}
+
 /// The point `distance` along the route from `from`, and the direction of travel there (a
 /// unit vector; zero on an empty route).
 fn along(from: Vec2, route: &[Vec2], distance: Real) -> (Vec2, Vec2) {
@@ -647,14 +888,17 @@ mod tests {
             PolicyRobot {
                 position: west,
                 route: &route_east,
+                station: None,
             },
             PolicyRobot {
                 position: east + vec2(3.0, 0.0),
                 route: &route_west,
+                station: None,
             },
             PolicyRobot {
                 position: west - vec2(6.0, 0.0),
                 route: &route_east,
+                station: None,
             },
         ];
         let events = step(&mut policy, 0.1, &robots);
@@ -696,6 +940,66 @@ mod tests {
         assert_eq!(policy.exit_of(1), Some(s.ends.0));
     }
 
+    /// One robot at a time at a station: the first to ask (lower index on a tie) drives to
+    /// it, the others wait in line on the right-hand lane at distinct places, and the station
+    /// passes to the oldest in line when its holder's leg ends there. Stations inside a
+    /// one-way segment have no line (the segment already admits one direction).
+    #[test]
+    fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
+        let site = Site::hallway(40.0, 3.0, 3);
+        let dock = site.stations[0];
+        assert_eq!(dock.position, vec2(1.0, 0.5));
+        let mut policy = TrafficPolicy::new(&site, 3, 0.3, PolicyParams::default());
+        let route = [dock.position];
+        let mut robots = [5.0, 6.5, 6.9].map(|x| PolicyRobot {
+            position: vec2(x, 1.5),
+            route: &route,
+            station: Some(dock.id),
+        });
+        let events = step(&mut policy, 0.1, &robots);
+        assert!(events.contains(&PolicyEvent::StationGranted {
+            robot: 0,
+            station: dock.id
+        }));
+        assert!(policy.constraint(0).goal().is_none_or(|g| g.x < 5.0));
+        let place = |policy: &TrafficPolicy, i: usize| match policy.constraint(i) {
+            Constraint::Queue { at, station } => {
+                assert_eq!(station, dock.id);
+                at
+            }
+            c => panic!("robot {i} should wait in line: {c:?}"),
+        };
+        let (first, second) = (place(&policy, 1), place(&policy, 2));
+        // Westbound: the right-hand lane is a quarter of the width north of the centre line.
+        assert!((first.y - 2.25).abs() < 1e-9 && (second.y - 2.25).abs() < 1e-9);
+        assert!(
+            ((first - dock.position).norm() - 3.0).abs() < 0.8,
+            "{first:?}"
+        );
+        assert!(second.x - first.x >= 1.0 - 1e-9, "{first:?} {second:?}");
+        assert_eq!(policy.wait_edges(), vec![(1, 0), (2, 0)]);
+        // Robot 0 reaches the dock, its leg ends, its next leg goes elsewhere.
+        robots[0].position = dock.position;
+        robots[0].station = Some(3);
+        let events = step(&mut policy, 0.2, &robots);
+        assert!(events.contains(&PolicyEvent::StationGranted {
+            robot: 1,
+            station: dock.id
+        }));
+        assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(1));
+        assert!(((place(&policy, 2) - dock.position).norm() - 3.0).abs() < 0.8);
+        // In the narrow warehouse, docks have lines and pick faces in aisles do not.
+        let (narrow, radius) = narrow();
+        let policy = TrafficPolicy::new(&narrow, 1, radius, PolicyParams::default());
+        for st in &narrow.stations {
+            let in_segment = policy.segments().iter().any(|s| s.contains(st.position));
+            assert_eq!(policy.station_line(st.id).is_none(), in_segment, "{st:?}");
+            if st.kind == crate::warehouse::StationKind::Dock {
+                assert!(!in_segment);
+            }
+        }
+    }
+
     /// In a corridor wide enough for two, the goal leads along the right-hand lane.
     #[test]
     fn keep_right_in_wide_corridors() {
@@ -706,6 +1010,7 @@ mod tests {
         let r = PolicyRobot {
             position: vec2(30.0, 1.5),
             route: &route,
+            station: None,
         };
         let lane = policy.lane(&r).expect("a lane");
         assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
@@ -713,6 +1018,7 @@ mod tests {
         let near = PolicyRobot {
             position: vec2(8.0, 1.5),
             route: &route,
+            station: None,
         };
         assert_eq!(policy.lane(&near), None);
     }

@@ -199,6 +199,11 @@ impl Site {
             .position(|&(x, half)| (p.x - x).abs() <= half)
     }
 
+    /// Whether `p` is in a cross-aisle.
+    pub fn in_cross_aisle(&self, p: Vec2) -> bool {
+        self.cross_aisle_of(p).is_some()
+    }
+
     /// The horizontal corridor nearest to `p` (for points pushed off the grid, e.g. into a
     /// shelf's edge).
     fn nearest_corridor(&self, p: Vec2) -> usize {

@@ -7,12 +7,14 @@ use super::status::{Event, Observer, Status};
 use agent::safety::{SafetyLimits, SafetyParams, field_reach};
 use dashboards::{
     Dashboard, EventView, FanView, FieldState, FieldView, Frame, IntentView, MapFrame, P,
-    RobotView, Sinks,
+    RobotView, SegmentView, Sinks, TrafficGoal, TrafficView,
 };
 use schemas::SafetyZone;
 use std::collections::HashSet;
 use world_sim::fleet::{Fleet, FleetEvent};
 use world_sim::metrics::{ContactCause, NEAR_MISS_GAP, contact_cause};
+use world_sim::traffic::TrafficEvent;
+use world_sim::traffic_policy::{Constraint, PolicyEvent};
 
 fn p(v: agent::math::Vec2) -> P {
     [v.x as f32, v.y as f32]
@@ -163,6 +165,111 @@ impl DashboardObserver {
     }
 }
 
+/// The traffic policy's segments and goals (when it runs) and the monitor's wait-for graph
+/// and stuck robots.
+fn traffic_view(fleet: &Fleet) -> TrafficView {
+    let at = |i: usize| p(fleet.world.robots[i].state.position);
+    let monitor = fleet.traffic();
+    let mut view = TrafficView::default();
+    if let Some(policy) = fleet.traffic_policy() {
+        view.segments = policy
+            .segments()
+            .iter()
+            .map(|s| {
+                let r = policy.reservation(s.id);
+                SegmentView {
+                    id: s.id as u32,
+                    min: [s.x0 as f32, (s.y - s.half_width) as f32],
+                    max: [s.x1 as f32, (s.y + s.half_width) as f32],
+                    direction: r.dir,
+                    holders: r.holders.iter().map(|&h| h as u32).collect(),
+                    waiting: r.waiting.iter().map(|w| w.0 as u32).collect(),
+                }
+            })
+            .collect();
+        view.goals = (0..fleet.robots())
+            .filter(|&i| fleet.job(i).is_some())
+            .filter_map(|i| {
+                let (goal, kind) = match policy.constraint(i) {
+                    Constraint::Hold { at, .. } => (at, TrafficGoal::Hold),
+                    Constraint::Queue { at, .. } => (at, TrafficGoal::Queue),
+                    Constraint::Retreat(at) => (at, TrafficGoal::Retreat),
+                    Constraint::Free | Constraint::Lane(_) => return None,
+                };
+                Some((i as u32, p(goal), kind))
+            })
+            .collect();
+    }
+    let cycle_of = |i: usize| monitor.cycles().iter().position(|c| c.contains(&i));
+    for i in 0..fleet.robots() {
+        for &j in monitor.waits_on(i) {
+            let in_cycle = cycle_of(i).is_some() && cycle_of(i) == cycle_of(j);
+            view.waits.push((at(i), at(j), in_cycle));
+        }
+        if monitor.is_stuck(i) {
+            let r = &fleet.world.robots[i].state;
+            view.stuck.push((i as u32, at(i), r.radius as f32));
+        }
+    }
+    view
+}
+
+/// The monitor's and the policy's events of the last step, for the log: deadlocks, robots
+/// getting stuck, segments granted and released, retreats.
+fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
+    let at = |i: usize| Some(p(fleet.world.robots[i].state.position));
+    for e in fleet.traffic_events() {
+        match e {
+            TrafficEvent::Deadlock { robots } => out.push(EventView {
+                text: format!("deadlock: robots {robots:?} wait on each other"),
+                position: robots.first().and_then(|&i| at(i)),
+                warning: true,
+            }),
+            TrafficEvent::Stuck { robot } => out.push(EventView {
+                text: format!("robot {robot} stuck: no progress toward its goal"),
+                position: at(*robot),
+                warning: true,
+            }),
+            TrafficEvent::Unstuck { .. } => {}
+        }
+    }
+    for e in fleet.policy_events() {
+        let text = match *e {
+            PolicyEvent::Granted {
+                robot,
+                segment,
+                dir,
+            } => {
+                let arrow = if dir > 0 { "→" } else { "←" };
+                format!("segment {segment} {arrow} granted to robot {robot}")
+            }
+            PolicyEvent::Released { robot, segment } => {
+                format!("robot {robot} left segment {segment}")
+            }
+            PolicyEvent::Retreat { robot } => {
+                format!("robot {robot} retreats: a wait-for cycle lasted")
+            }
+            PolicyEvent::StationGranted { robot, station } => {
+                format!("station {station} granted to robot {robot}")
+            }
+            PolicyEvent::Waiting { .. } | PolicyEvent::Queued { .. } => continue,
+        };
+        let robot = match *e {
+            PolicyEvent::Granted { robot, .. }
+            | PolicyEvent::Released { robot, .. }
+            | PolicyEvent::Retreat { robot }
+            | PolicyEvent::StationGranted { robot, .. }
+            | PolicyEvent::Waiting { robot, .. }
+            | PolicyEvent::Queued { robot, .. } => robot,
+        };
+        out.push(EventView {
+            text,
+            position: at(robot),
+            warning: false,
+        });
+    }
+}
+
 /// Each robot's protective and warning fields at its current speed, as the layer's default
 /// parameters size them (`agent::safety::field_reach`): capsules from the robot along its
 /// direction of travel, as wide as the robot plus the margin.
@@ -285,6 +392,8 @@ impl Observer for DashboardObserver {
         self.seen_events = status.events.len();
         self.contact_events(fleet, &mut events);
         self.safety_events(fleet, status, &mut events);
+        traffic_events(fleet, &mut events);
+        let traffic = traffic_view(fleet);
 
         let per_robot: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
         let n = per_robot.len().max(1) as f64;
@@ -327,6 +436,20 @@ impl Observer for DashboardObserver {
                     .count() as f64,
             ),
         ];
+        fleet_metrics.push(("stuck_robots", traffic.stuck.len() as f64));
+        fleet_metrics.push(("deadlocks", fleet.traffic().totals().deadlocks as f64));
+        if let Some(policy) = fleet.traffic_policy() {
+            let waiting = (0..fleet.robots())
+                .filter(|&i| {
+                    fleet.job(i).is_some()
+                        && matches!(
+                            policy.constraint(i),
+                            Constraint::Hold { .. } | Constraint::Queue { .. }
+                        )
+                })
+                .count();
+            fleet_metrics.push(("waiting_robots", waiting as f64));
+        }
         if min_human.is_finite() {
             fleet_metrics.push(("min_human_distance", min_human));
         }
@@ -381,6 +504,7 @@ impl Observer for DashboardObserver {
                 })
                 .collect(),
             events,
+            traffic: Some(traffic),
             fleet_metrics,
             robot_metrics,
         });

@@ -268,9 +268,10 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     ));
     out.push_str(&match &report.policy {
         Some(p) => format!(
-            "traffic policy: {} one-way aisle segments granted, {} waits for one, {} retreats, \
-             {} robots found against a segment's direction\n",
-            p.grants, p.waits, p.retreats, p.intrusions
+            "traffic policy: {} one-way aisle segments granted, {} waits for one, {} stations \
+             granted, {} waits in a station's line, {} retreats, {} robots found against a \
+             segment's direction\n",
+            p.grants, p.waits, p.station_grants, p.queued, p.retreats, p.intrusions
         ),
         None => "traffic policy: off\n".to_owned(),
     });

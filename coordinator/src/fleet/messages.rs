@@ -55,6 +55,7 @@ pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg>
         Constraint::Free => (TrafficConstraint::Free, None),
         Constraint::Lane(p) => (TrafficConstraint::Lane, Some(p)),
         Constraint::Hold { at, .. } => (TrafficConstraint::Hold, Some(at)),
+        Constraint::Queue { at, .. } => (TrafficConstraint::Queue, Some(at)),
         Constraint::Retreat(p) => (TrafficConstraint::Retreat, Some(p)),
     };
     let waiting = match policy.constraint(i) {
@@ -63,6 +64,12 @@ pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg>
     };
     let held = (0..policy.segments().len()).find(|&s| policy.reservation(s).holders.contains(&i));
     let segment = waiting.or(held);
+    let queued = match policy.constraint(i) {
+        Constraint::Queue { station, .. } => Some(station),
+        _ => None,
+    };
+    let holds_station = (0..fleet.site().stations.len())
+        .find(|&s| policy.station_line(s).is_some_and(|l| l.holder == Some(i)));
     Some(TrafficMsg {
         tick,
         sim_time: fleet.world.time,
@@ -70,6 +77,7 @@ pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg>
         goal: goal.map(wire::p2),
         segment: segment.map(|s| s as u32),
         direction: held.and_then(|s| policy.reservation(s).dir),
+        station: queued.or(holds_station).map(|s| s as u32),
     })
 }
 

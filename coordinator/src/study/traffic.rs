@@ -79,6 +79,12 @@ pub struct TrafficRun {
     pub waits: u64,
     /// Retreats ordered.
     pub retreats: u64,
+    /// Stations granted (0 with the policy off).
+    pub station_grants: u64,
+    /// Times a robot began to wait in line for a station.
+    pub queued: u64,
+    /// Times a robot pushed off its route got a new one.
+    pub reroutes: u64,
 }
 
 impl TrafficRun {
@@ -106,6 +112,9 @@ impl TrafficRun {
             grants: policy.grants,
             waits: policy.waits,
             retreats: policy.retreats,
+            station_grants: policy.station_grants,
+            queued: policy.queued,
+            reroutes: report.reroutes,
         }
     }
 }

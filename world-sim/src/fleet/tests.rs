@@ -135,3 +135,42 @@ fn a_scenario_without_warehouse_is_refused() {
     let s = Scenario::builtin("open-space").expect("valid");
     assert!(Fleet::new(&s).is_err());
 }
+
+/// A robot pushed into an aisle other than its waypoint's gets a new route from there, whose
+/// first leg stays inside one corridor or cross-aisle; a robot in a cross-aisle is left alone
+/// (every corridor is a turn away from there).
+#[test]
+fn a_robot_pushed_into_the_wrong_aisle_gets_a_new_route() {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(2), Some(0));
+    let mut fleet = Fleet::new(&s).expect("warehouse");
+    fleet.dispatch();
+    let segments = fleet.site().narrow_segments(2.0);
+    let waypoint = |fleet: &Fleet, i: usize| fleet.job(i).and_then(Job::waypoint).expect("a job");
+    let wrong = segments
+        .iter()
+        .find(|seg| (seg.y - waypoint(&fleet, 0).y).abs() > 2.0)
+        .expect("an aisle away from the waypoint");
+    let stray = agent::math::vec2(0.5 * (wrong.x0 + wrong.x1), wrong.y);
+    let old = waypoint(&fleet, 0);
+    assert!(
+        fleet.site().route(stray, old).len() > 1,
+        "off its route there"
+    );
+    fleet.world.robots[0].state.position = stray;
+    // Robot 1 in a cross-aisle, beside an aisle's mouth.
+    let mouth = agent::math::vec2(segments[0].x1 + 0.6, segments[0].y);
+    assert!(fleet.site().in_cross_aisle(mouth));
+    fleet.world.robots[1].state.position = mouth;
+    let before = waypoint(&fleet, 1);
+    fleet.step(&[Command::STOP; 2]);
+    assert_eq!(fleet.reroutes(), 1);
+    let here = fleet.world.robots[0].state.position;
+    let next = waypoint(&fleet, 0);
+    assert_eq!(
+        fleet.site().route(here, next),
+        vec![next],
+        "one straight leg"
+    );
+    assert_eq!(waypoint(&fleet, 1), before);
+}
