@@ -1,6 +1,6 @@
 //! The coordinator's traffic step (issue 22): the traffic monitor (stuck robots, the wait-for
-//! graph and its cycles) and the traffic policy (segment reservations, holds, lanes,
-//! retreats) over 200 robots, after 20 s of a large narrow-aisle warehouse (20 rows in 6
+//! graph and its cycles) and the traffic policy (segment reservations, holds, station lines,
+//! lanes, retreats) over 200 robots, after 20 s of a large narrow-aisle warehouse (20 rows in 6
 //! blocks, 1.5 m aisles, 200 people, 200 robots planning with pgp+orca under the safety
 //! layer).
 //!
