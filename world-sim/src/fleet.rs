@@ -14,7 +14,9 @@ use crate::scenario::Scenario;
 use crate::traffic::{
     RobotView, TaskView, TrafficEvent, TrafficMonitor, TrafficParams, TrafficTotals,
 };
-use crate::traffic_policy::{PolicyEvent, PolicyParams, PolicyRobot, PolicyTotals, TrafficPolicy};
+use crate::traffic_policy::{
+    PolicyEvent, PolicyParams, PolicyRobot, PolicyTotals, TrafficPolicy, route_length,
+};
 use crate::warehouse::{Site, StationKind};
 use crate::world::{ROBOT_ID_BIT, World};
 use agent::map::LocalMap;
@@ -98,13 +100,7 @@ impl Job {
 
     /// The route left to drive from `here` (m): to the waypoint, then along the rest.
     pub fn remaining(&self, here: Vec2) -> Real {
-        let mut at = here;
-        let mut total = 0.0;
-        for &w in &self.waypoints {
-            total += (w - at).norm();
-            at = w;
-        }
-        total
+        route_length(here, &self.waypoints)
     }
 
     /// The station this leg ends at: the pick station, then the dock.

@@ -621,10 +621,8 @@ impl TrafficPolicy {
             let place = (0..)
                 .map(|k| {
                     let back = self.params.queue_back_m + Real::from(k) * spacing;
-                    (
-                        back,
-                        self.right_of_point(back_along(r.position, r.route, back)),
-                    )
+                    let (at, heading) = back_along(r.position, r.route, back);
+                    (back, self.right_of(at, heading))
                 })
                 .find(|&(back, p)| {
                     back > to_go + 20.0 || taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
@@ -652,11 +650,6 @@ impl TrafficPolicy {
             return Constraint::Free;
         }
         self.lane(r).map_or(Constraint::Free, Constraint::Lane)
-    }
-
-    /// [`Self::right_of`] for an `(at, heading)` pair.
-    fn right_of_point(&self, (at, heading): (Vec2, Vec2)) -> Vec2 {
-        self.right_of(at, heading)
     }
 
     /// `at` moved onto the right-hand lane for travel along `heading` (a unit vector, or zero),
@@ -811,7 +804,7 @@ fn back_along(from: Vec2, route: &[Vec2], back: Real) -> (Vec2, Vec2) {
 }
 
 /// The length of the route from `from` through every waypoint (m).
-fn route_length(from: Vec2, route: &[Vec2]) -> Real {
+pub(crate) fn route_length<'a>(from: Vec2, route: impl IntoIterator<Item = &'a Vec2>) -> Real {
     let mut at = from;
     let mut total = 0.0;
     for &w in route {
@@ -842,184 +835,4 @@ fn along(from: Vec2, route: &[Vec2], distance: Real) -> (Vec2, Vec2) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scenario::Scenario;
-    use crate::traffic::TrafficParams;
-
-    fn narrow() -> (Site, Real) {
-        let s = Scenario::builtin("warehouse-narrow").expect("valid");
-        let site = Site::generate(&s.warehouse.expect("layout"));
-        (site, s.robot.radius_m)
-    }
-
-    /// The narrow warehouse's aisles are one-way segments; its corridors and cross-aisles are
-    /// not. The default warehouse (2.5 m aisles) has none.
-    #[test]
-    fn narrow_aisles_are_segments_and_wide_ones_are_not() {
-        let (site, radius) = narrow();
-        let policy = TrafficPolicy::new(&site, 1, radius, PolicyParams::default());
-        // 5 aisles between 6 rows, 4 blocks each.
-        assert_eq!(policy.segments().len(), 20);
-        let s = Scenario::builtin("warehouse").expect("valid");
-        let wide = Site::generate(&s.warehouse.expect("layout"));
-        let policy = TrafficPolicy::new(&wide, 1, s.robot.radius_m, PolicyParams::default());
-        assert!(policy.segments().is_empty());
-    }
-
-    fn step(policy: &mut TrafficPolicy, now: Real, robots: &[PolicyRobot<'_>]) -> Vec<PolicyEvent> {
-        let monitor = TrafficMonitor::new(robots.len(), TrafficParams::default());
-        policy.step(now, robots, &monitor)
-    }
-
-    /// Two robots head for the same segment from its two ends: the first to ask gets it, the
-    /// other waits short of the mouth, outside the segment and clear of the crossing, until
-    /// the first has left; a third behind the first, going the same way, does not get in
-    /// while the other way waits.
-    #[test]
-    fn one_direction_at_a_time_and_the_waiting_side_goes_next() {
-        let (site, radius) = narrow();
-        let mut policy = TrafficPolicy::new(&site, 3, radius, PolicyParams::default());
-        let s = policy.segments()[0];
-        let (west, east) = (vec2(s.x0 - 1.0, s.y), vec2(s.x1 + 1.0, s.y));
-        let route_east = [vec2(s.x1 + 1.5, s.y)];
-        let route_west = [vec2(s.x0 - 1.5, s.y)];
-        let mut robots = [
-            PolicyRobot {
-                position: west,
-                route: &route_east,
-                station: None,
-            },
-            PolicyRobot {
-                position: east + vec2(3.0, 0.0),
-                route: &route_west,
-                station: None,
-            },
-            PolicyRobot {
-                position: west - vec2(6.0, 0.0),
-                route: &route_east,
-                station: None,
-            },
-        ];
-        let events = step(&mut policy, 0.1, &robots);
-        assert!(events.contains(&PolicyEvent::Granted {
-            robot: 0,
-            segment: s.id,
-            dir: 1
-        }));
-        assert_eq!(policy.constraint(0), Constraint::Free);
-        // Robot 1 comes within reach of the east mouth and must wait.
-        robots[1].position = east;
-        step(&mut policy, 0.2, &robots);
-        let Constraint::Hold { at, segment } = policy.constraint(1) else {
-            panic!("robot 1 should wait: {:?}", policy.constraint(1));
-        };
-        assert_eq!(segment, s.id);
-        assert!(!s.contains(at) && at.x > s.x1, "{at:?}");
-        // Robot 0 enters; robot 2 comes up behind it, the same way: not let in while robot 1
-        // waits the other way.
-        robots[0].position = vec2(s.x0 + 2.0, s.y);
-        robots[2].position = west;
-        step(&mut policy, 0.3, &robots);
-        assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
-        assert_eq!(policy.reservation(s.id).holders, vec![0]);
-        assert_eq!(policy.wait_edges(), vec![(1, 0), (2, 0)]);
-        // Robot 0 leaves by the far end: the segment turns to robot 1.
-        robots[0].position = vec2(s.x1 + 1.2, s.y + 1.0);
-        let events = step(&mut policy, 0.4, &robots);
-        assert!(events.contains(&PolicyEvent::Released {
-            robot: 0,
-            segment: s.id
-        }));
-        assert!(events.contains(&PolicyEvent::Granted {
-            robot: 1,
-            segment: s.id,
-            dir: -1
-        }));
-        assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
-        assert_eq!(policy.exit_of(1), Some(s.ends.0));
-    }
-
-    /// One robot at a time at a station: the first to ask (lower index on a tie) drives to
-    /// it, the others wait in line on the right-hand lane at distinct places, and the station
-    /// passes to the oldest in line when its holder's leg ends there. Stations inside a
-    /// one-way segment have no line (the segment already admits one direction).
-    #[test]
-    fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
-        let site = Site::hallway(40.0, 3.0, 3);
-        let dock = site.stations[0];
-        assert_eq!(dock.position, vec2(1.0, 0.5));
-        let mut policy = TrafficPolicy::new(&site, 3, 0.3, PolicyParams::default());
-        let route = [dock.position];
-        let mut robots = [5.0, 6.5, 6.9].map(|x| PolicyRobot {
-            position: vec2(x, 1.5),
-            route: &route,
-            station: Some(dock.id),
-        });
-        let events = step(&mut policy, 0.1, &robots);
-        assert!(events.contains(&PolicyEvent::StationGranted {
-            robot: 0,
-            station: dock.id
-        }));
-        assert!(policy.constraint(0).goal().is_none_or(|g| g.x < 5.0));
-        let place = |policy: &TrafficPolicy, i: usize| match policy.constraint(i) {
-            Constraint::Queue { at, station } => {
-                assert_eq!(station, dock.id);
-                at
-            }
-            c => panic!("robot {i} should wait in line: {c:?}"),
-        };
-        let (first, second) = (place(&policy, 1), place(&policy, 2));
-        // Westbound: the right-hand lane is a quarter of the width north of the centre line.
-        assert!((first.y - 2.25).abs() < 1e-9 && (second.y - 2.25).abs() < 1e-9);
-        assert!(
-            ((first - dock.position).norm() - 3.0).abs() < 0.8,
-            "{first:?}"
-        );
-        assert!(second.x - first.x >= 1.0 - 1e-9, "{first:?} {second:?}");
-        assert_eq!(policy.wait_edges(), vec![(1, 0), (2, 0)]);
-        // Robot 0 reaches the dock, its leg ends, its next leg goes elsewhere.
-        robots[0].position = dock.position;
-        robots[0].station = Some(3);
-        let events = step(&mut policy, 0.2, &robots);
-        assert!(events.contains(&PolicyEvent::StationGranted {
-            robot: 1,
-            station: dock.id
-        }));
-        assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(1));
-        assert!(((place(&policy, 2) - dock.position).norm() - 3.0).abs() < 0.8);
-        // In the narrow warehouse, docks have lines and pick faces in aisles do not.
-        let (narrow, radius) = narrow();
-        let policy = TrafficPolicy::new(&narrow, 1, radius, PolicyParams::default());
-        for st in &narrow.stations {
-            let in_segment = policy.segments().iter().any(|s| s.contains(st.position));
-            assert_eq!(policy.station_line(st.id).is_none(), in_segment, "{st:?}");
-            if st.kind == crate::warehouse::StationKind::Dock {
-                assert!(!in_segment);
-            }
-        }
-    }
-
-    /// In a corridor wide enough for two, the goal leads along the right-hand lane.
-    #[test]
-    fn keep_right_in_wide_corridors() {
-        let (site, radius) = narrow();
-        let policy = TrafficPolicy::new(&site, 1, radius, PolicyParams::default());
-        // The bottom corridor (3 m, centre y = 1.5), driving west: right is +y, 0.25 × 3 m.
-        let route = [vec2(5.0, 1.5)];
-        let r = PolicyRobot {
-            position: vec2(30.0, 1.5),
-            route: &route,
-            station: None,
-        };
-        let lane = policy.lane(&r).expect("a lane");
-        assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
-        // Close to the waypoint the goal is the waypoint itself.
-        let near = PolicyRobot {
-            position: vec2(8.0, 1.5),
-            route: &route,
-            station: None,
-        };
-        assert_eq!(policy.lane(&near), None);
-    }
-}
+mod tests;
