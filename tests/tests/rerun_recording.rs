@@ -9,14 +9,47 @@ fn rerun_cli() -> String {
     std::env::var("GAPFLEET_RERUN").unwrap_or_else(|_| "rerun".to_owned())
 }
 
+/// Runs `gapfleet demo` with `args` and `--rrd rrd`; returns its stdout. Panics on failure.
+fn record_demo(args: &[&str], rrd: &std::path::Path) -> String {
+    let out = Command::new(binary("gapfleet"))
+        .arg("demo")
+        .args(args)
+        .arg("--rrd")
+        .arg(rrd)
+        .output()
+        .expect("gapfleet demo runs");
+    assert!(
+        out.status.success(),
+        "demo failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// `rerun rrd print <verbosity> rrd`: what the recording holds. Panics on failure.
+fn rrd_print(verbosity: &str, rrd: &std::path::Path) -> String {
+    let cli = rerun_cli();
+    let print = Command::new(&cli)
+        .args(["rrd", "print", verbosity])
+        .arg(rrd)
+        .env("RERUN_ANALYTICS", "0")
+        .output()
+        .unwrap_or_else(|e| panic!("{cli} runs (bash tests/run.sh installs it): {e}"));
+    assert!(
+        print.status.success(),
+        "{}",
+        String::from_utf8_lossy(&print.stderr)
+    );
+    String::from_utf8_lossy(&print.stdout).into_owned()
+}
+
 #[test]
 fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
     let dir = std::env::temp_dir().join(format!("gapfleet-rrd-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let rrd = dir.join("demo.rrd");
-    let out = Command::new(binary("gapfleet"))
-        .args([
-            "demo",
+    let stdout = record_demo(
+        &[
             "--robots",
             "3",
             "--humans",
@@ -27,16 +60,8 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
             "20",
             "--speed",
             "4",
-        ])
-        .arg("--rrd")
-        .arg(&rrd)
-        .output()
-        .expect("gapfleet demo runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "demo failed: {}",
-        String::from_utf8_lossy(&out.stderr)
+        ],
+        &rrd,
     );
     assert!(stdout.contains("dashboard: "), "{stdout}");
 
@@ -54,18 +79,7 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         String::from_utf8_lossy(&verify.stderr)
     );
 
-    let print = Command::new(&cli)
-        .args(["rrd", "print", "-vv"])
-        .arg(&rrd)
-        .env("RERUN_ANALYTICS", "0")
-        .output()
-        .expect("rerun rrd print runs");
-    let listing = String::from_utf8_lossy(&print.stdout);
-    assert!(
-        print.status.success(),
-        "{}",
-        String::from_utf8_lossy(&print.stderr)
-    );
+    let listing = rrd_print("-vv", &rrd);
     for entity in [
         "/map/shelves",
         "/map/stations",
@@ -207,9 +221,8 @@ fn narrow_warehouse_rrd_shows_reserved_segments_and_grants() {
     let dir = std::env::temp_dir().join(format!("gapfleet-traffic-rrd-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let rrd = dir.join("narrow.rrd");
-    let out = Command::new(binary("gapfleet"))
-        .args([
-            "demo",
+    record_demo(
+        &[
             "--scenario",
             "warehouse-narrow",
             "--robots",
@@ -220,29 +233,10 @@ fn narrow_warehouse_rrd_shows_reserved_segments_and_grants() {
             "30",
             "--speed",
             "4",
-        ])
-        .arg("--rrd")
-        .arg(&rrd)
-        .output()
-        .expect("gapfleet demo runs");
-    assert!(
-        out.status.success(),
-        "demo failed: {}",
-        String::from_utf8_lossy(&out.stderr)
+        ],
+        &rrd,
     );
-    let cli = rerun_cli();
-    let print = Command::new(&cli)
-        .args(["rrd", "print", "-vvv"])
-        .arg(&rrd)
-        .env("RERUN_ANALYTICS", "0")
-        .output()
-        .unwrap_or_else(|e| panic!("{cli} runs (bash tests/run.sh installs it): {e}"));
-    let listing = String::from_utf8_lossy(&print.stdout);
-    assert!(
-        print.status.success(),
-        "{}",
-        String::from_utf8_lossy(&print.stderr)
-    );
+    let listing = rrd_print("-vvv", &rrd);
     for entity in [
         "/world/traffic/segments",
         "/world/traffic/directions",
