@@ -439,9 +439,9 @@ impl Fleet {
                 continue;
             }
             let station = self.site.stations[job.station()].position;
-            // As at the leg's start: out of a held segment by its far end, into the station's
-            // segment by the nearer end.
-            let exit = self.policy.as_ref().and_then(|p| p.exit_of(i));
+            // Out of a one-way segment with its flow (it may have been pushed in against
+            // it); into the station's segment by the nearer end, as at the leg's start.
+            let exit = self.policy.as_ref().and_then(|p| p.flow_exit(here));
             let entry = match job.stage {
                 Stage::ToPick => self.pick_entry(here, station),
                 Stage::ToDrop => None,
@@ -494,6 +494,17 @@ impl Fleet {
             })
             .collect();
         self.policy_events = policy.step(self.world.time, &robots, &self.traffic);
+        for i in 0..self.robots() {
+            let exit = self.policy.as_ref().and_then(|p| p.turned(i));
+            if let (Some(exit), Some(job)) = (exit, &self.jobs[i]) {
+                let here = self.world.robots[i].state.position;
+                let station = self.site.stations[job.station()].position;
+                let route = self.site.route_via(here, station, exit);
+                if let Some(job) = &mut self.jobs[i] {
+                    job.waypoints = route.into();
+                }
+            }
+        }
         self.update_goals();
     }
 

@@ -11,6 +11,16 @@
 //!   a hold point short of the mouth, clear of the crossing, until granted. Once someone waits
 //!   for the other direction, no one more enters the current way; the segment drains and turns.
 //!   Waiting requests are served oldest first (ties: lower robot index).
+//! - **Against the flow.** A robot found inside a segment against its direction (pushed in
+//!   by the crowd, or off its route into the wrong aisle) stops further entries until it is
+//!   out, and once only such robots are left the segment turns to their way. While a robot of
+//!   the flow comes at it, it is **turned round**: its new route leaves by the end the flow
+//!   leads to, and so does the route of any robot pushed into a segment off its route.
+//!   (Before, the direction stayed with the robots first in and one against it was only
+//!   counted; robots granted the aisle met it face to face and pushed it back metre by
+//!   metre. Of the ten seeds with a deadlock at 20 robots in `warehouse-narrow` in the
+//!   session 16 study, 6, 7, 15, 35, 44, 53, 54, 62, 71 and 93, one is left with this rule:
+//!   seed 7, a jam where an aisle opens into a busy cross-aisle.)
 //! - **In at one end, out at the other.** A robot that picks inside a segment leaves it by the
 //!   far end (the fleet routes its next leg through that end's cross-aisle), and a robot bound
 //!   for a station in an aisle enters it from the cross-aisle nearer to where it comes from.
@@ -23,7 +33,9 @@
 //!   [`PolicyParams::queue_back_m`] back along its route, each next one a body length plus
 //!   [`PolicyParams::queue_gap_m`] further back (a robot nearer than its place backs up to
 //!   it). A free station goes to the robot in line nearest to it, so the robot let through
-//!   never has to pass the line; newcomers join behind. (Without lines, 20 robots converging
+//!   never has to pass the line; newcomers join behind. The station is granted again only
+//!   once the robot that reached it has moved [`PolicyParams::station_clear_m`] away, so the
+//!   next one does not drive at it while it turns to leave. (Without lines, 20 robots converging
 //!   on a hallway's three docks packed its end: 7 and 4 deadlocks in two of ten seeds. With
 //!   first come first served instead of nearest first, an older robot further back was let
 //!   through and blocked by the line: 2 deadlocks in hallway seeds 1–16.)
@@ -48,7 +60,12 @@
 //! for a station only while outside every segment with none ahead, and the robot holding the
 //! station waits at most for a segment (then on robots inside it, who wait on nothing). Every
 //! wait the policy creates goes down these levels (station line → station holder or segment
-//! request → segment holder), so none closes a cycle. Starvation is excluded by the closing rule: once a
+//! request → segment holder), so none closes a cycle. A robot that has just left a station
+//! is waited for by that station's line until it is clear, and it waits on nothing there;
+//! once it waits in another station's line it is no longer waited for, so line waits never
+//! chain from line to line. A robot against the flow of a segment is one more holder that
+//! requests wait on; it waits on no reservation itself (turned round, it drives with the
+//! flow to the exit). Starvation is excluded by the closing rule: once a
 //! request for the other direction waits, entries stop, the robots inside (a finite set moving
 //! toward the exit) leave, and the oldest request is served next. A station's line is served
 //! nearest first and its holder gives the station up when it reaches it (its leg ends).
@@ -87,6 +104,11 @@ pub struct PolicyParams {
     pub cross_aisle_lane_offset_fraction: Real,
     /// The lane goal leads the robot by this much (m). 3 m.
     pub lane_lookahead_m: Real,
+    /// ... and by this much while the robot is across the centre line, in the oncoming lane
+    /// (m): it changes lanes first. 1 m. (With 3 m, robots leaving the hallway's outer docks
+    /// drove on in the oncoming lane while people filled the middle, and met robots coming
+    /// the other way face to face: deadlocks in `hallway-fleet` seeds 3 and 14 at 20 robots.)
+    pub lane_change_lookahead_m: Real,
     /// A wait-for cycle this old makes one member retreat (s). 4 s: well before the monitor
     /// calls it a deadlock (10 s).
     pub retreat_after_s: Real,
@@ -102,6 +124,9 @@ pub struct PolicyParams {
     pub queue_back_m: Real,
     /// Room between robots in line (m). 0.4 m.
     pub queue_gap_m: Real,
+    /// A station is granted again only once the robot that last reached it is this far from
+    /// it (m). 2 m: a body length clear of the station, short of the line's head (3 m).
+    pub station_clear_m: Real,
 }
 
 impl Default for PolicyParams {
@@ -113,12 +138,14 @@ impl Default for PolicyParams {
             lane_offset_fraction: 0.25,
             cross_aisle_lane_offset_fraction: 0.15,
             lane_lookahead_m: 3.0,
+            lane_change_lookahead_m: 1.0,
             retreat_after_s: 4.0,
             retreat_s: 5.0,
             retreat_m: 1.5,
             station_request_m: 6.0,
             queue_back_m: 3.0,
             queue_gap_m: 0.4,
+            station_clear_m: 2.0,
         }
     }
 }
@@ -228,6 +255,8 @@ pub struct Reservation {
     pub holders: Vec<usize>,
     /// Requests waiting: robot, direction, since (s).
     pub waiting: Vec<(usize, i8, Real)>,
+    /// Some robot inside travels against `dir`: no one more enters until it is out.
+    pub against: bool,
 }
 
 /// Counts over a run.
@@ -245,6 +274,8 @@ pub struct PolicyTotals {
     pub station_grants: u64,
     /// Times a robot began to wait in line for a station.
     pub queued: u64,
+    /// Times a robot inside a segment against its flow was turned round.
+    pub turns: u64,
 }
 
 /// A station's line: who holds it and who waits, oldest first.
@@ -252,6 +283,10 @@ pub struct PolicyTotals {
 pub struct StationLine {
     /// The robot granted it.
     pub holder: Option<usize>,
+    /// The robot that last reached it, while still within
+    /// [`PolicyParams::station_clear_m`] of it: the station is not granted again before it
+    /// has left (else the next robot drives at it face to face).
+    pub leaving: Option<usize>,
     /// Robots waiting, with the time each began to (s).
     pub waiting: Vec<(usize, Real)>,
 }
@@ -269,6 +304,7 @@ pub struct TrafficPolicy {
     /// Spacing of robots in line (m): a body length plus the gap.
     queue_spacing: Real,
     constraints: Vec<Constraint>,
+    turns: Vec<Option<usize>>,
     retreat_until: Vec<Real>,
     retreat_at: Vec<Vec2>,
     lanes: LaneGeometry,
@@ -302,6 +338,7 @@ impl TrafficPolicy {
             lines,
             queue_spacing: 2.0 * robot_radius + params.queue_gap_m,
             constraints: vec![Constraint::Free; robots],
+            turns: vec![None; robots],
             retreat_until: vec![Real::NEG_INFINITY; robots],
             retreat_at: vec![vec2(0.0, 0.0); robots],
             lanes: LaneGeometry {
@@ -347,7 +384,8 @@ impl TrafficPolicy {
                     edges.extend(self.reservations[segment].holders.iter().map(|&h| (i, h)));
                 }
                 Constraint::Queue { station, .. } => {
-                    let holder = self.lines[station].as_ref().and_then(|l| l.holder);
+                    let line = self.lines[station].as_ref();
+                    let holder = line.and_then(|l| l.holder.or(l.leaving));
                     edges.extend(holder.map(|h| (i, h)));
                 }
                 _ => {}
@@ -371,6 +409,21 @@ impl TrafficPolicy {
             })
     }
 
+    /// The cross-aisle robot `i` is to leave its segment by, when it was found inside against
+    /// the flow with the flow coming at it (this step): its route must turn round.
+    pub fn turned(&self, i: usize) -> Option<usize> {
+        self.turns[i]
+    }
+
+    /// The cross-aisle the flow of the segment containing `at` leads to, if `at` is inside a
+    /// segment travelled one way now.
+    pub fn flow_exit(&self, at: Vec2) -> Option<usize> {
+        let s = self.segments.iter().position(|s| s.contains(at))?;
+        let d = self.reservations[s].dir?;
+        let ends = self.segments[s].ends;
+        Some(if d < 0 { ends.0 } else { ends.1 })
+    }
+
     /// One policy step at time `now`, after the monitor has seen the fleet's state.
     pub fn step(
         &mut self,
@@ -382,6 +435,7 @@ impl TrafficPolicy {
         let wants: Vec<Option<Want>> = robots.iter().map(|r| self.want(r)).collect();
         self.release(&wants, &mut events);
         self.admit(now, &wants, &mut events);
+        self.turn_round(robots, &wants);
         self.serve_stations(now, robots, &wants, &mut events);
         for (i, r) in robots.iter().enumerate() {
             self.constraints[i] = self.constraint_for(i, r, &wants[i]);
@@ -457,6 +511,7 @@ impl TrafficPolicy {
             });
             if res.holders.is_empty() && before > 0 {
                 res.dir = None;
+                res.against = false;
             }
             res.waiting
                 .retain(|&(i, _, _)| wants[i].is_some_and(|w| w.segment == s && !w.inside));
@@ -480,6 +535,20 @@ impl TrafficPolicy {
             res.holders.push(i);
             res.holders.sort_unstable();
             res.waiting.retain(|&(r, _, _)| r != i);
+        }
+        // The flow: the way every robot inside travels. Robots inside against it (pushed in,
+        // turned round by a new route) stop further entries until they are out, and once only
+        // they are left the segment turns to their way.
+        for res in &mut self.reservations {
+            let mut ways = res.holders.iter().filter_map(|&i| wants[i].map(|w| w.dir));
+            let Some(first) = ways.next() else {
+                continue;
+            };
+            let mixed = ways.any(|d| d != first);
+            res.against = mixed;
+            if !mixed {
+                res.dir = Some(first);
+            }
         }
         // Requests from outside, oldest first.
         for (i, w) in wants.iter().enumerate() {
@@ -506,7 +575,7 @@ impl TrafficPolicy {
             // Empty: it turns to the oldest request's direction. Else only its direction
             // enters, and only while nobody waits the other way.
             let dir = res.dir.unwrap_or(first_dir);
-            let opposed = res.waiting.iter().any(|&(_, d, _)| d != dir);
+            let opposed = res.against || res.waiting.iter().any(|&(_, d, _)| d != dir);
             if res.dir.is_some() && opposed {
                 continue;
             }
@@ -534,6 +603,32 @@ impl TrafficPolicy {
         }
     }
 
+    /// Robots inside a segment against its flow with a robot of the flow ahead of them (they
+    /// would meet face to face where neither can pass) turn round: each gets the cross-aisle
+    /// the flow leads to, to leave by.
+    fn turn_round(&mut self, robots: &[PolicyRobot<'_>], wants: &[Option<Want>]) {
+        self.turns.iter_mut().for_each(|t| *t = None);
+        for (res, seg) in self.reservations.iter().zip(&self.segments) {
+            let Some(flow) = res.dir.filter(|_| res.against) else {
+                continue;
+            };
+            let way = |i: usize| wants[i].map(|w| w.dir);
+            for &i in &res.holders {
+                let Some(d) = way(i).filter(|&d| d != flow) else {
+                    continue;
+                };
+                let x = robots[i].position.x;
+                let met = res.holders.iter().any(|&j| {
+                    way(j) == Some(flow) && (robots[j].position.x - x) * Real::from(d) > 0.0
+                });
+                if met {
+                    self.turns[i] = Some(if flow < 0 { seg.ends.0 } else { seg.ends.1 });
+                    self.totals.turns += 1;
+                }
+            }
+        }
+    }
+
     /// Station lines: holders that reached their station (or changed it) let go; robots near
     /// a queued station with no segment ahead join its line; a free station goes to the
     /// oldest in line.
@@ -545,12 +640,26 @@ impl TrafficPolicy {
         events: &mut Vec<PolicyEvent>,
     ) {
         let request = self.params.station_request_m;
+        // Robots in a line (as of the last step). A robot that has left a station and waits
+        // in another's line no longer keeps the first: a robot in line is never waited for.
+        let mut in_line = vec![false; robots.len()];
+        for line in self.lines.iter().flatten() {
+            line.waiting.iter().for_each(|&(i, _)| in_line[i] = true);
+        }
         for (s, line) in self.lines.iter_mut().enumerate() {
             let Some(line) = line else {
                 continue;
             };
             let bound_here = |i: usize| robots[i].station == Some(s);
-            line.holder = line.holder.filter(|&h| bound_here(h));
+            let at = self.lanes.site.stations[s].position;
+            let near = |i: usize| (robots[i].position - at).norm() <= self.params.station_clear_m;
+            if let Some(h) = line.holder.filter(|&h| !bound_here(h)) {
+                line.holder = None;
+                line.leaving = near(h).then_some(h);
+            }
+            line.leaving = line
+                .leaving
+                .filter(|&l| near(l) && !bound_here(l) && !in_line[l]);
             line.waiting
                 .retain(|&(i, _)| bound_here(i) && wants[i].is_none() && Some(i) != line.holder);
         }
@@ -576,7 +685,7 @@ impl TrafficPolicy {
             let Some(line) = line else {
                 continue;
             };
-            if line.holder.is_some() || line.waiting.is_empty() {
+            if line.holder.is_some() || line.leaving.is_some() || line.waiting.is_empty() {
                 continue;
             }
             // The nearest in line (along its route; ties: the oldest, then the lower index),
@@ -702,12 +811,27 @@ impl TrafficPolicy {
             return None;
         }
         let offset = self.lane_offset(horizontal, half);
-        Some(if horizontal {
-            // Right of travel along +x is −y.
-            vec2(r.position.x + sign * lead, centre - sign * offset)
+        // Right of travel along +x is −y; along +y, +x.
+        let lane = if horizontal {
+            centre - sign * offset
         } else {
-            // Right of travel along +y is +x.
-            vec2(centre + sign * offset, r.position.y + sign * lead)
+            centre + sign * offset
+        };
+        // Across the centre line, in the oncoming lane: change lanes before driving on.
+        let across = if horizontal {
+            r.position.y
+        } else {
+            r.position.x
+        };
+        let lead = if (across - lane).abs() > offset {
+            self.params.lane_change_lookahead_m
+        } else {
+            lead
+        };
+        Some(if horizontal {
+            vec2(r.position.x + sign * lead, lane)
+        } else {
+            vec2(lane, r.position.y + sign * lead)
         })
     }
 

@@ -199,6 +199,11 @@ impl Site {
             .position(|&(x, half)| (p.x - x).abs() <= half)
     }
 
+    /// Cross-aisle `j`'s centre line (x) and half width.
+    pub fn cross_aisle(&self, j: usize) -> (Real, Real) {
+        self.cross_aisles[j]
+    }
+
     /// Whether `p` is in a cross-aisle.
     pub fn in_cross_aisle(&self, p: Vec2) -> bool {
         self.cross_aisle_of(p).is_some()

@@ -174,3 +174,43 @@ fn a_robot_pushed_into_the_wrong_aisle_gets_a_new_route() {
     );
     assert_eq!(waypoint(&fleet, 1), before);
 }
+
+/// A robot inside a one-way segment against its flow, with a robot of the flow coming at it,
+/// gets a route out by the end the flow leads to (rather than pushing on face to face).
+#[test]
+fn a_robot_against_the_flow_is_routed_out_with_it() {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(2), Some(0));
+    let mut fleet = Fleet::new(&s).expect("warehouse");
+    fleet.set_traffic_policy(Some(PolicyParams::default()));
+    fleet.dispatch();
+    // A segment in another aisle than robot 1's station.
+    let station = fleet.site().stations[fleet.job(1).expect("a job").station()].position;
+    let seg = *fleet
+        .traffic_policy()
+        .expect("on")
+        .segments()
+        .iter()
+        .find(|seg| (seg.y - station.y).abs() > 1.0)
+        .expect("another aisle");
+    let (west, _) = fleet.site().cross_aisle(seg.ends.0);
+    let (east, half) = fleet.site().cross_aisle(seg.ends.1);
+    // Robot 0 drives east through the segment, robot 1 west: they face each other.
+    for (i, x, to) in [(0, seg.x0 + 2.0, east), (1, seg.x0 + 6.0, west)] {
+        fleet.world.robots[i].state.position = agent::math::vec2(x, seg.y);
+        let job = fleet.jobs[i].as_mut().expect("dispatched");
+        job.waypoints = [agent::math::vec2(to, seg.y)].into();
+    }
+    fleet.step(&[Command::STOP; 2]);
+    let policy = fleet.traffic_policy().expect("on");
+    assert_eq!(policy.totals().intrusions, 1);
+    assert_eq!(policy.totals().turns, 1);
+    let next = fleet.job(1).and_then(Job::waypoint).expect("a job");
+    assert!(
+        (next.x - east).abs() <= half,
+        "out by the east end: {next:?}"
+    );
+    assert!((next.y - seg.y).abs() < 1e-9, "along the aisle: {next:?}");
+    let first = fleet.job(0).and_then(Job::waypoint).expect("a job");
+    assert_eq!(first, agent::math::vec2(east, seg.y));
+}

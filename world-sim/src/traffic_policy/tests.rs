@@ -135,10 +135,21 @@ fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
     );
     assert!(second.x - first.x >= 1.0 - 1e-9, "{first:?} {second:?}");
     assert_eq!(policy.wait_edges(), vec![(1, 0), (2, 0)]);
-    // Robot 0 reaches the dock, its leg ends, its next leg goes elsewhere.
+    // Robot 0 reaches the dock, its leg ends, its next leg goes elsewhere: the dock is not
+    // granted again before it has left.
+    let far = [site.stations[3].position];
     robots[0].position = dock.position;
+    robots[0].route = &far;
     robots[0].station = Some(3);
     let events = step(&mut policy, 0.2, &robots);
+    assert!(events.is_empty(), "{events:?}");
+    assert_eq!(
+        policy.station_line(dock.id).and_then(|l| l.leaving),
+        Some(0)
+    );
+    assert_eq!(policy.wait_edges(), vec![(1, 0), (2, 0)]);
+    robots[0].position = dock.position + vec2(2.5, 0.5);
+    let events = step(&mut policy, 0.3, &robots);
     assert!(events.contains(&PolicyEvent::StationGranted {
         robot: 1,
         station: dock.id
@@ -157,7 +168,8 @@ fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
     }
 }
 
-/// In a corridor wide enough for two, the goal leads along the right-hand lane.
+/// In a corridor wide enough for two, the goal leads along the right-hand lane, and more
+/// steeply toward it from the oncoming lane.
 #[test]
 fn keep_right_in_wide_corridors() {
     let (site, radius) = narrow();
@@ -171,6 +183,15 @@ fn keep_right_in_wide_corridors() {
     };
     let lane = policy.lane(&r).expect("a lane");
     assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
+    // In the oncoming lane (across the centre line), it changes lanes first: the goal leads
+    // by 1 m.
+    let across = PolicyRobot {
+        position: vec2(30.0, 0.6),
+        route: &route,
+        station: None,
+    };
+    let lane = policy.lane(&across).expect("a lane");
+    assert!((lane - vec2(29.0, 2.25)).norm() < 1e-9, "{lane:?}");
     // Close to the waypoint the goal is the waypoint itself.
     let near = PolicyRobot {
         position: vec2(8.0, 1.5),
@@ -178,4 +199,56 @@ fn keep_right_in_wide_corridors() {
         station: None,
     };
     assert_eq!(policy.lane(&near), None);
+}
+
+/// A robot inside a segment against its flow (pushed in, or sent back by a new route) stops
+/// further entries until it is out; while a robot of the flow comes at it, it is turned
+/// round to leave by the end the flow leads to; once only it is left, the segment turns to
+/// its way.
+#[test]
+fn a_robot_against_the_flow_stops_entries_and_turns_round() {
+    let (site, radius) = narrow();
+    let mut policy = TrafficPolicy::new(&site, 3, radius, PolicyParams::default());
+    let s = policy.segments()[0];
+    let route_east = [vec2(s.x1 + 1.5, s.y)];
+    let route_west = [vec2(s.x0 - 1.5, s.y)];
+    let mut robots = [
+        PolicyRobot {
+            position: vec2(s.x0 + 2.0, s.y),
+            route: &route_east,
+            station: None,
+        },
+        PolicyRobot {
+            position: vec2(s.x0 + 6.0, s.y),
+            route: &route_west,
+            station: None,
+        },
+        PolicyRobot {
+            position: vec2(s.x0 - 1.0, s.y),
+            route: &route_east,
+            station: None,
+        },
+    ];
+    step(&mut policy, 0.1, &robots);
+    let res = policy.reservation(s.id);
+    assert_eq!((res.dir, res.against), (Some(1), true));
+    assert_eq!(res.holders, vec![0, 1]);
+    assert_eq!(policy.totals().intrusions, 1);
+    // Robot 2 goes the flow's way, but does not get in past robot 1.
+    assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
+    assert_eq!(policy.turned(1), Some(s.ends.1));
+    assert_eq!(policy.turned(0), None);
+    assert_eq!(policy.flow_exit(robots[1].position), Some(s.ends.1));
+    // With no one of the flow ahead of it, it is left to go its way.
+    robots[0].position = vec2(s.x0 + 7.0, s.y);
+    step(&mut policy, 0.2, &robots);
+    assert_eq!(policy.turned(1), None);
+    assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
+    // Robot 0 leaves: the segment turns to robot 1's way, and robot 2 keeps waiting.
+    robots[0].position = vec2(s.x1 + 1.2, s.y + 1.0);
+    step(&mut policy, 0.3, &robots);
+    let res = policy.reservation(s.id);
+    assert_eq!((res.dir, res.against), (Some(-1), false));
+    assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
+    assert_eq!(policy.flow_exit(robots[1].position), Some(s.ends.0));
 }
