@@ -537,9 +537,11 @@ impl Fleet {
                     velocity: r.state.velocity,
                     radius: r.state.radius,
                     task: self.jobs[i].as_ref().and_then(|job| {
+                        job.waypoint()?;
                         Some(TaskView {
                             leg: job.leg(),
-                            waypoint: job.waypoint()?,
+                            // Its planner's goal: the waypoint, or the policy's goal instead.
+                            waypoint: r.goal,
                             remaining_m: job.remaining(here),
                         })
                     }),

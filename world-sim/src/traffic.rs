@@ -6,7 +6,7 @@
 //! - Robot i **waits on** robot j when i has a task and is (nearly) stopped, and j is in its
 //!   way: in i's line of sight, within [`TrafficParams::blocking_gap_m`] of i (surface to
 //!   surface) and ahead of i (within [`TrafficParams::blocking_cone_rad`] of the direction to
-//!   i's waypoint), where j is now or where j's shared intent puts it within
+//!   the point i drives to: its waypoint, or the traffic policy's goal in its place), where j is now or where j's shared intent puts it within
 //!   [`TrafficParams::intent_horizon_s`] (intents count only for a j not behind i: a robot
 //!   behind that means to overtake blocks nobody). The traffic policy adds its own edges: a
 //!   robot held at a reserved segment waits on the robots holding it.
@@ -77,7 +77,9 @@ pub struct RobotView<'a> {
 pub struct TaskView {
     /// Changes whenever the robot starts a new leg (task id × 2 + stage).
     pub leg: u64,
-    /// The point it drives to now.
+    /// The point it drives to now: its route's waypoint, or the goal the traffic policy gives
+    /// it in its place (a robot waiting at a hold or queue place heads nowhere, and waits on
+    /// whom the policy says).
     pub waypoint: Vec2,
     /// Route left to drive (m).
     pub remaining_m: Real,

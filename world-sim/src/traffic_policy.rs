@@ -903,8 +903,8 @@ struct Want {
 }
 
 /// The point `back` (m) before the route's end, along the route from `from`; nearer than that,
-/// on the last leg's line extended back past `from` (`from` itself on an empty route), and the
-/// direction of travel there (a unit vector, or zero).
+/// straight back from the end along the axis (x or y) the last leg runs closest to (`from`
+/// itself on an empty route), and the direction of travel there (a unit vector, or zero).
 fn back_along(from: Vec2, route: &[Vec2], back: Real) -> (Vec2, Vec2) {
     let to_go = route_length(from, route);
     if back <= to_go {
@@ -918,12 +918,18 @@ fn back_along(from: Vec2, route: &[Vec2], back: Real) -> (Vec2, Vec2) {
     } else {
         from
     };
+    // Back along the corridor the last leg runs in: its axis, not the leg itself (a
+    // hallway's legs run straight at the station, often at a slant, and extended back past
+    // the robot a slanted leg leaves the hallway).
     let leg = end - start;
-    let norm = leg.norm();
-    if norm == 0.0 {
+    let heading = if leg.x.abs() >= leg.y.abs() {
+        vec2(leg.x.signum(), 0.0)
+    } else {
+        vec2(0.0, leg.y.signum())
+    };
+    if leg == vec2(0.0, 0.0) {
         return (from, vec2(0.0, 0.0));
     }
-    let heading = leg / norm;
     (end - heading * back, heading)
 }
 

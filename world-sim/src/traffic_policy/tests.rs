@@ -252,3 +252,42 @@ fn a_robot_against_the_flow_stops_entries_and_turns_round() {
     assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
     assert_eq!(policy.flow_exit(robots[1].position), Some(s.ends.0));
 }
+
+/// A robot nearer its station than its place in line backs up straight along the hallway,
+/// not along its slanted leg extended (which left the hallway: places at y < 0 that robots
+/// drove at for good, in `hallway-fleet` seed 44 at 20 robots).
+#[test]
+fn places_in_line_stay_in_the_hallway() {
+    let (at, heading) = back_along(vec2(34.0, 0.4), &[vec2(39.0, 2.5)], 6.0);
+    assert_eq!((at, heading), (vec2(33.0, 2.5), vec2(1.0, 0.0)));
+    let site = Site::hallway(40.0, 3.0, 3);
+    let pick = site.stations[5];
+    let mut policy = TrafficPolicy::new(&site, 5, 0.3, PolicyParams::default());
+    let route = [pick.position];
+    let robots: Vec<PolicyRobot<'_>> = [
+        (35.5, 0.4),
+        (34.8, 0.4),
+        (34.0, 0.4),
+        (34.0, 1.2),
+        (35.0, 1.5),
+    ]
+    .map(|(x, y)| PolicyRobot {
+        position: vec2(x, y),
+        route: &route,
+        station: Some(pick.id),
+    })
+    .to_vec();
+    step(&mut policy, 0.1, &robots);
+    for i in 0..robots.len() {
+        if let Constraint::Queue { at, .. } = policy.constraint(i) {
+            assert!(
+                (0.3..=2.7).contains(&at.y) && at.x < pick.position.x,
+                "{i}: {at:?}"
+            );
+        }
+    }
+    assert_eq!(
+        policy.station_line(pick.id).map(|l| l.waiting.len()),
+        Some(4)
+    );
+}
