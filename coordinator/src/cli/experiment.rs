@@ -273,6 +273,9 @@ pub struct TrafficArgs {
     /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "10,20")]
     hallway_fleets: Vec<usize>,
+    /// The traffic policy off, on, or both (`off,on`), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "off,on", value_parser = on_off)]
+    policy: Vec<bool>,
     /// Planner stack of every robot.
     #[arg(long, default_value = "pgp+orca")]
     planner: PlannerSpec,
@@ -579,6 +582,15 @@ fn laned(args: LanedArgs) -> Result<()> {
     Ok(())
 }
 
+/// `on` or `off`.
+fn on_off(s: &str) -> Result<bool, String> {
+    match s {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("`{s}` is neither `on` nor `off`")),
+    }
+}
+
 fn traffic(args: TrafficArgs) -> Result<()> {
     let mut sites = Vec::new();
     for (name, fleets) in [
@@ -597,10 +609,14 @@ fn traffic(args: TrafficArgs) -> Result<()> {
     if sites.is_empty() {
         bail!("no fleet sizes given: --narrow-fleets and --hallway-fleets are both empty");
     }
+    let mut policies = args.policy;
+    policies.sort_unstable();
+    policies.dedup();
     let study = TrafficStudy {
         sites,
         planner: args.planner,
         seeds: args.seeds,
+        policies,
         seconds: args.seconds,
     };
     let started = Instant::now();

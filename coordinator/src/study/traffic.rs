@@ -36,6 +36,8 @@ pub struct TrafficStudy {
     pub planner: PlannerSpec,
     /// Seeds 1..=seeds per (site, fleet size, policy).
     pub seeds: u64,
+    /// The policy settings to run: off (`false`), on (`true`) or both, in this order.
+    pub policies: Vec<bool>,
     /// Simulated seconds per run.
     pub seconds: f64,
 }
@@ -153,14 +155,13 @@ pub struct Cell {
 }
 
 impl TrafficStudy {
-    /// Every run, in (site, fleet, seed, policy off/on) order.
+    /// Every run, in (site, fleet, seed, policy) order.
     pub fn runs(&self) -> Vec<(usize, usize, u64, bool)> {
         let mut out = Vec::new();
         for (s, site) in self.sites.iter().enumerate() {
             for &robots in &site.fleets {
                 for seed in 1..=self.seeds {
-                    out.push((s, robots, seed, false));
-                    out.push((s, robots, seed, true));
+                    out.extend(self.policies.iter().map(|&on| (s, robots, seed, on)));
                 }
             }
         }
@@ -194,7 +195,7 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
     let mut cells = Vec::new();
     for site in &study.sites {
         for &robots in &site.fleets {
-            for policy in [false, true] {
+            for &policy in &study.policies {
                 let mine: Vec<&TrafficRun> = runs
                     .iter()
                     .filter(|r| {
@@ -269,9 +270,10 @@ pub fn write_outputs(
         .sites
         .iter()
         .map(|site| {
-            let series = [false, true]
-                .into_iter()
-                .map(|policy| {
+            let series = study
+                .policies
+                .iter()
+                .map(|&policy| {
                     let points = cells
                         .iter()
                         .filter(|c| c.scenario == site.scenario.name && c.policy == policy)
@@ -318,6 +320,7 @@ mod tests {
             ],
             planner: "pgp+orca".parse().expect("known"),
             seeds: 1,
+            policies: vec![false, true],
             seconds: 30.0,
         };
         let runs = study.execute(&|| {}).expect("fleet sites");
