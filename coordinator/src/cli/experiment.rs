@@ -276,6 +276,13 @@ pub struct TrafficArgs {
     /// The traffic policy off, on, or both (`off,on`), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "off,on", value_parser = on_off)]
     policy: Vec<bool>,
+    /// Take runs from this earlier `runs.csv` instead of running them again, for the policy
+    /// settings given here (`off`, `on`): only for settings whose code has not changed.
+    #[arg(long, requires = "reuse_policy")]
+    reuse: Option<PathBuf>,
+    /// The policy settings to take from `--reuse`, comma-separated.
+    #[arg(long, value_delimiter = ',', value_parser = on_off, requires = "reuse")]
+    reuse_policy: Vec<bool>,
     /// Planner stack of every robot.
     #[arg(long, default_value = "pgp+orca")]
     planner: PlannerSpec,
@@ -619,9 +626,22 @@ fn traffic(args: TrafficArgs) -> Result<()> {
         policies,
         seconds: args.seconds,
     };
+    let earlier = match &args.reuse {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let mut runs = traffic_study::parse_runs(&text).with_context(|| {
+                format!("reading {} as a traffic study's runs.csv", path.display())
+            })?;
+            runs.retain(|r| args.reuse_policy.contains(&r.policy));
+            eprintln!("reusing {} runs from {}", runs.len(), path.display());
+            runs
+        }
+        None => Vec::new(),
+    };
     let started = Instant::now();
     let (runs, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
-        study.execute(progress)
+        study.execute_reusing(&earlier, progress)
     })?;
     let runs = runs?;
     let cells = traffic_study::write_outputs(&args.out, &study, &runs)?;

@@ -170,10 +170,30 @@ impl TrafficStudy {
 
     /// Runs everything on the current rayon pool; `progress` is called after each run.
     pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Result<Vec<TrafficRun>, NotAWarehouse> {
+        self.execute_reusing(&[], progress)
+    }
+
+    /// Like [`TrafficStudy::execute`], but a run found in `earlier` (same site, fleet size,
+    /// seed and policy setting) is taken from there instead of run again: for settings whose
+    /// code has not changed since (the runs are deterministic, so they would come out the
+    /// same bits). Ignores the other rows of `earlier`.
+    pub fn execute_reusing(
+        &self,
+        earlier: &[TrafficRun],
+        progress: &(dyn Fn() + Sync),
+    ) -> Result<Vec<TrafficRun>, NotAWarehouse> {
         self.runs()
             .par_iter()
             .map(|&(s, robots, seed, policy)| {
                 let site = &self.sites[s];
+                let found = earlier.iter().find(|r| {
+                    (r.scenario.as_str(), r.robots, r.seed, r.policy)
+                        == (site.scenario.name.as_str(), robots, seed, policy)
+                });
+                if let Some(run) = found {
+                    progress();
+                    return Ok(run.clone());
+                }
                 let mut scenario = site.scenario.clone();
                 scenario.seed = seed;
                 scenario.set_fleet_size(Some(robots), None);
@@ -188,6 +208,13 @@ impl TrafficStudy {
             })
             .collect()
     }
+}
+
+/// Reads a `runs.csv` this study wrote back.
+pub fn parse_runs(text: &str) -> Result<Vec<TrafficRun>, csv::Error> {
+    csv::Reader::from_reader(text.as_bytes())
+        .deserialize()
+        .collect()
 }
 
 /// The cells, in the study's order.
@@ -302,7 +329,8 @@ pub fn write_outputs(
 mod tests {
     use super::*;
 
-    /// One short seed of each site, both ways: every run is there, and the summary counts them.
+    /// One short seed of each site, both ways: every run is there, the summary counts them,
+    /// runs.csv reads back, and earlier runs are reused.
     #[test]
     fn a_smoke_study_runs_both_sites_both_ways() {
         let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
@@ -341,6 +369,15 @@ mod tests {
         }
         let csv = std::fs::read_to_string(dir.join("runs.csv")).expect("read");
         assert_eq!(csv.lines().count(), 5, "{csv}");
+        assert_eq!(parse_runs(&csv).expect("its own runs.csv"), runs);
         std::fs::remove_dir_all(&dir).expect("clean up");
+        // Runs found in an earlier runs.csv are taken from it, the rest are run.
+        let mut earlier = runs[0].clone();
+        earlier.tasks = 999;
+        let again = study
+            .execute_reusing(std::slice::from_ref(&earlier), &|| {})
+            .expect("fleet sites");
+        assert_eq!(again[0], earlier);
+        assert_eq!(again[1..], runs[1..]);
     }
 }
