@@ -25,7 +25,8 @@
 //!   far end (the fleet routes its next leg through that end's cross-aisle), and a robot bound
 //!   for a station in an aisle enters it from the cross-aisle nearer to where it comes from.
 //! - **Keep right** in corridors and cross-aisles wide enough for two robots: the goal leads
-//!   the robot [`PolicyParams::lane_lookahead_m`] along the lane right of the centre line.
+//!   the robot [`PolicyParams::lane_lookahead_m`] along the lane right of the centre line
+//!   ([`PolicyParams::lane_change_lookahead_m`] from the oncoming lane: change lanes first).
 //! - **One robot at a time at a station.** A station outside every segment (a dock on a
 //!   corridor, a pick face on a wide corridor, a hallway's end) is granted to one robot at a
 //!   time. A robot asks for it [`PolicyParams::station_request_m`] (along its route) before it,
