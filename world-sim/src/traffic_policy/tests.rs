@@ -291,3 +291,79 @@ fn places_in_line_stay_in_the_hallway() {
         Some(4)
     );
 }
+
+/// A robot refused a segment after it has come nearer than the hold point along a
+/// cross-aisle backs up along the cross-aisle to the hold point, out of the crossing in front
+/// of the mouth, instead of stopping where it is.
+#[test]
+fn a_robot_refused_late_backs_up_out_of_the_crossing() {
+    let (site, radius) = narrow();
+    let mut policy = TrafficPolicy::new(&site, 2, radius, PolicyParams::default());
+    let s = policy.segments()[1];
+    let (x, _) = site.cross_aisle(s.ends.0);
+    // Robot 0 drives west through the segment; robot 1 comes up the cross-aisle at its west
+    // end, 1 m below the aisle, bound east into it.
+    let out_west = [vec2(x, s.y)];
+    let into = [vec2(x, s.y), vec2(s.x1 + 1.5, s.y)];
+    let robots = [
+        PolicyRobot {
+            position: vec2(s.x0 + 4.0, s.y),
+            route: &out_west,
+            station: None,
+        },
+        PolicyRobot {
+            position: vec2(x, s.y - 1.0),
+            route: &into,
+            station: None,
+        },
+    ];
+    step(&mut policy, 0.1, &robots);
+    let Constraint::Hold { at, segment } = policy.constraint(1) else {
+        panic!("robot 1 should wait: {:?}", policy.constraint(1));
+    };
+    assert_eq!(segment, s.id);
+    // 3.5 m before the mouth along its route: 1 m up, 1.5 m across to the mouth, so 1 m
+    // below where it is, on its lane.
+    let to_mouth = 1.0 + (s.x0 - x);
+    let expected = s.y - 1.0 - (3.5 - to_mouth);
+    assert!(
+        (at.y - expected).abs() < 1e-9,
+        "{at:?}, expected y {expected}"
+    );
+    assert!(at.y < robots[1].position.y);
+}
+
+/// A robot in a station's line that comes nearer to the station than its holder takes the
+/// station over, and the holder waits in line: the one let through never has to pass.
+#[test]
+fn a_robot_in_line_ahead_of_the_holder_takes_the_station() {
+    let site = Site::hallway(40.0, 3.0, 3);
+    let dock = site.stations[0];
+    let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
+    let route = [dock.position];
+    let mut robots = [5.0, 6.0].map(|x| PolicyRobot {
+        position: vec2(x, 1.5),
+        route: &route,
+        station: Some(dock.id),
+    });
+    step(&mut policy, 0.1, &robots);
+    assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
+    // Robot 1 is pushed ahead of robot 0.
+    robots[1].position = vec2(3.0, 2.2);
+    let events = step(&mut policy, 0.2, &robots);
+    assert!(events.contains(&PolicyEvent::StationGranted {
+        robot: 1,
+        station: dock.id
+    }));
+    let line = policy.station_line(dock.id).expect("a line");
+    assert_eq!(line.holder, Some(1));
+    assert_eq!(
+        line.waiting.iter().map(|w| w.0).collect::<Vec<_>>(),
+        vec![0]
+    );
+    assert!(matches!(policy.constraint(0), Constraint::Queue { .. }));
+    // Jostling by less than the margin changes nothing.
+    robots[0].position = vec2(3.0 - 0.2, 2.2);
+    step(&mut policy, 0.3, &robots);
+    assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(1));
+}
