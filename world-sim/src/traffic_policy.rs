@@ -8,7 +8,8 @@
 //!   [`PolicyParams::request_distance_m`] before its mouth. The segment is granted when it is
 //!   empty, or already travelled the same way and nobody waits to go the other way (openTCS's
 //!   SAME_DIRECTION_ONLY, but the direction follows demand). Otherwise the robot's goal becomes
-//!   a hold point short of the mouth, clear of the crossing, until granted. Once someone waits
+//!   a hold point short of the mouth, clear of the crossing, until granted (a robot already
+//!   nearer, coming along a cross-aisle, backs up to it). Once someone waits
 //!   for the other direction, no one more enters the current way; the segment drains and turns.
 //!   Waiting requests are served oldest first (ties: lower robot index).
 //! - **Against the flow.** A robot found inside a segment against its direction (pushed in
@@ -36,7 +37,9 @@
 //!   it). A free station goes to the robot in line nearest to it, so the robot let through
 //!   never has to pass the line; newcomers join behind. The station is granted again only
 //!   once the robot that reached it has moved [`PolicyParams::station_clear_m`] away, so the
-//!   next one does not drive at it while it turns to leave. (Without lines, 20 robots converging
+//!   next one does not drive at it while it turns to leave. A robot in line that comes
+//!   [`STATION_SWAP_M`] nearer to the station than its holder (pushed ahead, or come from the
+//!   far side) takes it over, and the holder waits in line. (Without lines, 20 robots converging
 //!   on a hallway's three docks packed its end: 7 and 4 deadlocks in two of ten seeds. With
 //!   first come first served instead of nearest first, an older robot further back was let
 //!   through and blocked by the line: 2 deadlocks in hallway seeds 1–16.)
