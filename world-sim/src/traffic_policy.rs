@@ -38,7 +38,7 @@
 //!   never has to pass the line; newcomers join behind. The station is granted again only
 //!   once the robot that reached it has moved [`PolicyParams::station_clear_m`] away, so the
 //!   next one does not drive at it while it turns to leave. A robot in line that comes
-//!   [`STATION_SWAP_M`] nearer to the station than its holder (pushed ahead, or come from the
+//!   0.3 m nearer to the station than its holder (pushed ahead, or come from the
 //!   far side) takes it over, and the holder waits in line. (Without lines, 20 robots converging
 //!   on a hallway's three docks packed its end: 7 and 4 deadlocks in two of ten seeds. With
 //!   first come first served instead of nearest first, an older robot further back was let
