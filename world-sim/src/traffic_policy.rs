@@ -633,143 +633,6 @@ impl TrafficPolicy {
         }
     }
 
-    /// Station lines: holders that reached their station (or changed it) let go; robots near
-    /// a queued station with no segment ahead join its line; a free station goes to the
-    /// oldest in line.
-    fn serve_stations(
-        &mut self,
-        now: Real,
-        robots: &[PolicyRobot<'_>],
-        wants: &[Option<Want>],
-        events: &mut Vec<PolicyEvent>,
-    ) {
-        let request = self.params.station_request_m;
-        // Robots in a line (as of the last step). A robot that has left a station and waits
-        // in another's line no longer keeps the first: a robot in line is never waited for.
-        let mut in_line = vec![false; robots.len()];
-        for line in self.lines.iter().flatten() {
-            line.waiting.iter().for_each(|&(i, _)| in_line[i] = true);
-        }
-        for (s, line) in self.lines.iter_mut().enumerate() {
-            let Some(line) = line else {
-                continue;
-            };
-            let bound_here = |i: usize| robots[i].station == Some(s);
-            let at = self.lanes.site.stations[s].position;
-            let near = |i: usize| (robots[i].position - at).norm() <= self.params.station_clear_m;
-            if let Some(h) = line.holder.filter(|&h| !bound_here(h)) {
-                line.holder = None;
-                line.leaving = near(h).then_some(h);
-            }
-            line.leaving = line
-                .leaving
-                .filter(|&l| near(l) && !bound_here(l) && !in_line[l]);
-            line.waiting
-                .retain(|&(i, _)| bound_here(i) && wants[i].is_none() && Some(i) != line.holder);
-        }
-        for (i, r) in robots.iter().enumerate() {
-            let Some(s) = r.station else {
-                continue;
-            };
-            let Some(line) = self.lines.get_mut(s).and_then(Option::as_mut) else {
-                continue;
-            };
-            let listed = line.holder == Some(i) || line.waiting.iter().any(|&(w, _)| w == i);
-            if listed || wants[i].is_some() || route_length(r.position, r.route) > request {
-                continue;
-            }
-            line.waiting.push((i, now));
-            self.totals.queued += 1;
-            events.push(PolicyEvent::Queued {
-                robot: i,
-                station: s,
-            });
-        }
-        let to_go = |i: usize| route_length(robots[i].position, robots[i].route);
-        for (s, line) in self.lines.iter_mut().enumerate() {
-            let Some(line) = line else {
-                continue;
-            };
-            // A robot in line nearer to the station than its holder (pushed ahead, or come
-            // from the far side) would block it: the station passes to the nearest in line and
-            // the holder waits in line instead.
-            if let Some(h) = line.holder {
-                let ahead = line
-                    .waiting
-                    .iter()
-                    .enumerate()
-                    .filter(|&(_, &(w, _))| to_go(w) + STATION_SWAP_M < to_go(h))
-                    .min_by(|a, b| {
-                        to_go(a.1.0)
-                            .total_cmp(&to_go(b.1.0))
-                            .then(a.1.0.cmp(&b.1.0))
-                    })
-                    .map(|(k, _)| k);
-                if let Some(k) = ahead {
-                    let (robot, _) = line.waiting.remove(k);
-                    line.waiting.push((h, now));
-                    line.holder = Some(robot);
-                    self.totals.station_grants += 1;
-                    events.push(PolicyEvent::StationGranted { robot, station: s });
-                }
-            }
-            if line.holder.is_some() || line.leaving.is_some() || line.waiting.is_empty() {
-                continue;
-            }
-            // The nearest in line (along its route; ties: the oldest, then the lower index),
-            // so that the robot let through never has to pass the line: robots join it
-            // behind those already in it.
-            let next = (0..line.waiting.len())
-                .min_by(|&a, &b| {
-                    let (ra, sa) = line.waiting[a];
-                    let (rb, sb) = line.waiting[b];
-                    to_go(ra)
-                        .total_cmp(&to_go(rb))
-                        .then(sa.total_cmp(&sb))
-                        .then(ra.cmp(&rb))
-                })
-                .expect("not empty");
-            let (robot, _) = line.waiting.remove(next);
-            line.holder = Some(robot);
-            self.totals.station_grants += 1;
-            events.push(PolicyEvent::StationGranted { robot, station: s });
-        }
-    }
-
-    /// Robots in a station's line wait at distinct points back along their routes from the
-    /// station: the oldest first, each at the first place from [`PolicyParams::queue_back_m`]
-    /// back, in steps of a body length plus the gap, at least that far from every place
-    /// taken. A robot nearer than its place backs up to it, along its last leg's line.
-    fn line_up(&mut self, robots: &[PolicyRobot<'_>]) {
-        let mut queue: Vec<(Real, usize, usize)> = self
-            .lines
-            .iter()
-            .enumerate()
-            .filter_map(|(s, l)| Some((s, l.as_ref()?)))
-            .flat_map(|(s, l)| l.waiting.iter().map(move |&(i, since)| (since, i, s)))
-            .collect();
-        queue.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let spacing = self.queue_spacing;
-        let mut taken: Vec<Vec2> = Vec::with_capacity(queue.len());
-        for (_, i, station) in queue {
-            let r = &robots[i];
-            let to_go = route_length(r.position, r.route);
-            let place = (0..)
-                .map(|k| {
-                    let back = self.params.queue_back_m + Real::from(k) * spacing;
-                    let (at, heading) = back_along(r.position, r.route, back);
-                    (back, self.right_of(at, heading))
-                })
-                .find(|&(back, p)| {
-                    back > to_go + 20.0 || taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
-                })
-                .map(|(_, p)| p)
-                .unwrap_or(r.position);
-            taken.push(place);
-            self.constraints[i] = Constraint::Queue { at: place, station };
-        }
-    }
-
     fn constraint_for(&self, i: usize, r: &PolicyRobot<'_>, want: &Option<Want>) -> Constraint {
         if let Some(w) = want
             && !w.inside
@@ -794,80 +657,6 @@ impl TrafficPolicy {
             return Constraint::Free;
         }
         self.lane(r).map_or(Constraint::Free, Constraint::Lane)
-    }
-
-    /// `at` moved onto the right-hand lane for travel along `heading` (a unit vector, or zero),
-    /// where the corridor or cross-aisle there is wide enough for two; else `at`.
-    fn right_of(&self, at: Vec2, heading: Vec2) -> Vec2 {
-        let horizontal = heading.x.abs() >= heading.y.abs();
-        let Some((centre, half)) = self.lanes.site.lane_axis(at, horizontal) else {
-            return at;
-        };
-        if heading == vec2(0.0, 0.0) || 2.0 * half < self.lanes.min_width {
-            return at;
-        }
-        let offset = self.lane_offset(horizontal, half);
-        if horizontal {
-            vec2(at.x, centre - heading.x.signum() * offset)
-        } else {
-            vec2(centre + heading.y.signum() * offset, at.y)
-        }
-    }
-
-    /// How far right of the centre line the lane runs in a corridor (`horizontal`) or a
-    /// cross-aisle of half width `half`.
-    fn lane_offset(&self, horizontal: bool, half: Real) -> Real {
-        let fraction = if horizontal {
-            self.params.lane_offset_fraction
-        } else {
-            self.params.cross_aisle_lane_offset_fraction
-        };
-        fraction * 2.0 * half
-    }
-
-    /// Keep right: the point `lane_lookahead_m` ahead on the right lane of the corridor or
-    /// cross-aisle the robot's current leg runs along, if wide enough and the leg long enough.
-    fn lane(&self, r: &PolicyRobot<'_>) -> Option<Vec2> {
-        let lanes = &self.lanes;
-        let target = *r.route.first()?;
-        let leg = target - r.position;
-        let horizontal = leg.x.abs() >= leg.y.abs();
-        let (run, sign) = if horizontal {
-            (leg.x.abs(), leg.x.signum())
-        } else {
-            (leg.y.abs(), leg.y.signum())
-        };
-        let lead = self.params.lane_lookahead_m;
-        if run <= lead + 1.0 {
-            return None;
-        }
-        let (centre, half) = lanes.site.lane_axis(target, horizontal)?;
-        if 2.0 * half < lanes.min_width {
-            return None;
-        }
-        let offset = self.lane_offset(horizontal, half);
-        // Right of travel along +x is −y; along +y, +x.
-        let lane = if horizontal {
-            centre - sign * offset
-        } else {
-            centre + sign * offset
-        };
-        // Across the centre line, in the oncoming lane: change lanes before driving on.
-        let across = if horizontal {
-            r.position.y
-        } else {
-            r.position.x
-        };
-        let lead = if (across - lane).abs() > offset {
-            self.params.lane_change_lookahead_m
-        } else {
-            lead
-        };
-        Some(if horizontal {
-            vec2(r.position.x + sign * lead, lane)
-        } else {
-            vec2(lane, r.position.y + sign * lead)
-        })
     }
 
     fn retreat(
@@ -927,10 +716,6 @@ impl TrafficPolicy {
     }
 }
 
-/// A robot in a station's line nearer to it than its holder by more than this (m) takes the
-/// station over. 0.3 m: more than robots jostling in place move, less than a body.
-const STATION_SWAP_M: Real = 0.3;
-
 /// Where a robot is with respect to one segment.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Want {
@@ -939,37 +724,6 @@ struct Want {
     inside: bool,
     /// Along the route to the mouth (m); 0 inside.
     distance: Real,
-}
-
-/// The point `back` (m) before the route's end, along the route from `from`; nearer than that,
-/// straight back from the end along the axis (x or y) the last leg runs closest to (`from`
-/// itself on an empty route), and the direction of travel there (a unit vector, or zero).
-fn back_along(from: Vec2, route: &[Vec2], back: Real) -> (Vec2, Vec2) {
-    let to_go = route_length(from, route);
-    if back <= to_go {
-        return along(from, route, to_go - back);
-    }
-    let Some(&end) = route.last() else {
-        return (from, vec2(0.0, 0.0));
-    };
-    let start = if route.len() >= 2 {
-        route[route.len() - 2]
-    } else {
-        from
-    };
-    // Back along the corridor the last leg runs in: its axis, not the leg itself (a
-    // hallway's legs run straight at the station, often at a slant, and extended back past
-    // the robot a slanted leg leaves the hallway).
-    let leg = end - start;
-    let heading = if leg.x.abs() >= leg.y.abs() {
-        vec2(leg.x.signum(), 0.0)
-    } else {
-        vec2(0.0, leg.y.signum())
-    };
-    if leg == vec2(0.0, 0.0) {
-        return (from, vec2(0.0, 0.0));
-    }
-    (end - heading * back, heading)
 }
 
 /// The length of the route from `from` through every waypoint (m).
@@ -1003,5 +757,7 @@ fn along(from: Vec2, route: &[Vec2], distance: Real) -> (Vec2, Vec2) {
     (at, heading)
 }
 
+mod lanes;
+mod stations;
 #[cfg(test)]
 mod tests;

@@ -1,5 +1,6 @@
 //! The traffic policy's tests: one-way segments, station lines, keep right.
 
+use super::stations::back_along;
 use super::*;
 use crate::scenario::Scenario;
 use crate::traffic::TrafficParams;
