@@ -446,15 +446,24 @@ impl Fleet {
                 Stage::ToPick => self.pick_entry(here, station),
                 Stage::ToDrop => None,
             };
-            let route = match exit.or(entry) {
-                Some(j) => self.site.route_via(here, station, j),
-                None => self.site.route(here, station),
-            };
-            if let Some(job) = &mut self.jobs[i] {
-                job.waypoints = route.into();
-            }
+            self.reroute(i, exit.or(entry));
             self.reroutes += 1;
         }
+    }
+
+    /// Gives robot `i` a new route from where it is to its job's station, through cross-aisle
+    /// `via` when given ([`Site::route_via`]).
+    fn reroute(&mut self, i: usize, via: Option<usize>) {
+        let here = self.world.robots[i].state.position;
+        let Some(job) = &mut self.jobs[i] else {
+            return;
+        };
+        let station = self.site.stations[job.station()].position;
+        job.waypoints = match via {
+            Some(j) => self.site.route_via(here, station, j),
+            None => self.site.route(here, station),
+        }
+        .into();
     }
 
     /// Times a robot pushed off its route got a new one.
@@ -495,14 +504,8 @@ impl Fleet {
             .collect();
         self.policy_events = policy.step(self.world.time, &robots, &self.traffic);
         for i in 0..self.robots() {
-            let exit = self.policy.as_ref().and_then(|p| p.turned(i));
-            if let (Some(exit), Some(job)) = (exit, &self.jobs[i]) {
-                let here = self.world.robots[i].state.position;
-                let station = self.site.stations[job.station()].position;
-                let route = self.site.route_via(here, station, exit);
-                if let Some(job) = &mut self.jobs[i] {
-                    job.waypoints = route.into();
-                }
+            if let Some(exit) = self.policy.as_ref().and_then(|p| p.turned(i)) {
+                self.reroute(i, Some(exit));
             }
         }
         self.update_goals();
