@@ -11,6 +11,7 @@
 use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
+use crate::stuck::{self, Places, StuckBreakdown};
 use crate::traffic::{
     RobotView, TaskView, TrafficEvent, TrafficMonitor, TrafficParams, TrafficTotals,
 };
@@ -139,6 +140,8 @@ pub struct Fleet {
     policy_events: Vec<PolicyEvent>,
     route_scratch: Vec<Vec<Vec2>>,
     reroutes: u64,
+    places: Places,
+    stuck_where: StuckBreakdown,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
 }
@@ -162,6 +165,7 @@ impl Fleet {
             .collect();
         let mut task_rng = ChaCha8Rng::seed_from_u64(scenario.seed);
         task_rng.set_stream(TASK_STREAM);
+        let places = Places::new(&site);
         Ok(Self {
             world,
             site,
@@ -180,6 +184,8 @@ impl Fleet {
             reroutes: 0,
             policy_events: Vec::new(),
             route_scratch: vec![Vec::new(); n],
+            places,
+            stuck_where: StuckBreakdown::default(),
             share_intents: true,
         })
     }
@@ -559,6 +565,22 @@ impl Fleet {
         self.traffic_events =
             self.traffic
                 .record(now, self.world.dt, &views, &self.world.map, &holds);
+        if self.traffic.totals().max_stuck == 0 {
+            return;
+        }
+        let robots: Vec<Vec2> = self.world.robots.iter().map(|r| r.state.position).collect();
+        let people = &self.world.humans.crowd.positions;
+        for (i, &p) in robots.iter().enumerate() {
+            if self.traffic.is_stuck(i) {
+                let who = stuck::company(i, p, people, &robots);
+                self.stuck_where.add(self.places.of(p), who, self.world.dt);
+            }
+        }
+    }
+
+    /// Stuck robot-seconds so far, by place and by who stood next to the robot.
+    pub fn stuck_where(&self) -> StuckBreakdown {
+        self.stuck_where
     }
 
     /// The traffic monitor: stuck robots, who waits on whom, deadlocks.
@@ -612,6 +634,8 @@ pub struct FleetReport {
     pub policy: Option<PolicyTotals>,
     /// Times a robot pushed off its route got a new one.
     pub reroutes: u64,
+    /// Stuck robot-seconds by place and by who stood next to the robot.
+    pub stuck_where: StuckBreakdown,
 }
 
 impl FleetReport {
@@ -747,6 +771,7 @@ pub fn run_fleet_with(
         traffic: fleet.traffic.totals(),
         policy: fleet.policy.as_ref().map(TrafficPolicy::totals),
         reroutes: fleet.reroutes,
+        stuck_where: fleet.stuck_where,
     })
 }
 

@@ -15,6 +15,7 @@ pub mod metrics;
 pub mod replay;
 pub mod robot;
 pub mod scenario;
+pub mod stuck;
 pub mod traffic;
 pub mod traffic_policy;
 pub mod warehouse;

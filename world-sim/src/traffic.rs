@@ -9,11 +9,15 @@
 //!   the point i drives to: its waypoint, or the traffic policy's goal in its place), where j is now or where j's shared intent puts it within
 //!   [`TrafficParams::intent_horizon_s`] (intents count only for a j not behind i: a robot
 //!   behind that means to overtake blocks nobody). The traffic policy adds its own edges: a
-//!   robot held at a reserved segment waits on the robots holding it.
+//!   robot held at a reserved segment waits on the robots holding it. A robot on the point it
+//!   drives to (within its own radius: a hold or queue place it has reached) heads nowhere and
+//!   waits only on whom the policy says.
 //! - A **deadlock** is a set of robots each waiting on another in the set: a strongly
 //!   connected component of two or more robots of the wait-for graph, every member of which has
 //!   been in such a component for [`TrafficParams::deadlock_after_s`] (brief cycles, two
-//!   robots stopping for a moment face to face, are not deadlocks).
+//!   robots stopping for a moment face to face, are not deadlocks). A deadlock is counted once,
+//!   however its set regroups (a bystander joining and leaving it), until its members have all
+//!   been out of the wait-for cycles.
 //!
 //! The monitor is pure bookkeeping: positions in, events out, no clock but the simulation's.
 
@@ -138,6 +142,10 @@ pub struct TrafficMonitor {
     waits_on: Vec<Vec<usize>>,
     cycles: Vec<Vec<usize>>,
     deadlocked: Vec<Vec<usize>>,
+    /// Per robot: in a deadlock that began and whose members have not left the wait-for
+    /// cycles since (the cycle may regroup, a bystander joining and leaving it: still the same
+    /// deadlock).
+    in_deadlock: Vec<bool>,
     totals: TrafficTotals,
 }
 
@@ -152,6 +160,7 @@ impl TrafficMonitor {
             waits_on: vec![Vec::new(); robots],
             cycles: Vec::new(),
             deadlocked: Vec::new(),
+            in_deadlock: vec![false; robots],
             totals: TrafficTotals::default(),
         }
     }
@@ -231,7 +240,9 @@ impl TrafficMonitor {
             }
             let ahead = task.waypoint - r.position;
             let ahead_len = ahead.norm();
-            if ahead_len == 0.0 {
+            // On the point it drives to (a hold or queue place it has reached): it heads
+            // nowhere, and the direction to a point under its own body is noise.
+            if ahead_len <= r.radius {
                 continue;
             }
             let ahead = ahead / ahead_len;
@@ -293,11 +304,14 @@ impl TrafficMonitor {
             })
             .cloned()
             .collect();
+        for (member, since) in self.in_deadlock.iter_mut().zip(&self.cyclic_since) {
+            *member &= since.is_some();
+        }
         for set in &deadlocked {
-            let known = self
-                .deadlocked
-                .iter()
-                .any(|old| old.iter().any(|i| set.contains(i)));
+            let known = set.iter().any(|&i| self.in_deadlock[i]);
+            for &i in set {
+                self.in_deadlock[i] = true;
+            }
             if !known {
                 self.totals.deadlocks += 1;
                 events.push(TrafficEvent::Deadlock {
@@ -529,6 +543,64 @@ mod tests {
         assert_eq!(events, vec![TrafficEvent::Stuck { robot: 0 }]);
         let stuck_s = monitor.totals().stuck_robot_s;
         assert!((stuck_s - 5.1).abs() < 0.15, "{stuck_s}");
+    }
+
+    /// A robot on its hold point heads nowhere: a robot beside it is not in its way, whatever
+    /// noise the few millimetres to the point give its heading. It still waits on whom the
+    /// policy says.
+    #[test]
+    fn a_robot_at_its_hold_point_waits_only_on_the_policy() {
+        let map = StaticMap::empty();
+        let robots = [
+            robot(vec2(0.0, 0.0), vec2(0.001, 0.0), 0, 10.0),
+            robot(vec2(0.9, 0.0), vec2(-10.0, 0.0), 2, 10.0),
+            robot(vec2(5.0, 0.0), vec2(10.0, 0.0), 4, 10.0),
+        ];
+        let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+        for k in 1..=150 {
+            monitor.record(k as Real * 0.1, 0.1, &robots, &map, &[(0, 2)]);
+        }
+        assert_eq!(monitor.waits_on(0), &[2]);
+        assert_eq!(monitor.waits_on(1), &[0]);
+        assert_eq!(monitor.totals().deadlocks, 0);
+    }
+
+    /// A deadlock that a bystander joins and leaves (the set regroups: {0, 1}, {0, 1, 2},
+    /// {0, 1}) is one deadlock; once its robots have left the cycles, a new one counts again.
+    #[test]
+    fn a_deadlock_that_regroups_counts_once() {
+        let map = StaticMap::empty();
+        let robots = [
+            robot(vec2(0.0, 0.0), vec2(10.0, 0.0), 0, 10.0),
+            robot(vec2(0.9, 0.0), vec2(-10.0, 0.0), 2, 10.0),
+            robot(vec2(5.0, 5.0), vec2(10.0, 5.0), 4, 10.0),
+        ];
+        let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+        let mut deadlocks = Vec::new();
+        for k in 1..=420 {
+            let t = k as Real * 0.1;
+            // Robot 2 waits on robot 0 and robot 0 on it from 12 s to 12.5 s; from 30 s to
+            // 31 s robot 1 moves off; then the pair is back.
+            let mut extra = Vec::new();
+            if (12.0..12.5).contains(&t) {
+                extra.extend([(2, 0), (0, 2)]);
+            }
+            let mut now = robots;
+            if (30.0..31.0).contains(&t) {
+                now[1].velocity = vec2(0.0, 0.5);
+            }
+            for e in monitor.record(t, 0.1, &now, &map, &extra) {
+                if let TrafficEvent::Deadlock { robots } = e {
+                    deadlocks.push((t, robots));
+                }
+            }
+        }
+        let when: Vec<(i64, Vec<usize>)> = deadlocks
+            .into_iter()
+            .map(|(t, r)| (t.round() as i64, r))
+            .collect();
+        assert_eq!(when, vec![(10, vec![0, 1]), (41, vec![0, 1])], "{when:?}");
+        assert_eq!(monitor.totals().deadlocks, 2);
     }
 
     /// The policy's holds count: a robot held at a segment waits on its holder.

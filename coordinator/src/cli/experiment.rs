@@ -652,6 +652,8 @@ fn traffic(args: TrafficArgs) -> Result<()> {
         args.out.display(),
     );
     print!("{}", traffic_study::table(&cells));
+    println!("\nWhere the stuck robot-seconds went:");
+    print!("{}", traffic_study::stuck_table(&cells));
     Ok(())
 }
 

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use world_sim::fleet::{FleetOptions, FleetReport, NotAWarehouse, run_fleet_with};
 use world_sim::scenario::Scenario;
+use world_sim::stuck::StuckBreakdown;
 use world_sim::traffic_policy::PolicyParams;
 
 /// People's delay is measured in windows of this length (s), as in the open-space study.
@@ -87,6 +88,28 @@ pub struct TrafficRun {
     pub queued: u64,
     /// Times a robot pushed off its route got a new one.
     pub reroutes: u64,
+    /// Stuck robot-seconds in aisles (`world_sim::stuck`; 0 in runs.csv files older than
+    /// this column, as are the next six).
+    #[serde(default)]
+    pub stuck_aisle_s: f64,
+    /// ... in cross-aisles.
+    #[serde(default)]
+    pub stuck_cross_aisle_s: f64,
+    /// ... near stations.
+    #[serde(default)]
+    pub stuck_station_s: f64,
+    /// ... in corridors.
+    #[serde(default)]
+    pub stuck_corridor_s: f64,
+    /// ... with a person next to the robot.
+    #[serde(default)]
+    pub stuck_next_to_person_s: f64,
+    /// ... with another robot and no person next to it.
+    #[serde(default)]
+    pub stuck_next_to_robot_s: f64,
+    /// ... with nobody next to it.
+    #[serde(default)]
+    pub stuck_alone_s: f64,
 }
 
 impl TrafficRun {
@@ -117,6 +140,13 @@ impl TrafficRun {
             station_grants: policy.station_grants,
             queued: policy.queued,
             reroutes: report.reroutes,
+            stuck_aisle_s: report.stuck_where.aisle_s,
+            stuck_cross_aisle_s: report.stuck_where.cross_aisle_s,
+            stuck_station_s: report.stuck_where.station_s,
+            stuck_corridor_s: report.stuck_where.corridor_s,
+            stuck_next_to_person_s: report.stuck_where.person_s,
+            stuck_next_to_robot_s: report.stuck_where.robot_s,
+            stuck_alone_s: report.stuck_where.nobody_s,
         }
     }
 }
@@ -152,6 +182,8 @@ pub struct Cell {
     pub human_delay_s: f64,
     /// Mean retreats per run.
     pub retreats: f64,
+    /// Mean stuck robot-seconds per run by place and company.
+    pub stuck_where: StuckBreakdown,
 }
 
 impl TrafficStudy {
@@ -245,6 +277,15 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                     robot_robot_contacts: m(|r| r.robot_robot_contacts as f64),
                     human_delay_s: m(|r| r.human_delay_s),
                     retreats: m(|r| r.retreats as f64),
+                    stuck_where: StuckBreakdown {
+                        aisle_s: m(|r| r.stuck_aisle_s),
+                        cross_aisle_s: m(|r| r.stuck_cross_aisle_s),
+                        station_s: m(|r| r.stuck_station_s),
+                        corridor_s: m(|r| r.stuck_corridor_s),
+                        person_s: m(|r| r.stuck_next_to_person_s),
+                        robot_s: m(|r| r.stuck_next_to_robot_s),
+                        nobody_s: m(|r| r.stuck_alone_s),
+                    },
                 });
             }
         }
@@ -280,6 +321,40 @@ pub fn table(cells: &[Cell]) -> String {
     out
 }
 
+/// Where the stuck robot-seconds went, per cell, as a Markdown table: shares by place and by
+/// who stood next to the stuck robot (`world_sim::stuck`).
+pub fn stuck_table(cells: &[Cell]) -> String {
+    let mut out = String::from(
+        "| site | robots | policy | stuck robot-s | in aisles | in cross-aisles | near stations | in corridors | next to a person | next to a robot only | nobody next to it |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for c in cells {
+        let w = &c.stuck_where;
+        let share = |x: f64| {
+            if c.stuck_robot_s > 0.0 {
+                format!("{:.0}%", 100.0 * x / c.stuck_robot_s)
+            } else {
+                "–".to_owned()
+            }
+        };
+        out.push_str(&format!(
+            "| {} | {} | {} | {:.0} | {} | {} | {} | {} | {} | {} | {} |\n",
+            c.scenario,
+            c.robots,
+            if c.policy { "on" } else { "off" },
+            c.stuck_robot_s,
+            share(w.aisle_s),
+            share(w.cross_aisle_s),
+            share(w.station_s),
+            share(w.corridor_s),
+            share(w.person_s),
+            share(w.robot_s),
+            share(w.nobody_s),
+        ));
+    }
+    out
+}
+
 /// Writes `runs.csv`, `summary.json`, `summary.md` and `throughput.png` into `out`.
 pub fn write_outputs(
     out: &Path,
@@ -292,7 +367,12 @@ pub fn write_outputs(
     let cells = summarize(study, runs);
     write_json(&out.join("summary.json"), &cells)?;
     let path = out.join("summary.md");
-    std::fs::write(&path, table(&cells)).map_err(StudyError::io(&path))?;
+    let summary = format!(
+        "{}\nWhere the stuck robot-seconds went (shares of each cell's mean):\n\n{}",
+        table(&cells),
+        stuck_table(&cells)
+    );
+    std::fs::write(&path, summary).map_err(StudyError::io(&path))?;
     let panels: Vec<(String, Vec<Series>)> = study
         .sites
         .iter()
@@ -359,6 +439,14 @@ mod tests {
                 .all(|r| r.grants + r.waits > 0 || r.scenario == "hallway-fleet")
         );
         assert!(runs.iter().filter(|r| !r.policy).all(|r| r.grants == 0));
+        // Stuck time is split by place and by company, each split adding up to it.
+        for r in &runs {
+            let places =
+                r.stuck_aisle_s + r.stuck_cross_aisle_s + r.stuck_station_s + r.stuck_corridor_s;
+            let company = r.stuck_next_to_person_s + r.stuck_next_to_robot_s + r.stuck_alone_s;
+            assert!((places - r.stuck_robot_s).abs() < 1e-6, "{r:?}");
+            assert!((company - r.stuck_robot_s).abs() < 1e-6, "{r:?}");
+        }
         let cells = summarize(&study, &runs);
         assert_eq!(cells.len(), 4);
         assert!(cells.iter().all(|c| c.runs == 1));

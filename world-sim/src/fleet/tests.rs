@@ -93,6 +93,19 @@ fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
     let (off, on) = (run(None), run(Some(PolicyParams::default())));
     assert!(off.traffic.deadlocks > 0, "{:?}", off.traffic);
     assert_eq!(on.traffic.deadlocks, 0, "{:?}", on.traffic);
+    // The stuck time, split by place and by company: with nobody but robots about, robots
+    // stood stuck next to robots, in the aisles among other places.
+    let w = off.stuck_where;
+    let stuck = off.traffic.stuck_robot_s;
+    assert!(stuck > 0.0);
+    let places = w.aisle_s + w.cross_aisle_s + w.station_s + w.corridor_s;
+    assert!((places - stuck).abs() < 1e-6, "{w:?} {stuck}");
+    assert!(
+        (w.person_s + w.robot_s + w.nobody_s - stuck).abs() < 1e-6,
+        "{w:?}"
+    );
+    assert_eq!(w.person_s, 0.0);
+    assert!(w.aisle_s > 0.0 && w.robot_s > 0.0, "{w:?}");
     let policy = on.policy.expect("on");
     assert!(policy.grants > 0 && policy.waits > 0, "{policy:?}");
     assert!(

@@ -43,17 +43,35 @@ impl TrafficPolicy {
             line.waiting
                 .retain(|&(i, _)| bound_here(i) && wants[i].is_none() && Some(i) != line.holder);
         }
+        // Places taken in lines (as of the last step): a robot joins a line at its tail, and
+        // asks for its station where it can still stop short of its place there.
+        let taken: Vec<Vec2> = self
+            .constraints
+            .iter()
+            .filter_map(|c| match *c {
+                Constraint::Queue { at, .. } => Some(at),
+                _ => None,
+            })
+            .collect();
+        let stop_short = request - self.params.queue_back_m;
         for (i, r) in robots.iter().enumerate() {
             let Some(s) = r.station else {
                 continue;
             };
-            let Some(line) = self.lines.get_mut(s).and_then(Option::as_mut) else {
+            let Some(line) = self.lines.get(s).and_then(Option::as_ref) else {
                 continue;
             };
             let listed = line.holder == Some(i) || line.waiting.iter().any(|&(w, _)| w == i);
-            if listed || wants[i].is_some() || route_length(r.position, r.route) > request {
+            if listed || wants[i].is_some() {
                 continue;
             }
+            let to_go = route_length(r.position, r.route);
+            if to_go > request && to_go > self.free_place(r, &taken).0 + stop_short {
+                continue;
+            }
+            let Some(line) = self.lines[s].as_mut() else {
+                continue;
+            };
             line.waiting.push((i, now));
             self.totals.queued += 1;
             events.push(PolicyEvent::Queued {
@@ -125,25 +143,30 @@ impl TrafficPolicy {
             .flat_map(|(s, l)| l.waiting.iter().map(move |&(i, since)| (since, i, s)))
             .collect();
         queue.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let spacing = self.queue_spacing;
         let mut taken: Vec<Vec2> = Vec::with_capacity(queue.len());
         for (_, i, station) in queue {
-            let r = &robots[i];
-            let to_go = route_length(r.position, r.route);
-            let place = (0..)
-                .map(|k| {
-                    let back = self.params.queue_back_m + Real::from(k) * spacing;
-                    let (at, heading) = back_along(r.position, r.route, back);
-                    (back, self.right_of(at, heading))
-                })
-                .find(|&(back, p)| {
-                    back > to_go + 20.0 || taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
-                })
-                .map(|(_, p)| p)
-                .unwrap_or(r.position);
+            let (_, place) = self.free_place(&robots[i], &taken);
             taken.push(place);
             self.constraints[i] = Constraint::Queue { at: place, station };
         }
+    }
+
+    /// The first place back along `r`'s route from its station, from
+    /// [`PolicyParams::queue_back_m`] in steps of a body length plus the gap, at least that
+    /// far from every place `taken`: how far back it is (m), and where.
+    fn free_place(&self, r: &PolicyRobot<'_>, taken: &[Vec2]) -> (Real, Vec2) {
+        let spacing = self.queue_spacing;
+        let to_go = route_length(r.position, r.route);
+        (0..)
+            .map(|k| {
+                let back = self.params.queue_back_m + Real::from(k) * spacing;
+                let (at, heading) = back_along(r.position, r.route, back);
+                (back, self.right_of(at, heading))
+            })
+            .find(|&(back, p)| {
+                back > to_go + 20.0 || taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
+            })
+            .unwrap_or((to_go, r.position))
     }
 }
 

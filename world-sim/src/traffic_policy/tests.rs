@@ -4,6 +4,7 @@ use super::stations::back_along;
 use super::*;
 use crate::scenario::Scenario;
 use crate::traffic::TrafficParams;
+use crate::warehouse::StationKind;
 
 fn narrow() -> (Site, Real) {
     let s = Scenario::builtin("warehouse-narrow").expect("valid");
@@ -367,4 +368,123 @@ fn a_robot_in_line_ahead_of_the_holder_takes_the_station() {
     robots[0].position = vec2(3.0 - 0.2, 2.2);
     step(&mut policy, 0.3, &robots);
     assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(1));
+}
+
+/// Two robots face to face in a cross-aisle, each with a robot right behind it: neither can
+/// back straight off. Once the cycle has lasted [`PolicyParams::retreat_after_s`], one of
+/// them backs off to a point beside or behind it where its body fits, clear of the shelves
+/// and of every other robot.
+#[test]
+fn a_robot_with_a_robot_behind_it_backs_off_to_the_side() {
+    use crate::traffic::{RobotView, TaskView};
+    let (site, radius) = narrow();
+    let params = PolicyParams::default();
+    let mut policy = TrafficPolicy::new(&site, 4, radius, params);
+    let segment = policy.segments()[5];
+    let (x, _) = site.cross_aisle(segment.ends.0);
+    // Between two aisle mouths: the pair at y ± 0.45, the robots behind 1 m further out.
+    let y = segment.y + 1.35;
+    let (up, down) = ([vec2(x, y + 20.0)], [vec2(x, y - 20.0)]);
+    let robots = [
+        (y - 0.45, &up),
+        (y + 0.45, &down),
+        (y - 1.45, &up),
+        (y + 1.45, &down),
+    ]
+    .map(|(at, route)| PolicyRobot {
+        position: vec2(x, at),
+        route: route.as_slice(),
+        station: None,
+    });
+    let views: Vec<RobotView<'_>> = robots
+        .iter()
+        .enumerate()
+        .map(|(i, r)| RobotView {
+            position: r.position,
+            velocity: vec2(0.0, 0.0),
+            radius,
+            task: Some(TaskView {
+                leg: i as u64,
+                waypoint: r.route[0],
+                remaining_m: 20.0,
+            }),
+            intent: &[],
+        })
+        .collect();
+    let map = site.map();
+    let mut monitor = TrafficMonitor::new(4, TrafficParams::default());
+    let mut retreats = Vec::new();
+    for k in 1..=50 {
+        let now = Real::from(k) * 0.1;
+        monitor.record(now, 0.1, &views, &map, &[]);
+        let events = policy.step(now, &robots, &monitor);
+        retreats.extend(events.into_iter().filter_map(|e| match e {
+            PolicyEvent::Retreat { robot } => Some((now, robot)),
+            _ => None,
+        }));
+    }
+    assert_eq!(monitor.cycles(), &[vec![0, 1]]);
+    let [(when, robot)] = retreats[..] else {
+        panic!("one retreat expected: {retreats:?}");
+    };
+    assert!((when - params.retreat_after_s).abs() < 0.15, "{when}");
+    // Lowest priority: neither holds a segment, so the higher index.
+    assert_eq!(robot, 1);
+    let Constraint::Retreat(to) = policy.constraint(1) else {
+        panic!("{:?}", policy.constraint(1));
+    };
+    let from = robots[1].position;
+    assert!((to.x - from.x).abs() > 0.5, "not straight back: {to:?}");
+    assert!(to.y >= from.y - 1e-9, "not toward robot 0: {to:?}");
+    assert!(map.distance(&to) > radius, "{to:?} against a shelf");
+    for (j, o) in robots.iter().enumerate().filter(|&(j, _)| j != 1) {
+        assert!(
+            (o.position - to).norm() > 2.0 * radius,
+            "{to:?} on robot {j}"
+        );
+    }
+}
+
+/// A robot coming up to a station's line joins it at its tail: it asks for the station
+/// where it can still stop short of the first free place, not only
+/// [`PolicyParams::station_request_m`] before the station, and so never drives in among the
+/// robots already waiting.
+#[test]
+fn a_robot_joins_a_long_line_at_its_tail() {
+    let site = Site::hallway(40.0, 3.0, 3);
+    // The dock across the right-hand lane's side of the hallway's left end.
+    let dock = *site
+        .stations_of(StationKind::Dock)
+        .max_by(|a, b| a.position.y.total_cmp(&b.position.y))
+        .expect("docks");
+    let params = PolicyParams::default();
+    let mut policy = TrafficPolicy::new(&site, 5, 0.3, params);
+    let route = [dock.position];
+    let mut robots = [4.0, 4.5, 5.0, 5.5, 12.0].map(|x| PolicyRobot {
+        position: vec2(dock.position.x + x, dock.position.y),
+        route: &route,
+        station: Some(dock.id),
+    });
+    step(&mut policy, 0.1, &robots);
+    step(&mut policy, 0.2, &robots);
+    // Robot 0 has the dock; 1–3 wait 3, 4 and 5 m back; robot 4, 12 m away, drives on.
+    assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
+    let places: Vec<Real> = (1..4)
+        .map(|i| match policy.constraint(i) {
+            Constraint::Queue { at, .. } => at.x - dock.position.x,
+            c => panic!("robot {i}: {c:?}"),
+        })
+        .collect();
+    assert_eq!(places, vec![3.0, 4.0, 5.0]);
+    assert!(!matches!(policy.constraint(4), Constraint::Queue { .. }));
+    // 8.5 m away, 2.5 m short of the line's first free place (6 m back; asking 3 m short of
+    // it, as the first in line asks 6 m before the station to stop 3 m before it): it joins
+    // and stops there.
+    robots[4].position.x = dock.position.x + 8.5;
+    step(&mut policy, 0.3, &robots);
+    let Constraint::Queue { at, .. } = policy.constraint(4) else {
+        panic!("{:?}", policy.constraint(4));
+    };
+    assert!((at.x - dock.position.x - 6.0).abs() < 1e-9, "{at:?}");
+    assert!(params.station_request_m < 8.5);
 }
