@@ -35,7 +35,9 @@ pub struct TrafficStudy {
     pub sites: Vec<Site>,
     /// Planner stack of every robot.
     pub planner: PlannerSpec,
-    /// Seeds 1..=seeds per (site, fleet size, policy).
+    /// The first seed.
+    pub first_seed: u64,
+    /// Seeds per (site, fleet size, policy): `first_seed..first_seed + seeds`.
     pub seeds: u64,
     /// The policy settings to run: off (`false`), on (`true`) or both, in this order.
     pub policies: Vec<bool>,
@@ -192,7 +194,7 @@ impl TrafficStudy {
         let mut out = Vec::new();
         for (s, site) in self.sites.iter().enumerate() {
             for &robots in &site.fleets {
-                for seed in 1..=self.seeds {
+                for seed in self.first_seed..self.first_seed + self.seeds {
                     out.extend(self.policies.iter().map(|&on| (s, robots, seed, on)));
                 }
             }
@@ -409,7 +411,7 @@ pub fn write_outputs(
 mod tests {
     use super::*;
 
-    /// One short seed of each site, both ways: every run is there, the summary counts them,
+    /// One short seed (seed 3) of each site, both ways: every run is there, the summary counts them,
     /// runs.csv reads back, and earlier runs are reused.
     #[test]
     fn a_smoke_study_runs_both_sites_both_ways() {
@@ -427,12 +429,14 @@ mod tests {
                 },
             ],
             planner: "pgp+orca".parse().expect("known"),
+            first_seed: 3,
             seeds: 1,
             policies: vec![false, true],
             seconds: 30.0,
         };
         let runs = study.execute(&|| {}).expect("fleet sites");
         assert_eq!(runs.len(), 4);
+        assert!(runs.iter().all(|r| r.seed == 3));
         assert!(
             runs.iter()
                 .filter(|r| r.policy)
