@@ -54,6 +54,11 @@ impl TrafficPolicy {
             })
             .collect();
         let stop_short = request - self.params.queue_back_m;
+        // A place taken rules out at most three consecutive places of a robot's own line (two
+        // along a straight stretch, three round a right-angled corner), so its first free
+        // place is at most this far back: robots further away need no look.
+        let furthest =
+            self.params.queue_back_m + 3.0 * taken.len() as Real * self.queue_spacing + stop_short;
         for (i, r) in robots.iter().enumerate() {
             let Some(s) = r.station else {
                 continue;
@@ -66,7 +71,9 @@ impl TrafficPolicy {
                 continue;
             }
             let to_go = route_length(r.position, r.route);
-            if to_go > request && to_go > self.free_place(r, &taken).0 + stop_short {
+            if to_go > request
+                && (to_go > furthest || to_go > self.free_place(r, &taken).0 + stop_short)
+            {
                 continue;
             }
             let Some(line) = self.lines[s].as_mut() else {
