@@ -303,10 +303,8 @@ pub fn table(cells: &[Cell]) -> String {
     );
     for c in cells {
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} |\n",
-            c.scenario,
-            c.robots,
-            if c.policy { "on" } else { "off" },
+            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} |\n",
+            row_head(c),
             c.runs,
             c.runs_with_deadlock,
             c.deadlocks,
@@ -321,6 +319,12 @@ pub fn table(cells: &[Cell]) -> String {
         ));
     }
     out
+}
+
+/// A table row's first three cells: site, robots, policy.
+fn row_head(c: &Cell) -> String {
+    let policy = if c.policy { "on" } else { "off" };
+    format!("| {} | {} | {policy}", c.scenario, c.robots)
 }
 
 /// Where the stuck robot-seconds went, per cell, as a Markdown table: shares by place and by
@@ -340,10 +344,8 @@ pub fn stuck_table(cells: &[Cell]) -> String {
             }
         };
         out.push_str(&format!(
-            "| {} | {} | {} | {:.0} | {} | {} | {} | {} | {} | {} | {} |\n",
-            c.scenario,
-            c.robots,
-            if c.policy { "on" } else { "off" },
+            "{} | {:.0} | {} | {} | {} | {} | {} | {} | {} |\n",
+            row_head(c),
             c.stuck_robot_s,
             share(w.aisle_s),
             share(w.cross_aisle_s),
