@@ -48,8 +48,8 @@
 //!   on a hallway's three docks packed its end: 7 and 4 deadlocks in two of ten seeds. With
 //!   first come first served instead of nearest first, an older robot further back was let
 //!   through and blocked by the line: 2 deadlocks in hallway seeds 1–16.)
-//! - **Retreat when a cycle lasts.** If robots wait on each other in a cycle for
-//!   [`PolicyParams::retreat_after_s`] (the traffic monitor's wait-for graph), the
+//! - **Retreat when a cycle lasts.** If two robots of a wait-for cycle (the traffic monitor's
+//!   graph) have been in cycles for [`PolicyParams::retreat_after_s`], the
 //!   lowest-priority member with room behind it (not holding a segment; then the highest
 //!   index) backs off [`PolicyParams::retreat_m`] for [`PolicyParams::retreat_s`]. A member
 //!   with another robot within that distance behind it does not back into it; when every

@@ -14,11 +14,18 @@ impl TrafficPolicy {
     ) {
         // The monitor has just seen this step's wait-for graph and its cycles.
         for cycle in monitor.cycles() {
-            let old = cycle.iter().all(|&i| {
-                monitor
-                    .in_cycle_since(i)
-                    .is_some_and(|s| now - s >= self.params.retreat_after_s - 1e-9)
-            });
+            // Lasting: two of its robots have been in cycles that long (not all: a bystander
+            // joining the component must not hold the retreat back, the regrouping that the
+            // monitor counts as one deadlock).
+            let lasting = cycle
+                .iter()
+                .filter(|&&i| {
+                    monitor
+                        .in_cycle_since(i)
+                        .is_some_and(|s| now - s >= self.params.retreat_after_s - 1e-9)
+                })
+                .count();
+            let old = lasting >= 2;
             let retreating = cycle.iter().any(|&i| self.retreat_until[i] > now);
             if !old || retreating {
                 continue;

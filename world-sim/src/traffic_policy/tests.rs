@@ -488,3 +488,60 @@ fn a_robot_joins_a_long_line_at_its_tail() {
     assert!((at.x - dock.position.x - 6.0).abs() < 1e-9, "{at:?}");
     assert!(params.station_request_m < 8.5);
 }
+
+/// A bystander joining a lasting wait-for cycle (the component regroups) does not hold the
+/// retreat back: two robots that have waited on each other for
+/// [`PolicyParams::retreat_after_s`] are enough.
+#[test]
+fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
+    use crate::traffic::{RobotView, TaskView};
+    let site = Site::hallway(40.0, 3.0, 3);
+    let params = PolicyParams::default();
+    let mut policy = TrafficPolicy::new(&site, 3, 0.3, params);
+    let (east, west) = ([vec2(30.0, 1.5)], [vec2(5.0, 1.5)]);
+    let robots = [
+        (vec2(10.0, 1.5), &east),
+        (vec2(10.7, 1.5), &west),
+        (vec2(10.35, 2.6), &west),
+    ]
+    .map(|(position, route)| PolicyRobot {
+        position,
+        route: route.as_slice(),
+        station: None,
+    });
+    let views: Vec<RobotView<'_>> = robots
+        .iter()
+        .enumerate()
+        .map(|(i, r)| RobotView {
+            position: r.position,
+            velocity: vec2(0.0, 0.0),
+            radius: 0.3,
+            task: Some(TaskView {
+                leg: i as u64,
+                waypoint: r.route[0],
+                remaining_m: 20.0,
+            }),
+            intent: &[],
+        })
+        .collect();
+    let map = site.map();
+    let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+    let mut first_retreat = None;
+    for k in 1..=60 {
+        let now = Real::from(k) * 0.1;
+        // Robot 2 and robot 0 wait on each other from 3.5 s on.
+        let extra: &[(usize, usize)] = if now >= 3.5 { &[(2, 0), (0, 2)] } else { &[] };
+        monitor.record(now, 0.1, &views, &map, extra);
+        let events = policy.step(now, &robots, &monitor);
+        if first_retreat.is_none()
+            && events
+                .iter()
+                .any(|e| matches!(e, PolicyEvent::Retreat { .. }))
+        {
+            first_retreat = Some(now);
+        }
+    }
+    assert_eq!(monitor.cycles(), &[vec![0, 1, 2]]);
+    let when = first_retreat.expect("a retreat");
+    assert!((when - 4.1).abs() < 0.15, "{when}");
+}
