@@ -271,12 +271,13 @@ pub struct TrafficArgs {
     /// Simulated seconds per run.
     #[arg(long, default_value_t = 300.0, value_parser = positive)]
     seconds: f64,
-    /// Fleet sizes in the narrow-aisle warehouse (`warehouse-narrow`), comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "10,20,40")]
-    narrow_fleets: Vec<usize>,
-    /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "10,20")]
-    hallway_fleets: Vec<usize>,
+    /// Fleet sizes in the narrow-aisle warehouse (`warehouse-narrow`), comma-separated; empty
+    /// (`''`) for none.
+    #[arg(long, default_value = "10,20,40", value_parser = fleet_sizes)]
+    narrow_fleets: FleetSizes,
+    /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated; empty for none.
+    #[arg(long, default_value = "10,20", value_parser = fleet_sizes)]
+    hallway_fleets: FleetSizes,
     /// The traffic policy off, on, or both (`off,on`), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "off,on", value_parser = on_off)]
     policy: Vec<bool>,
@@ -593,6 +594,24 @@ fn laned(args: LanedArgs) -> Result<()> {
     Ok(())
 }
 
+/// Fleet sizes, comma-separated; the empty list is allowed (a site left out).
+#[derive(Debug, Clone)]
+struct FleetSizes(Vec<usize>);
+
+fn fleet_sizes(s: &str) -> Result<FleetSizes, String> {
+    if s.trim().is_empty() {
+        return Ok(FleetSizes(Vec::new()));
+    }
+    s.split(',')
+        .map(|n| {
+            n.trim()
+                .parse()
+                .map_err(|e| format!("fleet size `{n}`: {e}"))
+        })
+        .collect::<Result<_, _>>()
+        .map(FleetSizes)
+}
+
 /// `on` or `off`.
 fn on_off(s: &str) -> Result<bool, String> {
     match s {
@@ -605,8 +624,8 @@ fn on_off(s: &str) -> Result<bool, String> {
 fn traffic(args: TrafficArgs) -> Result<()> {
     let mut sites = Vec::new();
     for (name, fleets) in [
-        ("warehouse-narrow", args.narrow_fleets),
-        ("hallway-fleet", args.hallway_fleets),
+        ("warehouse-narrow", args.narrow_fleets.0),
+        ("hallway-fleet", args.hallway_fleets.0),
     ] {
         if fleets.is_empty() {
             continue;
