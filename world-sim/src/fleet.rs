@@ -513,6 +513,10 @@ impl Fleet {
             if let Some(exit) = self.policy.as_ref().and_then(|p| p.turned(i)) {
                 self.reroute(i, Some(exit));
             }
+            let round = self.policy.as_ref().and_then(|p| p.detour(i));
+            if let (Some(round), Some(job)) = (round, &mut self.jobs[i]) {
+                job.waypoints = round.iter().copied().collect();
+            }
         }
         self.update_goals();
     }

@@ -323,6 +323,12 @@ impl TrafficMonitor {
         self.deadlocked = deadlocked;
     }
 
+    /// How long robot `i` has gone without progress toward its goal at time `now` (s): 0
+    /// while it makes progress, `None` while it has no task.
+    pub fn without_progress(&self, i: usize, now: Real) -> Option<Real> {
+        self.progress[i].map(|g| now - g.since)
+    }
+
     /// Whether robot `i` is stuck now.
     pub fn is_stuck(&self, i: usize) -> bool {
         self.stuck[i]

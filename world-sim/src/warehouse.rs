@@ -312,6 +312,32 @@ impl Site {
         ]
     }
 
+    /// A way round: from `from` in a cross-aisle to `to` in an aisle, entering the aisle
+    /// through cross-aisle `j` and getting there along the corridor at least `min_width` wide
+    /// (m) with the least climb (so through no narrow aisle). `None` when `from` is not in a
+    /// cross-aisle, `to` not in a corridor, or no other corridor is that wide.
+    pub fn route_round(
+        &self,
+        from: Vec2,
+        to: Vec2,
+        j: usize,
+        min_width: Real,
+    ) -> Option<Vec<Vec2>> {
+        let a = self.cross_aisle_of(from)?;
+        let k = self.corridor_of(to)?;
+        let (x_a, x_j) = (self.cross_aisles[a].0, self.cross_aisles.get(j)?.0);
+        let climb = |y: Real| (from.y - y).abs() + (y - to.y).abs();
+        let c = self
+            .corridors
+            .iter()
+            .enumerate()
+            .filter(|&(c, &(_, half))| c != k && 2.0 * half >= min_width)
+            .min_by(|(_, p), (_, q)| climb(p.0).total_cmp(&climb(q.0)))?
+            .0;
+        let (y_c, y_k) = (self.corridors[c].0, self.corridors[k].0);
+        Some(vec![vec2(x_a, y_c), vec2(x_j, y_c), vec2(x_j, y_k), to])
+    }
+
     /// How close a robot of `radius` must come to route corner `p` before it heads for the
     /// next waypoint: `default` (m), unless `p` lies on an aisle too narrow for two robots to
     /// pass (4·radius + `margin`), where cutting the corner would aim the robot at the shelf's
@@ -402,6 +428,50 @@ mod tests {
                 assert_eq!(at, b.position);
             }
         }
+    }
+
+    /// The way round to a pick in a narrow aisle's far end: down its cross-aisle to the
+    /// nearest wide corridor, along it, and up the far cross-aisle into the aisle; every leg
+    /// in free space with a robot's clearance, and through no narrow aisle.
+    #[test]
+    fn the_way_round_to_an_aisles_far_end_keeps_to_wide_corridors() {
+        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
+        let site = Site::generate(&narrow.warehouse.expect("layout"));
+        let map = site.map();
+        let min_width = 4.0 * narrow.robot.radius_m + 0.2;
+        let (k, j) = (2, 1);
+        let pick = site
+            .stations
+            .iter()
+            .find(|s| {
+                site.corridor_of(s.position) == Some(k)
+                    && site.cross_aisles_around(s.position) == Some((j, j + 1))
+            })
+            .expect("a pick between cross-aisles 1 and 2");
+        let from = vec2(site.cross_aisles[j + 1].0, site.corridors[k].0 - 1.5);
+        let round = site
+            .route_round(from, pick.position, j, min_width)
+            .expect("a way round");
+        assert_eq!(round.len(), 4);
+        assert_eq!(*round.last().expect("legs"), pick.position);
+        assert_eq!(round[2], vec2(site.cross_aisles[j].0, site.corridors[k].0));
+        let wide = site.corridor_of(round[0]).expect("on a corridor");
+        assert!(2.0 * site.corridors[wide].1 >= min_width, "{round:?}");
+        let mut at = from;
+        for &w in &round {
+            let steps = ((w - at).norm() / 0.05).ceil().max(1.0) as usize;
+            for s in 0..=steps {
+                let p = at + (w - at) * (s as Real / steps as Real);
+                assert!(!map.is_inside(&p) && map.distance(&p) > narrow.robot.radius_m);
+            }
+            at = w;
+        }
+        // Not from inside an aisle, and not when no other corridor is wide enough.
+        assert!(
+            site.route_round(pick.position, from, j, min_width)
+                .is_none()
+        );
+        assert!(site.route_round(from, pick.position, j, 10.0).is_none());
     }
 
     /// Corners on an aisle too narrow for two robots must be reached closely (cutting them

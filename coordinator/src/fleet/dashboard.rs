@@ -215,7 +215,7 @@ fn traffic_view(fleet: &Fleet) -> TrafficView {
 }
 
 /// The monitor's and the policy's events of the last step, for the log: deadlocks, robots
-/// getting stuck, segments granted and released, retreats.
+/// getting stuck, segments granted and released, retreats, detours.
 fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
     let at = |i: usize| Some(p(fleet.world.robots[i].state.position));
     for e in fleet.traffic_events() {
@@ -249,6 +249,9 @@ fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
             PolicyEvent::Retreat { robot } => {
                 format!("robot {robot} retreats: a wait-for cycle lasted")
             }
+            PolicyEvent::Detour { robot, segment } => {
+                format!("robot {robot} goes round to segment {segment}'s far end, with its flow")
+            }
             PolicyEvent::StationGranted { robot, station } => {
                 format!("station {station} granted to robot {robot}")
             }
@@ -258,6 +261,7 @@ fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
             PolicyEvent::Granted { robot, .. }
             | PolicyEvent::Released { robot, .. }
             | PolicyEvent::Retreat { robot }
+            | PolicyEvent::Detour { robot, .. }
             | PolicyEvent::StationGranted { robot, .. }
             | PolicyEvent::Waiting { robot, .. }
             | PolicyEvent::Queued { robot, .. } => robot,

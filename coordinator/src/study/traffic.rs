@@ -90,6 +90,10 @@ pub struct TrafficRun {
     pub queued: u64,
     /// Times a robot pushed off its route got a new one.
     pub reroutes: u64,
+    /// Robots the policy sent round a blocked segment (0 in runs.csv files older than this
+    /// column).
+    #[serde(default)]
+    pub detours: u64,
     /// Stuck robot-seconds in aisles (`world_sim::stuck`; 0 in runs.csv files older than
     /// this column, as are the next six).
     #[serde(default)]
@@ -142,6 +146,7 @@ impl TrafficRun {
             station_grants: policy.station_grants,
             queued: policy.queued,
             reroutes: report.reroutes,
+            detours: policy.detours,
             stuck_aisle_s: report.stuck_where.aisle_s,
             stuck_cross_aisle_s: report.stuck_where.cross_aisle_s,
             stuck_station_s: report.stuck_where.station_s,
@@ -184,6 +189,8 @@ pub struct Cell {
     pub human_delay_s: f64,
     /// Mean retreats per run.
     pub retreats: f64,
+    /// Mean detours round blocked segments per run.
+    pub detours: f64,
     /// Mean stuck robot-seconds per run by place and company.
     pub stuck_where: StuckBreakdown,
 }
@@ -279,6 +286,7 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                     robot_robot_contacts: m(|r| r.robot_robot_contacts as f64),
                     human_delay_s: m(|r| r.human_delay_s),
                     retreats: m(|r| r.retreats as f64),
+                    detours: m(|r| r.detours as f64),
                     stuck_where: StuckBreakdown {
                         aisle_s: m(|r| r.stuck_aisle_s),
                         cross_aisle_s: m(|r| r.stuck_cross_aisle_s),
@@ -298,12 +306,12 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
 /// The summary as a Markdown table.
 pub fn table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | robot-caused contacts | robot–robot contacts | people's delay (person-s) | retreats |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | robot-caused contacts | robot–robot contacts | people's delay (person-s) | retreats | detours |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} |\n",
+            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} | {:.1} |\n",
             row_head(c),
             c.runs,
             c.runs_with_deadlock,
@@ -316,6 +324,7 @@ pub fn table(cells: &[Cell]) -> String {
             c.robot_robot_contacts,
             c.human_delay_s,
             c.retreats,
+            c.detours,
         ));
     }
     out

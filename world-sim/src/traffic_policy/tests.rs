@@ -545,3 +545,131 @@ fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
     let when = first_retreat.expect("a retreat");
     assert!((when - 4.1).abs() < 0.15, "{when}");
 }
+
+/// One policy step after the monitor has seen `robots` (each with a task whose route left is
+/// `remaining[i]` m, standing still).
+fn step_watched(
+    policy: &mut TrafficPolicy,
+    monitor: &mut TrafficMonitor,
+    map: &StaticMap,
+    now: Real,
+    robots: &[PolicyRobot<'_>],
+    remaining: &[Real],
+) -> Vec<PolicyEvent> {
+    use crate::traffic::{RobotView, TaskView};
+    let views: Vec<RobotView<'_>> = robots
+        .iter()
+        .zip(remaining)
+        .enumerate()
+        .map(|(i, (r, &remaining_m))| RobotView {
+            position: r.position,
+            velocity: vec2(0.0, 0.0),
+            radius: 0.4,
+            task: Some(TaskView {
+                leg: i as u64,
+                waypoint: r.route[0],
+                remaining_m,
+            }),
+            intent: &[],
+        })
+        .collect();
+    monitor.record(now, 0.1, &views, map, &policy.wait_edges());
+    policy.step(now, robots, monitor)
+}
+
+/// A robot waiting at one end of a segment travelled the other way by a robot that makes no
+/// progress (stuck) goes round to the far end after [`PolicyParams::detour_after_s`],
+/// entering with the flow; not before, and once per leg. It waits instead while the robot
+/// inside makes progress (the segment is busy, not blocked), or while the segment is
+/// travelled its own way.
+#[test]
+fn a_robot_waiting_long_at_a_blocked_segment_goes_round_to_the_far_end() {
+    let (site, radius) = narrow();
+    let map = site.map();
+    let params = PolicyParams::default();
+    let (s, pick) = TrafficPolicy::new(&site, 2, radius, params)
+        .segments()
+        .iter()
+        .find_map(|s| {
+            let st = site.stations.iter().find(|st| s.contains(st.position))?;
+            Some((*s, *st))
+        })
+        .expect("a pick inside a segment");
+    let (east_x, west_x) = (site.cross_aisle(s.ends.1).0, site.cross_aisle(s.ends.0).0);
+    let through = [vec2(east_x, s.y)];
+    let in_from_east = [vec2(east_x, s.y), pick.position];
+    let robots = [
+        // Inside, travelling east.
+        PolicyRobot {
+            position: vec2(s.x1 - 0.5, s.y),
+            route: &through,
+            station: None,
+        },
+        // In the east cross-aisle, below the mouth, bound for the pick: west, against it.
+        PolicyRobot {
+            position: vec2(east_x, s.y - 2.0),
+            route: &in_from_east,
+            station: Some(pick.id),
+        },
+    ];
+    // Robot 0 makes progress (its route left shrinks 0.1 m a step), or none.
+    for moving in [false, true] {
+        let mut policy = TrafficPolicy::new(&site, 2, radius, params);
+        let mut monitor = TrafficMonitor::new(2, TrafficParams::default());
+        let mut detours = Vec::new();
+        for k in 1..=200 {
+            let now = Real::from(k) * 0.1;
+            let left = if moving { 100.0 - now } else { 100.0 };
+            let events = step_watched(&mut policy, &mut monitor, &map, now, &robots, &[left, 20.0]);
+            for e in events {
+                if let PolicyEvent::Detour { robot, segment } = e {
+                    let round = policy.detour(robot).expect("the new route").to_vec();
+                    detours.push((now, robot, segment, round));
+                }
+            }
+        }
+        if moving {
+            assert!(detours.is_empty(), "{detours:?}");
+            assert!(matches!(policy.constraint(1), Constraint::Hold { .. }));
+            continue;
+        }
+        assert_eq!(detours.len(), 1, "{detours:?}");
+        let (when, robot, segment, round) = &detours[0];
+        assert_eq!((*robot, *segment), (1, s.id));
+        assert!((when - 0.1 - params.detour_after_s).abs() < 0.05, "{when}");
+        // In through the west end, eastward, to the pick.
+        let n = round.len();
+        assert_eq!(round[n - 1], pick.position);
+        assert_eq!(round[n - 2], vec2(west_x, s.y));
+        assert_eq!(policy.totals().detours, 1);
+    }
+    // Travelled its way, by a robot that does not come out either, while a robot waits at
+    // the other end to go the other way: robot 1 waits as long, and is not sent round.
+    let mut policy = TrafficPolicy::new(&site, 3, radius, params);
+    let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+    let west_route = [pick.position];
+    let east_route = [vec2(east_x, s.y)];
+    let robots = [
+        PolicyRobot {
+            position: vec2(s.x1 - 0.5, s.y),
+            route: &west_route,
+            station: None,
+        },
+        robots[1],
+        PolicyRobot {
+            position: vec2(west_x, s.y - 2.0),
+            route: &[vec2(west_x, s.y), east_route[0]],
+            station: None,
+        },
+    ];
+    for k in 1..=200 {
+        let now = Real::from(k) * 0.1;
+        let left = [100.0, 20.0, 20.0];
+        let events = step_watched(&mut policy, &mut monitor, &map, now, &robots, &left);
+        assert!(!events.contains(&PolicyEvent::Detour {
+            robot: 1,
+            segment: s.id
+        }));
+    }
+    assert!(matches!(policy.constraint(1), Constraint::Hold { .. }));
+}
