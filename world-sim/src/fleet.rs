@@ -569,7 +569,7 @@ impl Fleet {
         self.traffic_events =
             self.traffic
                 .record(now, self.world.dt, &views, &self.world.map, &holds);
-        if self.traffic.totals().max_stuck == 0 {
+        if !(0..self.robots()).any(|i| self.traffic.is_stuck(i)) {
             return;
         }
         let robots: Vec<Vec2> = self.world.robots.iter().map(|r| r.state.position).collect();

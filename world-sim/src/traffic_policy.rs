@@ -318,7 +318,9 @@ pub struct PolicyTotals {
     pub station_grants: u64,
     /// Times a robot began to wait in line for a station.
     pub queued: u64,
-    /// Times a robot inside a segment against its flow was turned round.
+    /// Robot-steps in which a robot inside a segment against its flow, with the flow coming
+    /// at it, was turned round (given a route out by the flow's exit; a robot counts again
+    /// every step until it no longer meets the flow).
     pub turns: u64,
     /// Robots sent round to a segment's far end, to enter with its flow.
     pub detours: u64,
