@@ -15,6 +15,7 @@ use coordinator::study::runs::parse_runs_csv;
 use coordinator::study::traffic::{self as traffic_study, TrafficStudy};
 use coordinator::study::{with_progress, write_json};
 use std::path::PathBuf;
+use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 use world_sim::dataset::Recording;
 use world_sim::replay::{ReplayOptions, RunKind, map_of, median_speed};
@@ -670,12 +671,49 @@ fn traffic(args: TrafficArgs) -> Result<()> {
         }
         None => Vec::new(),
     };
+    // Each run is saved as it ends, so an interrupted study loses nothing finished.
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let partial_path = args.out.join("runs.partial.csv");
+    let partial = Mutex::new(
+        csv::Writer::from_path(&partial_path)
+            .with_context(|| format!("creating {}", partial_path.display()))?,
+    );
+    let save_error: Mutex<Option<String>> = Mutex::new(None);
+    eprintln!(
+        "saving runs to {} as they end; if interrupted, go on with `--reuse {} --reuse-policy off,on`",
+        partial_path.display(),
+        partial_path.display()
+    );
     let started = Instant::now();
     let (runs, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
-        study.execute_reusing(&earlier, progress)
+        study.execute_reusing(&earlier, &|run| {
+            progress();
+            let mut writer = partial.lock().unwrap_or_else(PoisonError::into_inner);
+            let saved = writer
+                .serialize(run)
+                .map_err(|e| e.to_string())
+                .and_then(|()| writer.flush().map_err(|e| e.to_string()));
+            if let Err(e) = saved {
+                let mut first = save_error.lock().unwrap_or_else(PoisonError::into_inner);
+                first.get_or_insert(e);
+            }
+        })
     })?;
     let runs = runs?;
+    if let Some(e) = save_error
+        .into_inner()
+        .unwrap_or_else(PoisonError::into_inner)
+    {
+        eprintln!(
+            "warning: saving runs to {} failed: {e}",
+            partial_path.display()
+        );
+    }
     let cells = traffic_study::write_outputs(&args.out, &study, &runs)?;
+    drop(partial);
+    std::fs::remove_file(&partial_path)
+        .with_context(|| format!("removing {}", partial_path.display()))?;
     eprintln!(
         "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, summary.md and throughput.png",
         runs.len(),

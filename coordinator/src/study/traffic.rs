@@ -211,17 +211,18 @@ impl TrafficStudy {
 
     /// Runs everything on the current rayon pool; `progress` is called after each run.
     pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Result<Vec<TrafficRun>, NotAWarehouse> {
-        self.execute_reusing(&[], progress)
+        self.execute_reusing(&[], &|_| progress())
     }
 
     /// Like [`TrafficStudy::execute`], but a run found in `earlier` (same site, fleet size,
     /// seed and policy setting) is taken from there instead of run again: for settings whose
     /// code has not changed since (the runs are deterministic, so they would come out the
-    /// same bits). Ignores the other rows of `earlier`.
+    /// same bits). Ignores the other rows of `earlier`. `finished` gets each run as it ends
+    /// (reused ones too), e.g. to save it at once.
     pub fn execute_reusing(
         &self,
         earlier: &[TrafficRun],
-        progress: &(dyn Fn() + Sync),
+        finished: &(dyn Fn(&TrafficRun) + Sync),
     ) -> Result<Vec<TrafficRun>, NotAWarehouse> {
         self.runs()
             .par_iter()
@@ -232,7 +233,7 @@ impl TrafficStudy {
                         == (site.scenario.name.as_str(), robots, seed, policy)
                 });
                 if let Some(run) = found {
-                    progress();
+                    finished(run);
                     return Ok(run.clone());
                 }
                 let mut scenario = site.scenario.clone();
@@ -244,8 +245,9 @@ impl TrafficStudy {
                     human_impact_window_s: Some(IMPACT_WINDOW_S),
                 };
                 let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
-                progress();
-                Ok(TrafficRun::new(&scenario.name, seed, &report))
+                let run = TrafficRun::new(&scenario.name, seed, &report);
+                finished(&run);
+                Ok(run)
             })
             .collect()
     }
@@ -478,7 +480,7 @@ mod tests {
         let mut earlier = runs[0].clone();
         earlier.tasks = 999;
         let again = study
-            .execute_reusing(std::slice::from_ref(&earlier), &|| {})
+            .execute_reusing(std::slice::from_ref(&earlier), &|_| {})
             .expect("fleet sites");
         assert_eq!(again[0], earlier);
         assert_eq!(again[1..], runs[1..]);
