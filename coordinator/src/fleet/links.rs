@@ -142,37 +142,63 @@ pub(super) fn take_commands(
     status: &mut Status,
     round_trips: &mut RoundTrips,
 ) {
-    let n = links.len();
     while let Ok((arrived, sample)) = cmd_rx.try_recv() {
         let key_id = keys.parse_robot(sample.key_expr().as_str()).map(|k| k.0);
-        match decode::<CommandMsg>(&sample.payload().to_bytes()) {
-            Ok(cmd) if Some(cmd.robot_id) == key_id && (cmd.robot_id as usize) < n => {
-                let link = &mut links[cmd.robot_id as usize];
-                status.commands += 1;
-                if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
-                    && !entry.2
-                    && !cmd.safe_stop
-                {
-                    entry.2 = true;
-                    status.answered += 1;
-                    round_trips.record(RoundTrip {
-                        robot: cmd.robot_id,
-                        published: entry.1,
-                        arrived,
-                    });
-                }
-                if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
-                    link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
-                    status.safety.resize(n, SafetyZone::Clear);
-                    status.safety[cmd.robot_id as usize] = cmd.safety;
-                }
-            }
-            Ok(_) => status.rejected += 1,
-            Err(e) => {
-                status.rejected += 1;
-                tracing::debug!("bad command: {e}");
-            }
+        let bytes = sample.payload().to_bytes();
+        take_command(key_id, &bytes, arrived, links, status, round_trips);
+    }
+}
+
+/// One command, `bytes`, that arrived on robot `key_id`'s key. Rejected (and counted) when it
+/// does not decode, names another robot or one that is not here, or answers an observation
+/// not yet sent (a forged future sequence number would otherwise lock out the agent's real
+/// commands, which answer older ones).
+fn take_command(
+    key_id: Option<u32>,
+    bytes: &[u8],
+    arrived: Instant,
+    links: &mut [Link],
+    status: &mut Status,
+    round_trips: &mut RoundTrips,
+) {
+    let n = links.len();
+    let cmd = match decode::<CommandMsg>(bytes) {
+        Ok(cmd) => cmd,
+        Err(e) => {
+            status.rejected += 1;
+            tracing::debug!("bad command: {e}");
+            return;
         }
+    };
+    let link = match links.get_mut(cmd.robot_id as usize) {
+        Some(link) if Some(cmd.robot_id) == key_id && cmd.obs_seq < link.next_seq => link,
+        _ => {
+            status.rejected += 1;
+            tracing::debug!(
+                robot = cmd.robot_id,
+                obs_seq = cmd.obs_seq,
+                "command rejected: wrong key ({key_id:?}), no such robot ({n} here), or an observation not yet sent"
+            );
+            return;
+        }
+    };
+    status.commands += 1;
+    if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
+        && !entry.2
+        && !cmd.safe_stop
+    {
+        entry.2 = true;
+        status.answered += 1;
+        round_trips.record(RoundTrip {
+            robot: cmd.robot_id,
+            published: entry.1,
+            arrived,
+        });
+    }
+    if link.command.is_none_or(|c| cmd.obs_seq >= c.0) {
+        link.command = Some((cmd.obs_seq, wire::command(cmd.motion), cmd.safe_stop));
+        status.safety.resize(n, SafetyZone::Clear);
+        status.safety[cmd.robot_id as usize] = cmd.safety;
     }
 }
 
@@ -187,4 +213,52 @@ pub(super) fn refresh(status: &mut Status, links: &[Link], round_trips_us: &[u32
         percentile(&mut sorted, 0.5) / 1000.0,
         percentile(&mut sorted, 0.99) / 1000.0,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use schemas::{Motion, P2, encode};
+
+    fn command(robot_id: u32, obs_seq: u64, vx: f64) -> Vec<u8> {
+        encode(&CommandMsg {
+            robot_id,
+            obs_seq,
+            stamp: 0.0,
+            motion: Motion::Velocity(P2(vx, 0.0)),
+            safe_stop: false,
+            safety: SafetyZone::Clear,
+        })
+    }
+
+    /// A command answering an observation not yet sent (a forged far-future sequence
+    /// number, u64::MAX included) is rejected and counted, and the agent's real commands
+    /// still get through; so are commands on another robot's key or for a robot not here.
+    #[test]
+    fn a_command_for_an_observation_not_yet_sent_is_rejected() {
+        let mut links = vec![Link::default(); 2];
+        let mut status = Status::default();
+        let mut trips = RoundTrips::new(None);
+        for seq in 0..3 {
+            links[0].sent(seq);
+        }
+        let now = Instant::now();
+        let mut take = |key: Option<u32>, bytes: &[u8], links: &mut [Link], status: &mut Status| {
+            take_command(key, bytes, now, links, status, &mut trips);
+        };
+        take(Some(0), &command(0, 3, 9.0), &mut links, &mut status);
+        take(Some(0), &command(0, u64::MAX, 9.0), &mut links, &mut status);
+        assert_eq!((status.rejected, status.commands), (2, 0));
+        assert!(links[0].command.is_none());
+        take(Some(0), &command(0, 2, 0.5), &mut links, &mut status);
+        assert_eq!((status.commands, status.answered), (1, 1));
+        let fresh = links[0].fresh_command(5).expect("the real command");
+        assert_eq!(fresh, wire::command(Motion::Velocity(P2(0.5, 0.0))));
+        // Another robot's key, a robot not here, bytes that do not decode.
+        take(Some(1), &command(0, 1, 9.0), &mut links, &mut status);
+        take(Some(7), &command(7, 0, 9.0), &mut links, &mut status);
+        take(Some(0), b"\x93garbage", &mut links, &mut status);
+        assert_eq!(status.rejected, 5);
+        assert_eq!(links[0].fresh_command(5), Some(fresh));
+    }
 }
