@@ -16,6 +16,7 @@ const page = await browser.newPage({ viewport: { width: 1600, height: 900 } });
 page.on("console", (m) => { if (m.type() === "error") console.error("page:", m.text()); });
 await page.goto(url);
 await page.waitForTimeout(Number(waitMs));
-await page.screenshot({ path: out });
+// Software WebGL on a busy 2-core machine can take a while to hand over a frame.
+await page.screenshot({ path: out, timeout: 180000 });
 await browser.close();
 console.log(`saved ${out}`);

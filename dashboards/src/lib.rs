@@ -6,21 +6,30 @@
 //! them into Rerun archetypes. When the sinks cannot keep up, frames are dropped and counted:
 //! the simulation never waits for drawing.
 //!
-//! Entities (timelines `tick` and `sim_time`):
+//! Entities (timelines `tick` and `sim_time`), drawn y up as in the world frame (a static
+//! y-flip on `map` and `world`: Rerun's 2D views put y down):
 //! - `map/shelves`, `map/walls`, `map/stations` (static)
-//! - `world/humans` (points coloured by group), `world/robots` (points labelled "id planner"),
+//! - `map/heat/window/<kind>` and `map/heat/run/<kind>` (heatmaps under the map, once per
+//!   simulated second: where robots came within 1 m of people, contacts, stuck robots; see
+//!   [`heat`])
+//! - `world/humans` (points coloured by group), `world/robots` (points labelled with the id),
 //!   `world/robots/heading` (arrows), `world/intents` (planned paths), `world/subgoals`,
 //!   `world/fan/<robot>` (PGP candidates coloured by survival, when the planner shares them),
-//!   `world/events` (markers)
+//!   `world/events` (markers for the last [`EVENT_FADE_S`], fading)
 //! - `world/traffic/segments` (one-way aisle segments: grey free, green reserved along +x,
 //!   violet along −x, labelled with holders and waiting robots), `world/traffic/directions`
 //!   (arrows), `world/traffic/waits` (who waits on whom: amber, red in a cycle),
 //!   `world/traffic/stuck` (rings round stuck robots), `world/traffic/goals` (where robots are
 //!   told to hold, queue or retreat), when the fleet runs a traffic policy or monitor
-//! - `events` (text log)
-//! - `metrics/<name>/fleet` and `metrics/<name>/robot/<id>` (scalars), so that one plot per
-//!   metric holds the fleet's series and every robot's (`/metrics/<name>/**`)
+//! - `events` (text log), `fleet/robots` (the robot table, Markdown, see [`table`])
+//! - `metrics/<name>/fleet` and `metrics/<name>/robot/<id>` (scalars): the KPI plots show the
+//!   fleet's series; the per-robot ones are in the "per robot" tab
 
+pub mod heat;
+pub mod table;
+
+use heat::{Heat, HeatParams};
+use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -176,6 +185,76 @@ pub struct TrafficView {
     pub goals: Vec<(u32, P, TrafficGoal)>,
 }
 
+/// What a heatmap marks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HeatKind {
+    /// A robot within 1 m of a person (weight: seconds).
+    NearPeople = 0,
+    /// A contact between a robot and a person began (weight: 1).
+    Contact = 1,
+    /// A robot stood stuck (weight: seconds).
+    Stuck = 2,
+}
+
+impl HeatKind {
+    /// Every kind, in index order.
+    pub const ALL: [HeatKind; 3] = [HeatKind::NearPeople, HeatKind::Contact, HeatKind::Stuck];
+
+    /// The entity name.
+    pub fn name(self) -> &'static str {
+        match self {
+            HeatKind::NearPeople => "near_people",
+            HeatKind::Contact => "contacts",
+            HeatKind::Stuck => "stuck",
+        }
+    }
+
+    fn colour(self) -> [u8; 3] {
+        match self {
+            HeatKind::NearPeople => [240, 150, 0],
+            HeatKind::Contact => [220, 20, 20],
+            HeatKind::Stuck => [140, 40, 200],
+        }
+    }
+}
+
+/// One heatmap event: something of `kind` at `at`, weighing `weight`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeatEvent {
+    /// What.
+    pub kind: HeatKind,
+    /// Where (world frame, m).
+    pub at: P,
+    /// How much (seconds for durations, 1 for onsets).
+    pub weight: f32,
+}
+
+/// One robot's row in the robot table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotRow {
+    /// Robot id.
+    pub id: u32,
+    /// Planner stack.
+    pub planner: String,
+    /// "idle", "to pick", "to drop", "held", "crashed", "left", "stuck", ...
+    pub state: String,
+    /// Crashed, gone, stuck, or touched a person: listed first, in bold.
+    pub trouble: bool,
+    /// Tasks done.
+    pub tasks_done: u64,
+    /// Contacts with people so far (robot- and person-caused onsets).
+    pub contacts: u64,
+    /// Social space violation rate so far.
+    pub svr: f64,
+    /// Distance to the nearest person now, centre to centre (m), if anyone is in range.
+    pub closest_person_m: Option<f32>,
+    /// Its share of the delay robots caused people in the latest window, if measured.
+    pub delay_share: Option<f32>,
+}
+
+/// Event markers stay on the map this long (s), fading out.
+pub const EVENT_FADE_S: f64 = 10.0;
+
 /// One frame of the world.
 #[derive(Debug, Clone, Default)]
 pub struct Frame {
@@ -205,6 +284,10 @@ pub struct Frame {
     pub fleet_metrics: Vec<(&'static str, f64)>,
     /// Per-robot series: robot → (name → value).
     pub robot_metrics: Vec<(u32, Vec<(&'static str, f64)>)>,
+    /// The robot table's rows (empty: no table this frame).
+    pub robot_rows: Vec<RobotRow>,
+    /// Heatmap events since the last frame.
+    pub heat: Vec<HeatEvent>,
 }
 
 /// Why the dashboard could not start.
@@ -304,6 +387,7 @@ impl Dashboard {
             )
             .map_err(rerr)?;
         log_map(&rec, &map).map_err(rerr)?;
+        let mut painter = Painter::new(&map, HeatParams::default());
 
         let (tx, rx) = sync_channel::<Frame>(QUEUE_FRAMES);
         let dropped = Arc::new(AtomicU64::new(0));
@@ -313,7 +397,7 @@ impl Dashboard {
             .name("dashboard".to_owned())
             .spawn(move || {
                 let _web = web_server;
-                run(&rec, &rx, &dropped_in, &logged_in);
+                painter.run(&rec, &rx, &dropped_in, &logged_in);
                 if let Err(e) = rec.flush_blocking() {
                     tracing::warn!("dashboard flush: {e}");
                 }
@@ -378,65 +462,116 @@ fn free_port() -> std::io::Result<u16> {
         .port())
 }
 
-/// The layout: the map on the left; metric plots and the event log on the right.
+/// The layout. Left: the floor (tabs: the last minute's heatmaps, the whole run's, PGP fans)
+/// over the robot table. Right: the fleet KPIs, one plot each with the fleet's series only,
+/// over tabs for the event log, per-robot plots and the other fleet plots.
 fn blueprint() -> rerun::blueprint::Blueprint {
     use rerun::blueprint::{
-        Blueprint, Horizontal, Spatial2DView, TextLogView, TimeSeriesView, Vertical,
+        Blueprint, Grid, Horizontal, Spatial2DView, Tabs, TextDocumentView, TextLogView,
+        TimeSeriesView, Vertical,
     };
-    let plot = |name: &str, metric: &str| {
-        TimeSeriesView::new(name).with_contents([format!("/metrics/{metric}/**")])
+    let fleet_plot = |name: &str, metrics: &[&str]| {
+        TimeSeriesView::new(name)
+            .with_contents(metrics.iter().map(|m| format!("/metrics/{m}/fleet")))
+            .into()
     };
+    let robot_plot = |name: &str, metric: &str| {
+        TimeSeriesView::new(name)
+            .with_contents([format!("/metrics/{metric}/robot/**")])
+            .into()
+    };
+    let floor = |name: &str, contents: &[&str]| {
+        Spatial2DView::new(name)
+            .with_contents(contents.iter().map(|c| (*c).to_owned()))
+            .into()
+    };
+    let heat_kinds = |span: &str| {
+        HeatKind::ALL
+            .iter()
+            .map(move |k| format!("/map/heat/{span}/{}", k.name()))
+            .collect::<Vec<_>>()
+    };
+    let mut last_minute = vec!["/map/**", "/world/**", "-/map/heat/**", "-/world/fan/**"]
+        .into_iter()
+        .map(str::to_owned)
+        .collect::<Vec<_>>();
+    last_minute.extend(heat_kinds("window"));
+    let mut whole_run = vec!["/map/**", "/world/**", "-/map/heat/**", "-/world/fan/**"]
+        .into_iter()
+        .map(str::to_owned)
+        .collect::<Vec<_>>();
+    whole_run.extend(heat_kinds("run"));
+    let floor_tabs = Tabs::new([
+        Spatial2DView::new("floor: heat of the last minute")
+            .with_contents(last_minute)
+            .into(),
+        Spatial2DView::new("floor: heat of the whole run")
+            .with_contents(whole_run)
+            .into(),
+        floor(
+            "floor: PGP fans",
+            &["/map/**", "/world/**", "-/map/heat/**"],
+        ),
+    ]);
+    let kpis = Grid::new([
+        fleet_plot("tasks / min", &["tasks_per_minute"]),
+        fleet_plot(
+            "contacts with people: robot-caused, person-caused",
+            &["robot_caused_contacts", "person_caused_contacts"],
+        ),
+        fleet_plot("space violations (SVR)", &["svr"]),
+        fleet_plot(
+            "people's delay (person-s / min)",
+            &["human_delay_s_per_min"],
+        ),
+        fleet_plot("stuck robots", &["stuck_robots"]),
+        fleet_plot("live agents", &["live_agents"]),
+    ]);
+    let per_robot = Grid::new([
+        robot_plot("SVR per robot", "svr"),
+        robot_plot("min human distance per robot (m)", "min_human_distance"),
+        robot_plot("people's delay per robot", "human_delay_s_per_min"),
+        robot_plot("social force per robot", "social_force"),
+    ])
+    .with_name("per robot");
+    let more = Grid::new([
+        fleet_plot("collision rate", &["collision_rate"]),
+        fleet_plot("min human distance (m)", &["min_human_distance"]),
+        fleet_plot("social force", &["social_force"]),
+        fleet_plot(
+            "traffic: deadlocks, waiting robots",
+            &["deadlocks", "waiting_robots"],
+        ),
+        fleet_plot(
+            "protective stops, extra path (m / min)",
+            &["protective_robots", "human_extra_path_m_per_min"],
+        ),
+        fleet_plot(
+            "planner p99 (µs), stale commands, dropped frames",
+            &["planner_p99_us", "stale_commands", "dropped_frames"],
+        ),
+    ])
+    .with_name("more fleet plots");
     Blueprint::new(
         Horizontal::new([
-            Spatial2DView::new("warehouse")
-                .with_contents(["/map/**", "/world/**"])
-                .into(),
             Vertical::new([
-                Horizontal::new([
-                    plot("space violations (SVR)", "svr").into(),
-                    plot("collision rate", "collision_rate").into(),
-                ])
-                .into(),
-                Horizontal::new([
-                    plot("min human distance (m)", "min_human_distance").into(),
-                    plot("social force", "social_force").into(),
-                    TimeSeriesView::new("contacts with people: robot-caused, person-caused")
-                        .with_contents([
-                            "/metrics/robot_caused_contacts/**",
-                            "/metrics/person_caused_contacts/**",
-                            "/metrics/protective_robots/**",
-                        ])
-                        .into(),
-                    TimeSeriesView::new("delay / extra path robots cause people (per min)")
-                        .with_contents([
-                            "/metrics/human_delay_s_per_min/**",
-                            "/metrics/human_extra_path_m_per_min/**",
-                        ])
-                        .into(),
-                ])
-                .into(),
-                Horizontal::new([
-                    TimeSeriesView::new("tasks / min, live agents")
-                        .with_contents(["/metrics/tasks_per_minute/**", "/metrics/live_agents/**"])
-                        .into(),
-                    TimeSeriesView::new("traffic: stuck robots, deadlocks, waiting")
-                        .with_contents([
-                            "/metrics/stuck_robots/**",
-                            "/metrics/deadlocks/**",
-                            "/metrics/waiting_robots/**",
-                        ])
-                        .into(),
-                    TimeSeriesView::new("planner p99 (µs), dropped frames")
-                        .with_contents([
-                            "/metrics/planner_p99_us/**",
-                            "/metrics/dropped_frames/**",
-                            "/metrics/stale_commands/**",
-                        ])
-                        .into(),
-                ])
-                .into(),
-                TextLogView::new("events").with_contents(["/events"]).into(),
+                floor_tabs.into(),
+                TextDocumentView::new("robots")
+                    .with_contents(["/fleet/robots"])
+                    .into(),
             ])
+            .with_row_shares([0.62, 0.38])
+            .into(),
+            Vertical::new([
+                kpis.into(),
+                Tabs::new([
+                    TextLogView::new("events").with_contents(["/events"]).into(),
+                    per_robot.into(),
+                    more.into(),
+                ])
+                .into(),
+            ])
+            .with_row_shares([0.6, 0.4])
             .into(),
         ])
         .with_column_shares([0.55, 0.45]),
@@ -444,6 +579,10 @@ fn blueprint() -> rerun::blueprint::Blueprint {
 }
 
 fn log_map(rec: &rerun::RecordingStream, map: &MapFrame) -> rerun::RecordingStreamResult<()> {
+    // y up, as in the world frame: Rerun's 2D views put y down.
+    for root in ["map", "world"] {
+        rec.log_static(root, &rerun::Transform3D::from_scale([1.0, -1.0, 1.0]))?;
+    }
     let shelves: Vec<Vec<P>> = map
         .shelves
         .iter()
@@ -493,17 +632,133 @@ fn survival_colour(p: f32) -> rerun::Color {
     rerun::Color::from_rgb((255.0 * (1.0 - p)) as u8, (200.0 * p) as u8, 40)
 }
 
-fn run(
-    rec: &rerun::RecordingStream,
-    rx: &Receiver<Frame>,
-    dropped: &AtomicU64,
-    logged: &AtomicU64,
-) {
-    while let Ok(frame) = rx.recv() {
-        if let Err(e) = log_frame(rec, &frame, dropped.load(Ordering::Relaxed)) {
-            tracing::warn!("dashboard: {e}");
+/// An event marker on the map: when, where, label, bad news.
+type Mark = (f64, P, String, bool);
+
+/// The logging thread's state across frames: the heatmaps and the markers still fading.
+#[derive(Debug)]
+struct Painter {
+    heat: Heat,
+    marks: VecDeque<Mark>,
+    /// The simulated second the heatmaps and the table were last drawn in.
+    drawn_second: Option<i64>,
+}
+
+impl Painter {
+    fn new(map: &MapFrame, params: HeatParams) -> Self {
+        Self {
+            heat: Heat::new(map, params),
+            marks: VecDeque::new(),
+            drawn_second: None,
         }
-        logged.fetch_add(1, Ordering::Relaxed);
+    }
+
+    fn run(
+        &mut self,
+        rec: &rerun::RecordingStream,
+        rx: &Receiver<Frame>,
+        dropped: &AtomicU64,
+        logged: &AtomicU64,
+    ) {
+        while let Ok(frame) = rx.recv() {
+            if let Err(e) = self.log(rec, &frame, dropped.load(Ordering::Relaxed)) {
+                tracing::warn!("dashboard: {e}");
+            }
+            logged.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    fn log(
+        &mut self,
+        rec: &rerun::RecordingStream,
+        f: &Frame,
+        dropped: u64,
+    ) -> rerun::RecordingStreamResult<()> {
+        log_frame(rec, f, dropped)?;
+        self.heat.add(f.sim_time, &f.heat);
+        self.log_marks(rec, f)?;
+        // Heatmaps and the table once per simulated second (and on the first frame).
+        let second = f.sim_time.floor() as i64;
+        if self.drawn_second != Some(second) {
+            self.drawn_second = Some(second);
+            self.log_heat(rec)?;
+            if !f.robot_rows.is_empty() {
+                rec.log(
+                    "fleet/robots",
+                    &rerun::TextDocument::new(table::markdown(&f.robot_rows))
+                        .with_media_type(rerun::MediaType::markdown()),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Markers for the events of the last [`EVENT_FADE_S`], more transparent the older.
+    fn log_marks(
+        &mut self,
+        rec: &rerun::RecordingStream,
+        f: &Frame,
+    ) -> rerun::RecordingStreamResult<()> {
+        let fresh = f.events.iter().filter_map(|e| {
+            // The label: the text up to its first colon ("robot 3 stuck: no progress ...").
+            let label = e.text.split(':').next().unwrap_or_default().to_owned();
+            Some((f.sim_time, e.position?, label, e.warning))
+        });
+        let before = self.marks.len();
+        self.marks.extend(fresh);
+        let mut changed = self.marks.len() != before;
+        while self
+            .marks
+            .front()
+            .is_some_and(|m| f.sim_time - m.0 >= EVENT_FADE_S)
+        {
+            self.marks.pop_front();
+            changed = true;
+        }
+        // Redrawn every tenth of the fade while any are up (not every tick), and when one
+        // comes or goes.
+        let tick_fade = f.tick.is_multiple_of(10) && !self.marks.is_empty();
+        if !changed && !tick_fade {
+            return Ok(());
+        }
+        let alpha = |m: &Mark| {
+            let left = 1.0 - (f.sim_time - m.0) / EVENT_FADE_S;
+            (40.0 + 215.0 * left.clamp(0.0, 1.0)) as u8
+        };
+        rec.log(
+            "world/events",
+            &rerun::Points2D::new(self.marks.iter().map(|m| m.1))
+                .with_radii([0.35])
+                .with_labels(self.marks.iter().map(|m| m.2.clone()))
+                .with_colors(self.marks.iter().map(|m| {
+                    let (r, g, b) = if m.3 { (255, 40, 40) } else { (40, 200, 40) };
+                    rerun::Color::from_unmultiplied_rgba(r, g, b, alpha(m))
+                })),
+        )
+    }
+
+    /// Every heatmap as an image under the map, in the map's frame.
+    fn log_heat(&self, rec: &rerun::RecordingStream) -> rerun::RecordingStreamResult<()> {
+        let grid = self.heat.grid;
+        for kind in HeatKind::ALL {
+            let layer = &self.heat.layers[kind as usize];
+            for (span, values) in [("window", &layer.window), ("run", &layer.run)] {
+                let path = format!("map/heat/{span}/{}", kind.name());
+                rec.log(
+                    path.as_str(),
+                    &rerun::Transform3D::from_translation_scale(
+                        [grid.origin[0], grid.origin[1], 0.0],
+                        rerun::Scale3D::uniform(grid.cell_m),
+                    ),
+                )?;
+                rec.log(
+                    path.as_str(),
+                    &rerun::Image::from_rgba32(self.heat.image(values, kind.colour()), grid.size)
+                        .with_draw_order(-20.0),
+                )?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -670,7 +925,7 @@ fn log_frame(
         "world/robots",
         &rerun::Points2D::new(f.robots.iter().map(|r| r.position))
             .with_radii(f.robots.iter().map(|r| r.radius))
-            .with_labels(f.robots.iter().map(|r| format!("{} {}", r.id, r.planner)))
+            .with_labels(f.robots.iter().map(|r| r.id.to_string()))
             .with_colors(f.robots.iter().map(|r| {
                 if r.alive {
                     rerun::Color::from_rgb(30, 30, 220)
@@ -718,22 +973,6 @@ fn log_frame(
             rec.log(
                 "events",
                 &rerun::TextLog::new(e.text.clone()).with_level(level),
-            )?;
-        }
-        let placed: Vec<&EventView> = f.events.iter().filter(|e| e.position.is_some()).collect();
-        if !placed.is_empty() {
-            rec.log(
-                "world/events",
-                &rerun::Points2D::new(placed.iter().filter_map(|e| e.position))
-                    .with_radii([0.35])
-                    .with_labels(placed.iter().map(|e| e.text.clone()))
-                    .with_colors(placed.iter().map(|e| {
-                        if e.warning {
-                            rerun::Color::from_rgb(255, 40, 40)
-                        } else {
-                            rerun::Color::from_rgb(40, 200, 40)
-                        }
-                    })),
             )?;
         }
     }

@@ -100,12 +100,33 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/metrics/robot_caused_contacts/fleet",
         "/metrics/person_caused_contacts/fleet",
         "/metrics/protective_robots/fleet",
+        "/metrics/stuck_robots/fleet",
+        "/metrics/live_agents/fleet",
+        // The y-flip, the heatmaps under the map, the robot table, fading event markers.
+        "/map",
+        "/map/heat/window/near_people",
+        "/map/heat/window/contacts",
+        "/map/heat/window/stuck",
+        "/map/heat/run/near_people",
+        "/map/heat/run/contacts",
+        "/map/heat/run/stuck",
+        "/fleet/robots",
+        "/world/events",
     ] {
         assert!(
             listing.contains(entity),
             "{entity} missing from the recording"
         );
     }
+    let values = rrd_print("-vvv", &rrd);
+    assert!(
+        values.contains("3 robots, ") && values.contains("| robot | planner | state"),
+        "no robot table in the recording"
+    );
+    assert!(
+        values.contains("Transform3D:scale"),
+        "no y-flip or heatmap placement"
+    );
     for timeline in ["tick", "sim_time"] {
         assert!(listing.contains(timeline), "timeline {timeline} missing");
     }

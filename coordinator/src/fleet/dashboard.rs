@@ -6,12 +6,12 @@
 use super::status::{Event, Observer, Status};
 use agent::safety::{SafetyLimits, SafetyParams, field_reach};
 use dashboards::{
-    Dashboard, EventView, FanView, FieldState, FieldView, Frame, IntentView, MapFrame, P,
-    RobotView, SegmentView, Sinks, TrafficGoal, TrafficView,
+    Dashboard, EventView, FanView, FieldState, FieldView, Frame, HeatEvent, HeatKind, IntentView,
+    MapFrame, P, RobotRow, RobotView, SegmentView, Sinks, TrafficGoal, TrafficView,
 };
 use schemas::SafetyZone;
 use std::collections::HashSet;
-use world_sim::fleet::{Fleet, FleetEvent};
+use world_sim::fleet::{Fleet, FleetEvent, Stage};
 use world_sim::metrics::{ContactCause, NEAR_MISS_GAP, contact_cause};
 use world_sim::traffic::TrafficEvent;
 use world_sim::traffic_policy::{Constraint, PolicyEvent};
@@ -58,7 +58,17 @@ pub struct DashboardObserver {
     seen_events: usize,
     /// The zone of each robot's previous command, for protective stops at their onset.
     zones: Vec<SafetyZone>,
+    /// Per robot: its agent left ("left") or crashed ("crashed"), until it joins again.
+    gone: Vec<Option<&'static str>>,
+    /// Per robot: when (simulated s) it last touched a person.
+    last_contact: Vec<f64>,
 }
+
+/// A robot counts as near people when its body comes this close to a person's (m).
+pub const NEAR_PEOPLE_M: f64 = 1.0;
+
+/// A robot that touched a person stays "in trouble" in the robot table this long (s).
+pub const CONTACT_TROUBLE_S: f64 = 60.0;
 
 /// Dashboards show the delay and extra path robots cause people over windows this long (s);
 /// commands that draw turn the measurement on (`Fleet::measure_human_impact`: one more crowd
@@ -79,6 +89,8 @@ impl DashboardObserver {
             contacts: Contacts::default(),
             seen_events: 0,
             zones: Vec::new(),
+            gone: vec![None; fleet.robots()],
+            last_contact: vec![f64::NEG_INFINITY; fleet.robots()],
         })
     }
 
@@ -92,15 +104,36 @@ impl DashboardObserver {
         self.dashboard.finish()
     }
 
-    fn contact_events(&mut self, fleet: &Fleet, out: &mut Vec<EventView>) {
+    /// Contacts and near misses at their onset, heatmap events (robots near people, contacts),
+    /// and each robot's distance to its nearest person (centre to centre, m).
+    fn contact_events(
+        &mut self,
+        fleet: &Fleet,
+        out: &mut Vec<EventView>,
+        heat: &mut Vec<HeatEvent>,
+    ) -> Vec<Option<f64>> {
         let world = &fleet.world;
         let crowd = &world.humans.crowd;
         let mut now = Contacts::default();
+        let mut nearest = vec![None; world.robots.len()];
         for (i, r) in world.robots.iter().enumerate() {
             let (rp, rr) = (r.state.position, r.state.radius);
+            let mut closest = f64::INFINITY;
             for h in 0..crowd.len() {
-                if (crowd.positions[h] - rp).norm() < rr + world.humans.radius {
+                let d = (crowd.positions[h] - rp).norm();
+                closest = closest.min(d);
+                if d < rr + world.humans.radius {
                     now.human.insert((i, h));
+                }
+            }
+            if closest.is_finite() {
+                nearest[i] = Some(closest);
+                if closest - rr - world.humans.radius < NEAR_PEOPLE_M {
+                    heat.push(HeatEvent {
+                        kind: HeatKind::NearPeople,
+                        at: p(rp),
+                        weight: world.dt as f32,
+                    });
                 }
             }
             for (j, o) in world.robots.iter().enumerate().skip(i + 1) {
@@ -115,6 +148,14 @@ impl DashboardObserver {
         let at = |i: usize| p(world.robots[i].state.position);
         for &(i, h) in now.human.difference(&self.contacts.human) {
             let r = &world.robots[i].state;
+            self.last_contact
+                .resize(world.robots.len(), f64::NEG_INFINITY);
+            self.last_contact[i] = world.time;
+            heat.push(HeatEvent {
+                kind: HeatKind::Contact,
+                at: p((r.position + crowd.positions[h]) / 2.0),
+                weight: 1.0,
+            });
             let text = match contact_cause(r.position, r.velocity, crowd.positions[h]) {
                 ContactCause::Robot => format!("collision: robot {i} drove into person {h}"),
                 ContactCause::Other => {
@@ -142,6 +183,52 @@ impl DashboardObserver {
             });
         }
         self.contacts = now;
+        nearest
+    }
+
+    /// The robot table's rows.
+    fn robot_rows(
+        &self,
+        fleet: &Fleet,
+        nearest: &[Option<f64>],
+        delay_share: impl Fn(usize) -> Option<f64>,
+    ) -> Vec<RobotRow> {
+        let now = fleet.world.time;
+        (0..fleet.robots())
+            .map(|i| {
+                let m = fleet.metrics(i);
+                let gone = self.gone.get(i).copied().flatten();
+                let stuck = fleet.traffic().is_stuck(i);
+                let touched = self
+                    .last_contact
+                    .get(i)
+                    .is_some_and(|&t| now - t < CONTACT_TROUBLE_S);
+                let stage = match fleet.job(i) {
+                    _ if fleet.is_held(i) && gone.is_none() => "held",
+                    None => "idle",
+                    Some(job) if job.stage == Stage::ToPick => "to pick",
+                    Some(_) => "to drop",
+                };
+                let mut state = gone.unwrap_or(stage).to_owned();
+                if stuck {
+                    state = format!("stuck ({state})");
+                }
+                if touched {
+                    state += ", touched a person";
+                }
+                RobotRow {
+                    id: i as u32,
+                    planner: self.planner.clone(),
+                    state,
+                    trouble: gone.is_some() || stuck || touched,
+                    tasks_done: fleet.tasks_done(i),
+                    contacts: m.robot_caused_contacts + m.person_caused_contacts,
+                    svr: m.svr,
+                    closest_person_m: nearest.get(i).copied().flatten().map(|d| d as f32),
+                    delay_share: delay_share(i).map(|s| s as f32),
+                }
+            })
+            .collect()
     }
 }
 
@@ -374,7 +461,19 @@ impl Observer for DashboardObserver {
             })
             .collect();
         let mut events = Vec::new();
+        self.gone.resize(fleet.robots(), None);
         for e in &status.events[self.seen_events..] {
+            let gone = match e {
+                Event::Joined(i) => Some((*i, None)),
+                Event::Left(i) => Some((*i, Some("left"))),
+                Event::Crashed(i) => Some((*i, Some("crashed"))),
+                Event::TaskDone { .. } => None,
+            };
+            if let Some((i, how)) = gone
+                && let Some(slot) = self.gone.get_mut(i as usize)
+            {
+                *slot = how;
+            }
             let (text, robot, warning) = match e {
                 Event::Joined(i) => (format!("agent {i} joined"), *i, false),
                 Event::Left(i) => (format!("agent {i} left"), *i, true),
@@ -394,10 +493,16 @@ impl Observer for DashboardObserver {
             });
         }
         self.seen_events = status.events.len();
-        self.contact_events(fleet, &mut events);
+        let mut heat = Vec::new();
+        let nearest = self.contact_events(fleet, &mut events, &mut heat);
         self.safety_events(fleet, status, &mut events);
         traffic_events(fleet, &mut events);
         let traffic = traffic_view(fleet);
+        heat.extend(traffic.stuck.iter().map(|s| HeatEvent {
+            kind: HeatKind::Stuck,
+            at: s.1,
+            weight: world.dt as f32,
+        }));
 
         let per_robot: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
         let n = per_robot.len().max(1) as f64;
@@ -462,6 +567,10 @@ impl Observer for DashboardObserver {
             fleet_metrics.push(("human_delay_s_per_min", w.delay_per_minute()));
             fleet_metrics.push(("human_extra_path_m_per_min", w.extra_path_per_minute()));
         }
+        let robot_rows = self.robot_rows(fleet, &nearest, |i| {
+            let w = impact?;
+            (w.delay_s > 0.0).then(|| w.robot_delay_s.get(i).copied().unwrap_or(0.0) / w.delay_s)
+        });
         let robot_metrics = per_robot
             .iter()
             .enumerate()
@@ -511,6 +620,8 @@ impl Observer for DashboardObserver {
             traffic: Some(traffic),
             fleet_metrics,
             robot_metrics,
+            robot_rows,
+            heat,
         });
     }
 }
