@@ -1,5 +1,6 @@
 //! Heatmaps over the floor: where robots came within 1 m of people, where contacts happened,
-//! where robots stood stuck, over a sliding window and over the whole run.
+//! where robots stood stuck, where people lost time to robots, over a sliding window and over
+//! the whole run.
 //!
 //! Each frame brings a few [`HeatEvent`]s (a point and a weight); adding one, and taking it
 //! out of the window when it gets old, costs O(1): the cost per tick is O(events), not

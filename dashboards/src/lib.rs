@@ -10,7 +10,8 @@
 //! y-flip on `map` and `world`: Rerun's 2D views put y down):
 //! - `map/shelves`, `map/walls`, `map/stations` (static)
 //! - `map/heat/window/<kind>` and `map/heat/run/<kind>` (heatmaps under the map, once per
-//!   simulated second: where robots came within 1 m of people, contacts, stuck robots; see
+//!   simulated second: where robots came within 1 m of people, contacts, stuck robots, where
+//!   people lost time to robots; see
 //!   [`heat`])
 //! - `world/humans` (points coloured by group), `world/robots` (points labelled with the id),
 //!   `world/robots/heading` (arrows), `world/intents` (planned paths), `world/subgoals`,
@@ -194,11 +195,18 @@ pub enum HeatKind {
     Contact = 1,
     /// A robot stood stuck (weight: seconds).
     Stuck = 2,
+    /// People lost time to robots (weight: person-seconds of delay).
+    PeopleDelay = 3,
 }
 
 impl HeatKind {
     /// Every kind, in index order.
-    pub const ALL: [HeatKind; 3] = [HeatKind::NearPeople, HeatKind::Contact, HeatKind::Stuck];
+    pub const ALL: [HeatKind; 4] = [
+        HeatKind::NearPeople,
+        HeatKind::Contact,
+        HeatKind::Stuck,
+        HeatKind::PeopleDelay,
+    ];
 
     /// The entity name.
     pub fn name(self) -> &'static str {
@@ -206,6 +214,7 @@ impl HeatKind {
             HeatKind::NearPeople => "near_people",
             HeatKind::Contact => "contacts",
             HeatKind::Stuck => "stuck",
+            HeatKind::PeopleDelay => "people_delay",
         }
     }
 
@@ -214,6 +223,7 @@ impl HeatKind {
             HeatKind::NearPeople => [240, 150, 0],
             HeatKind::Contact => [220, 20, 20],
             HeatKind::Stuck => [140, 40, 200],
+            HeatKind::PeopleDelay => [30, 110, 230],
         }
     }
 }

@@ -110,6 +110,7 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/map/heat/run/near_people",
         "/map/heat/run/contacts",
         "/map/heat/run/stuck",
+        "/map/heat/run/people_delay",
         "/fleet/robots",
         "/world/events",
     ] {

@@ -64,6 +64,10 @@ pub struct ImpactWindow {
     pub path_changes: u64,
     /// Those attributed to each robot, by robot index.
     pub robot_path_changes: Vec<u64>,
+    /// Where people lost time to robots: each measured person with a positive delay who came
+    /// within attribution range of a robot, at the mean of where they were while in range,
+    /// with their delay (s). For the dashboards' heatmap.
+    pub delay_at: Vec<(Vec2, Real)>,
 }
 
 impl ImpactWindow {
@@ -100,6 +104,8 @@ pub struct HumanImpact {
     last: Vec<Vec2>,
     /// Per person: (robot, steps it was their nearest robot within range).
     exposure: Vec<Vec<(usize, u32)>>,
+    /// Per person: the sum of their positions while a robot was within range.
+    exposed_at: Vec<Vec2>,
     /// Per person: steps since their velocity last departed from the shadow's (`None`: settled
     /// since the last change, or never departed). Kept across windows.
     departed: Vec<Option<u64>>,
@@ -129,6 +135,7 @@ impl HumanImpact {
             shadow_path: Vec::new(),
             last: Vec::new(),
             exposure: Vec::new(),
+            exposed_at: Vec::new(),
             departed: vec![None; world.humans.crowd.positions.len()],
             settle_steps: ((PATH_CHANGE_SETTLE_S / world.dt).round() as u64).max(1),
             path_changes: 0,
@@ -153,6 +160,7 @@ impl HumanImpact {
         self.shadow_path = vec![0.0; crowd.positions.len()];
         self.last.clone_from(&crowd.positions);
         self.exposure = vec![Vec::new(); crowd.positions.len()];
+        self.exposed_at = vec![Vec2::zeros(); crowd.positions.len()];
         self.departed.resize(crowd.positions.len(), None);
         self.path_changes = 0;
         self.robot_path_changes = vec![0; world.robots.len()];
@@ -179,6 +187,7 @@ impl HumanImpact {
                 .filter(|&(_, d)| d <= ATTRIBUTION_RANGE_M)
                 .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
             if let Some((r, _)) = nearest {
+                self.exposed_at[i] += now;
                 match self.exposure[i].iter_mut().find(|(robot, _)| *robot == r) {
                     Some((_, steps)) => *steps += 1,
                     None => self.exposure[i].push((r, 1)),
@@ -248,6 +257,7 @@ impl HumanImpact {
             robot_extra_path_m: vec![0.0; world.robots.len()],
             path_changes: self.path_changes,
             robot_path_changes: self.robot_path_changes.clone(),
+            delay_at: Vec::new(),
         };
         for i in 0..crowd.positions.len() {
             let goal = self.goals[i];
@@ -263,6 +273,11 @@ impl HumanImpact {
             window.delay_s += delay;
             window.extra_path_m += extra;
             let exposed: u32 = self.exposure[i].iter().map(|e| e.1).sum();
+            if exposed > 0 && delay > 0.0 {
+                window
+                    .delay_at
+                    .push((self.exposed_at[i] / Real::from(exposed), delay));
+            }
             for &(r, steps) in &self.exposure[i] {
                 let share = Real::from(steps) / Real::from(exposed);
                 window.robot_delay_s[r] += delay * share;
@@ -315,6 +330,18 @@ mod tests {
             impact.record(&world);
         }
         impact.windows().to_vec()
+    }
+
+    /// Where [`run`] parks its robot.
+    fn run_robot_position(park_at_crowd: bool) -> Vec2 {
+        let mut s = Scenario::builtin("hallway").expect("builtin");
+        s.seed = 3;
+        let world = World::from_scenario(&s);
+        if !park_at_crowd {
+            return Vec2::new(-1e4, -1e4);
+        }
+        let crowd = &world.humans.crowd;
+        crowd.positions.iter().fold(Vec2::zeros(), |a, p| a + p) / crowd.positions.len() as Real
     }
 
     /// One person walking +x along the middle of the hallway from x = 3 m, robots parked on
@@ -396,6 +423,17 @@ mod tests {
         );
         // Measured: 8.3 person-s and 1.1 m over the six 5 s windows (seed 3).
         assert!(delay > 2.0, "delay {delay} person-s over {windows:?}");
+        // Where they lost it: near the parked robot (within attribution range), positive.
+        let parked = run_robot_position(true);
+        let placed: Vec<(Vec2, Real)> = windows.iter().flat_map(|w| w.delay_at.clone()).collect();
+        assert!(!placed.is_empty());
+        for (at, d) in &placed {
+            assert!(
+                *d > 0.0 && (at - parked).norm() <= ATTRIBUTION_RANGE_M,
+                "{at:?} {d}"
+            );
+        }
+
         assert!(extra > 0.3, "extra path {extra} m");
         // People who ignore robots are not affected, whatever the robot does.
         for w in run(false, true) {

@@ -62,6 +62,8 @@ pub struct DashboardObserver {
     gone: Vec<Option<&'static str>>,
     /// Per robot: when (simulated s) it last touched a person.
     last_contact: Vec<f64>,
+    /// Human-impact windows already put on the delay heatmap.
+    seen_windows: usize,
 }
 
 /// A robot counts as near people when its body comes this close to a person's (m).
@@ -91,6 +93,7 @@ impl DashboardObserver {
             zones: Vec::new(),
             gone: vec![None; fleet.robots()],
             last_contact: vec![f64::NEG_INFINITY; fleet.robots()],
+            seen_windows: 0,
         })
     }
 
@@ -561,6 +564,17 @@ impl Observer for DashboardObserver {
         }
         if min_human.is_finite() {
             fleet_metrics.push(("min_human_distance", min_human));
+        }
+        if let Some(all) = fleet.human_impact().map(|i| i.windows()) {
+            // Where people lost time to robots, once per finished window.
+            for w in all.get(self.seen_windows..).unwrap_or_default() {
+                heat.extend(w.delay_at.iter().map(|&(at, delay)| HeatEvent {
+                    kind: HeatKind::PeopleDelay,
+                    at: p(at),
+                    weight: delay as f32,
+                }));
+            }
+            self.seen_windows = all.len();
         }
         let impact = fleet.human_impact().and_then(|i| i.latest());
         if let Some(w) = impact {
