@@ -1,6 +1,6 @@
 //! `gapfleet coordinator`: the warehouse world served to `gapfleet-agent` processes over Zenoh.
 
-use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime};
+use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime, speed};
 use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
@@ -23,8 +23,8 @@ pub struct CoordinatorArgs {
     /// Override the scenario's seed.
     #[arg(long)]
     seed: Option<u64>,
-    /// Simulated seconds per wall second.
-    #[arg(long, default_value_t = 1.0, value_parser = positive)]
+    /// Simulated seconds per wall second, in [0.001, 1000].
+    #[arg(long, default_value_t = 1.0, value_parser = speed)]
     speed: f64,
     /// Stop after this many simulated seconds (default: run until SIGINT/SIGTERM).
     #[arg(long, value_parser = positive)]

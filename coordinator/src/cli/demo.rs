@@ -1,6 +1,6 @@
 //! `gapfleet demo`: a coordinator and one agent per robot in one process.
 
-use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime};
+use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime, speed};
 use agent::planner::PlannerSpec;
 use anyhow::Result;
 use coordinator::fleet::demo::{DemoOptions, run_demo, status_line, summary};
@@ -25,8 +25,8 @@ pub struct DemoArgs {
     /// Planner stack of every agent.
     #[arg(long, default_value = "pgp+orca")]
     planner: PlannerSpec,
-    /// Simulated seconds per wall second.
-    #[arg(long, default_value_t = 1.0, value_parser = positive)]
+    /// Simulated seconds per wall second, in [0.001, 1000].
+    #[arg(long, default_value_t = 1.0, value_parser = speed)]
     speed: f64,
     /// Built-in warehouse scenario or a scenario file.
     #[arg(long, default_value = "warehouse")]

@@ -132,6 +132,18 @@ pub fn positive(text: &str) -> Result<f64, String> {
     }
 }
 
+/// Simulated seconds per wall second: [0.001, 1000]. (Beyond, a tick's wall period overflows
+/// a `Duration` or rounds to zero, which a tokio interval refuses with a panic.)
+pub fn speed(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if (1e-3..=1e3).contains(&x) => Ok(x),
+        Ok(x) => Err(format!(
+            "{x} is not in [0.001, 1000] simulated seconds per wall second"
+        )),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 /// People per m² for a generated stage: (0, 3].
 pub fn density(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
@@ -249,7 +261,13 @@ mod tests {
                 .expect_err("refused")
                 .to_string()
         };
-        assert!(refused(&["demo", "--speed", "0"]).contains("not a positive number"));
+        for speed in ["0", "1e-300", "1e300", "nan", "-1"] {
+            let arg = format!("--speed={speed}");
+            for command in ["demo", "coordinator"] {
+                let message = refused(&[command, &arg]);
+                assert!(message.contains("not in [0.001, 1000]"), "{message}");
+            }
+        }
         assert!(refused(&["demo", "--seconds", "nan"]).contains("not a positive number"));
         assert!(refused(&["demo", "--scenario", "no-such-place"]).contains("no-such-place"));
         assert!(refused(&["demo", "--planner", "teleport"]).contains("teleport"));

@@ -241,9 +241,17 @@ impl Coordinator<'_> {
     /// Agents' heartbeats (their planning time), fans (dashboards only) and intents.
     fn take_reports(&mut self) {
         let n = self.links.len();
+        let keys = &self.wire.keys;
+        // The robot a per-robot key names, on `channel`: a payload naming another robot (or
+        // one that is not here) is rejected, as for commands.
+        let sender = |sample: &Sample, channel: Channel| {
+            keys.parse_robot(sample.key_expr().as_str())
+                .filter(|&(id, c)| c == channel && (id as usize) < n)
+                .map(|(id, _)| id)
+        };
         while let Ok(Some(sample)) = self.wire.infos.try_recv() {
             match decode::<schemas::AgentInfo>(&sample.payload().to_bytes()) {
-                Ok(info) if (info.robot_id as usize) < n => {
+                Ok(info) if Some(info.robot_id) == sender(&sample, Channel::Info) => {
                     self.planner_p99[info.robot_id as usize] = info.plan_p99_us;
                 }
                 _ => self.status.rejected += 1,
@@ -255,7 +263,7 @@ impl Coordinator<'_> {
             .fold(0.0, f64::max);
         while let Ok(Some(sample)) = self.wire.fans.try_recv() {
             match decode::<schemas::FanMsg>(&sample.payload().to_bytes()) {
-                Ok(fan) if (fan.robot_id as usize) < n => {
+                Ok(fan) if Some(fan.robot_id) == sender(&sample, Channel::Fan) => {
                     let id = fan.robot_id as usize;
                     self.status.fans[id] = Some(fan);
                 }
@@ -264,7 +272,7 @@ impl Coordinator<'_> {
         }
         while let Ok(Some(sample)) = self.wire.intents.try_recv() {
             match decode::<IntentMsg>(&sample.payload().to_bytes()) {
-                Ok(intent) if (intent.robot_id as usize) < n => {
+                Ok(intent) if Some(intent.robot_id) == sender(&sample, Channel::Intent) => {
                     let samples = wire::samples_from_wire(&intent.trajectory);
                     self.fleet
                         .set_intent(intent.robot_id as usize, intent.stamp, samples);
