@@ -5,6 +5,11 @@
 use agent::math::Real;
 use serde::Deserialize;
 
+/// Most robots a fleet site may have: the wire contract's bound (`schemas::MAX_ROBOTS`, which
+/// the coordinator checks is the same), so that every robot of a valid scenario can be on the
+/// wire.
+pub const MAX_ROBOTS: usize = 4096;
+
 /// The scenarios shipped with gapfleet, by name.
 pub const BUILTIN: &[(&str, &str)] = &[
     ("open-space", include_str!("../scenarios/open-space.toml")),
@@ -320,8 +325,8 @@ impl Warehouse {
             ),
             (
                 "warehouse.robots",
-                (1..=10_000).contains(&self.robots),
-                "must be in [1, 10000]",
+                (1..=MAX_ROBOTS).contains(&self.robots),
+                "must be in [1, 4096]",
             ),
         ];
         checks.into_iter().find(|c| !c.1).map(|c| (c.0, c.2))
@@ -459,8 +464,8 @@ impl Scenario {
                     return bad("hallway.lanes", "must be at least 1, each lane a body wide");
                 }
                 if let Some(robots) = hall.robots {
-                    if !(1..=10_000).contains(&robots) {
-                        return bad("hallway.robots", "must be in [1, 10000]");
+                    if !(1..=MAX_ROBOTS).contains(&robots) {
+                        return bad("hallway.robots", "must be in [1, 4096]");
                     }
                     if hall.lanes.is_some() {
                         return bad(

@@ -631,8 +631,9 @@ fn traffic(args: TrafficArgs) -> Result<()> {
         if fleets.is_empty() {
             continue;
         }
-        if let Some(&bad) = fleets.iter().find(|&&n| !(1..=10_000).contains(&n)) {
-            bail!("fleet size {bad} for {name} is not in [1, 10000]");
+        let most = world_sim::scenario::MAX_ROBOTS;
+        if let Some(&bad) = fleets.iter().find(|&&n| !(1..=most).contains(&n)) {
+            bail!("fleet size {bad} for {name} is not in [1, {most}]");
         }
         let scenario = Scenario::builtin(name)?;
         sites.push(traffic_study::Site { scenario, fleets });

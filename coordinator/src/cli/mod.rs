@@ -254,6 +254,12 @@ mod tests {
         std::fs::remove_dir_all(&dir).expect("clean up");
     }
 
+    /// Every robot a valid scenario may have fits on the wire.
+    #[test]
+    fn scenarios_allow_no_more_robots_than_the_wire() {
+        assert_eq!(world_sim::scenario::MAX_ROBOTS, schemas::codec::MAX_ROBOTS);
+    }
+
     #[test]
     fn bad_values_are_refused_while_parsing() {
         let refused = |args: &[&str]| {
