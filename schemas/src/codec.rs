@@ -3,7 +3,9 @@
 //! On the wire every message is a MessagePack map: `{"v": SCHEMA_VERSION, <fields>...}`.
 //! [`decode`] checks, in order: the byte length against the type's limit, that the bytes are a
 //! map carrying `"v"` equal to [`SCHEMA_VERSION`], that the fields decode, then the type's
-//! [`Message::validate`] rules (finite numbers, bounded list lengths, positive radii). Any
+//! [`Message::validate`] rules (finite numbers within physical bounds: positions within
+//! [`MAX_COORD_M`], speeds below [`MAX_SPEED_MPS`], times within [`MAX_TIME_S`]; bounded list
+//! lengths, positive radii). Any
 //! failure is a [`DecodeError`]; nothing panics on untrusted input.
 
 use crate::SCHEMA_VERSION;
@@ -25,6 +27,16 @@ pub const MAX_SENSOR_RANGE: f64 = 1000.0;
 pub const MAX_ROBOTS: usize = 4096;
 /// Most obstacles (and most vertices of one polygon) in a map.
 pub const MAX_OBSTACLES: usize = 100_000;
+/// Largest coordinate a position may have (m): ±1000 km, beyond any site.
+pub const MAX_COORD_M: f64 = 1e6;
+/// Fastest a robot or a person may move (m/s).
+pub const MAX_SPEED_MPS: f64 = 50.0;
+/// Fastest a robot may turn (rad/s).
+pub const MAX_YAW_RATE: f64 = 100.0;
+/// Largest time a message may state (s): 30 years of simulation.
+pub const MAX_TIME_S: f64 = 1e9;
+/// Largest body radius (m).
+pub const MAX_RADIUS_M: f64 = 100.0;
 
 /// Why bytes were rejected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -151,9 +163,37 @@ fn finite(field: &'static str, x: f64) -> Result<(), DecodeError> {
     }
 }
 
+/// Finite and at most `max` in magnitude.
+fn within(field: &'static str, x: f64, max: f64, reason: &'static str) -> Result<(), DecodeError> {
+    finite(field, x)?;
+    if x.abs() > max {
+        return Err(DecodeError::Invalid { field, reason });
+    }
+    Ok(())
+}
+
+/// A position: finite, each coordinate within [`MAX_COORD_M`].
 fn finite_p(field: &'static str, p: &P2) -> Result<(), DecodeError> {
-    finite(field, p.0)?;
-    finite(field, p.1)
+    within(field, p.0, MAX_COORD_M, "beyond ±1e6 m")?;
+    within(field, p.1, MAX_COORD_M, "beyond ±1e6 m")
+}
+
+/// A velocity: finite, slower than [`MAX_SPEED_MPS`].
+fn velocity(field: &'static str, v: &P2) -> Result<(), DecodeError> {
+    finite(field, v.0)?;
+    finite(field, v.1)?;
+    within(field, v.0.hypot(v.1), MAX_SPEED_MPS, "faster than 50 m/s")
+}
+
+/// A time: finite, within [`MAX_TIME_S`].
+fn time(field: &'static str, t: f64) -> Result<(), DecodeError> {
+    within(field, t, MAX_TIME_S, "beyond ±1e9 s")
+}
+
+/// A body radius: positive, at most [`MAX_RADIUS_M`].
+fn radius(field: &'static str, r: f64) -> Result<(), DecodeError> {
+    positive(field, r)?;
+    within(field, r, MAX_RADIUS_M, "larger than 100 m")
 }
 
 fn bounded(field: &'static str, len: usize, max: usize) -> Result<(), DecodeError> {
@@ -190,7 +230,7 @@ fn trajectory(field: &'static str, samples: &[Sample]) -> Result<(), DecodeError
     bounded(field, samples.len(), MAX_SAMPLES)?;
     let mut last = f64::NEG_INFINITY;
     for s in samples {
-        finite(field, s.t)?;
+        time(field, s.t)?;
         finite_p(field, &s.p)?;
         non_negative(field, s.sigma)?;
         if s.t < last {
@@ -211,21 +251,27 @@ fn name(field: &'static str, s: &str) -> Result<(), DecodeError> {
 impl Message for Observation {
     const MAX_BYTES: usize = 1 << 20;
     fn validate(&self) -> Result<(), DecodeError> {
-        finite("sim_time", self.sim_time)?;
+        time("sim_time", self.sim_time)?;
         positive("dt", self.dt)?;
+        within("dt", self.dt, 10.0, "longer than 10 s")?;
         finite_p("p", &self.p)?;
         finite("heading", self.heading)?;
-        finite_p("vel", &self.vel)?;
-        finite("yaw_rate", self.yaw_rate)?;
-        positive("radius", self.radius)?;
+        velocity("vel", &self.vel)?;
+        within(
+            "yaw_rate",
+            self.yaw_rate,
+            MAX_YAW_RATE,
+            "faster than 100 rad/s",
+        )?;
+        radius("radius", self.radius)?;
         if let Some(goal) = &self.goal {
             finite_p("goal", goal)?;
         }
         bounded("neighbours", self.neighbours.len(), MAX_NEIGHBOURS)?;
         for n in &self.neighbours {
             finite_p("neighbours.p", &n.p)?;
-            finite_p("neighbours.vel", &n.vel)?;
-            positive("neighbours.radius", n.radius)?;
+            velocity("neighbours.vel", &n.vel)?;
+            radius("neighbours.radius", n.radius)?;
             if let Some(intent) = &n.intent {
                 trajectory("neighbours.intent", intent)?;
             }
@@ -263,7 +309,7 @@ impl Message for Observation {
 impl Message for IntentMsg {
     const MAX_BYTES: usize = 16 << 10;
     fn validate(&self) -> Result<(), DecodeError> {
-        finite("stamp", self.stamp)?;
+        time("stamp", self.stamp)?;
         name("planner", &self.planner)?;
         finite_p("subgoal", &self.subgoal)?;
         trajectory("trajectory", &self.trajectory)
@@ -273,12 +319,12 @@ impl Message for IntentMsg {
 impl Message for CommandMsg {
     const MAX_BYTES: usize = 512;
     fn validate(&self) -> Result<(), DecodeError> {
-        finite("stamp", self.stamp)?;
+        time("stamp", self.stamp)?;
         match self.motion {
-            Motion::Velocity(v) => finite_p("motion", &v),
+            Motion::Velocity(v) => velocity("motion", &v),
             Motion::Unicycle(speed, yaw_rate) => {
-                finite("motion", speed)?;
-                finite("motion", yaw_rate)
+                within("motion", speed, MAX_SPEED_MPS, "faster than 50 m/s")?;
+                within("motion", yaw_rate, MAX_YAW_RATE, "faster than 100 rad/s")
             }
         }
     }
@@ -290,7 +336,7 @@ pub const MAX_CANDIDATES: usize = 64;
 impl Message for FanMsg {
     const MAX_BYTES: usize = 256 << 10;
     fn validate(&self) -> Result<(), DecodeError> {
-        finite("stamp", self.stamp)?;
+        time("stamp", self.stamp)?;
         bounded("candidates", self.candidates.len(), MAX_CANDIDATES)?;
         if self.best as usize >= self.candidates.len().max(1) {
             return Err(DecodeError::Invalid {
@@ -324,7 +370,7 @@ impl Message for TaskAssignment {
     fn validate(&self) -> Result<(), DecodeError> {
         finite_p("pick", &self.pick)?;
         finite_p("drop", &self.drop)?;
-        finite("assigned_at", self.assigned_at)
+        time("assigned_at", self.assigned_at)
     }
 }
 

@@ -523,6 +523,44 @@ fn non_finite_numbers_are_rejected_everywhere() {
     }
 }
 
+/// Finite but unphysical numbers are rejected too: a position of 1e308 m, a speed of 1 km/s,
+/// a time of 1e300 s, a radius of 1 km.
+#[test]
+fn unphysical_numbers_are_rejected() {
+    let invalid = |field: &'static str| move |e: DecodeError| matches!(e, DecodeError::Invalid { field: f, .. } if f == field);
+    let mut o = observation();
+    o.p.0 = 1e308;
+    assert!(decode::<Observation>(&encode(&o)).is_err_and(invalid("p")));
+    let mut o = observation();
+    o.neighbours[0].vel = P2(1000.0, 0.0);
+    assert!(decode::<Observation>(&encode(&o)).is_err_and(invalid("neighbours.vel")));
+    let mut o = observation();
+    o.neighbours[0].radius = 1000.0;
+    assert!(decode::<Observation>(&encode(&o)).is_err_and(invalid("neighbours.radius")));
+    let mut o = observation();
+    o.sim_time = 1e300;
+    assert!(decode::<Observation>(&encode(&o)).is_err_and(invalid("sim_time")));
+    let mut c = command();
+    c.motion = Motion::Velocity(P2(40.0, 40.0));
+    assert!(decode::<CommandMsg>(&encode(&c)).is_err_and(invalid("motion")));
+    let mut c = command();
+    c.motion = Motion::Unicycle(1.0, 1e6);
+    assert!(decode::<CommandMsg>(&encode(&c)).is_err_and(invalid("motion")));
+    let mut i = intent();
+    i.trajectory[3].p = P2(0.0, -2e6);
+    assert!(decode::<IntentMsg>(&encode(&i)).is_err_and(invalid("trajectory")));
+    let mut t = task();
+    t.assigned_at = -1e10;
+    assert!(decode::<TaskAssignment>(&encode(&t)).is_err_and(invalid("assigned_at")));
+    // At the bounds: accepted.
+    let mut c = command();
+    c.motion = Motion::Velocity(P2(30.0, 40.0));
+    assert!(decode::<CommandMsg>(&encode(&c)).is_ok());
+    let mut o = observation();
+    o.p = P2(-1e6, 1e6);
+    assert!(decode::<Observation>(&encode(&o)).is_ok());
+}
+
 #[test]
 fn an_observation_without_a_visibility_profile_decodes_and_bad_profiles_are_rejected() {
     // What a coordinator from before the field (or without body occlusion) sends.
