@@ -26,8 +26,13 @@ struct Args {
     /// Site name (key prefix gapfleet/<site>).
     #[arg(long, default_value = "demo")]
     site: String,
-    /// Safe-stop after this many milliseconds without observations.
-    #[arg(long, default_value_t = agent::runtime::DEFAULT_OBS_TIMEOUT.as_millis() as u64)]
+    /// Safe-stop after this many milliseconds without observations, in [10, 3600000] (0 would
+    /// stop the robot for good).
+    #[arg(
+        long,
+        default_value_t = agent::runtime::DEFAULT_OBS_TIMEOUT.as_millis() as u64,
+        value_parser = clap::value_parser!(u64).range(10..=3_600_000)
+    )]
     obs_timeout_ms: u64,
     /// Publish PGP's candidate fan with every plan, for dashboards (…/robot/<id>/fan).
     #[arg(long)]
@@ -89,4 +94,21 @@ async fn main() -> anyhow::Result<()> {
         counters.rejected.load(std::sync::atomic::Ordering::Relaxed)
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An observation timeout of 0 (the robot would never move) or beyond an hour is refused.
+    #[test]
+    fn the_observation_timeout_is_bounded() {
+        let parse = |ms: &str| {
+            Args::try_parse_from(["gapfleet-agent", "--robot-id", "0", "--obs-timeout-ms", ms])
+        };
+        assert!(parse("0").is_err());
+        assert!(parse("9").is_err());
+        assert!(parse("3600001").is_err());
+        assert_eq!(parse("500").expect("valid").obs_timeout_ms, 500);
+    }
 }
