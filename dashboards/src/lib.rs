@@ -476,9 +476,10 @@ fn free_port() -> std::io::Result<u16> {
 /// over the robot table. Right: the fleet KPIs, one plot each with the fleet's series only,
 /// over tabs for the event log, per-robot plots and the other fleet plots.
 fn blueprint() -> rerun::blueprint::Blueprint {
+    use rerun::blueprint::components::PanelState;
     use rerun::blueprint::{
-        Blueprint, Grid, Horizontal, Spatial2DView, Tabs, TextDocumentView, TextLogView,
-        TimeSeriesView, Vertical,
+        Blueprint, BlueprintPanel, Grid, Horizontal, SelectionPanel, Spatial2DView, Tabs,
+        TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
     };
     let fleet_plot = |name: &str, metrics: &[&str]| {
         TimeSeriesView::new(name)
@@ -586,6 +587,10 @@ fn blueprint() -> rerun::blueprint::Blueprint {
         ])
         .with_column_shares([0.55, 0.45]),
     )
+    // The side panels folded away: the floor, KPIs and table get the screen.
+    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+    .with_time_panel(TimePanel::new().with_state(PanelState::Collapsed))
 }
 
 fn log_map(rec: &rerun::RecordingStream, map: &MapFrame) -> rerun::RecordingStreamResult<()> {
@@ -710,8 +715,14 @@ impl Painter {
         f: &Frame,
     ) -> rerun::RecordingStreamResult<()> {
         let fresh = f.events.iter().filter_map(|e| {
-            // The label: the text up to its first colon ("robot 3 stuck: no progress ...").
-            let label = e.text.split(':').next().unwrap_or_default().to_owned();
+            // Bad news is labelled, with the text up to its first colon ("robot 3 stuck: no
+            // progress ..."); the rest (agents joining, tasks done) only marked, so that labels
+            // stay legible with many robots.
+            let label = if e.warning {
+                e.text.split(':').next().unwrap_or_default().to_owned()
+            } else {
+                String::new()
+            };
             Some((f.sim_time, e.position?, label, e.warning))
         });
         let before = self.marks.len();
