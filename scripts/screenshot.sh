@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Starts `gapfleet demo --web`, opens the served Rerun web viewer in headless Chromium (Debian's
 # `chromium`, software WebGL) and saves a screenshot of the live fleet.
-#   scripts/screenshot.sh [OUT=docs/dashboard.png] [extra demo args...]
+#   [DEMO_SECONDS=90] [WAIT_MS=30000] scripts/screenshot.sh [OUT=docs/dashboard.png] [extra demo args...]
+# The picture is taken WAIT_MS after the page opens; on a busy machine the software-rendered
+# viewer lags the demo, and catches up once the demo (DEMO_SECONDS of simulation) has ended.
 set -euo pipefail
 out="${1:-docs/dashboard.png}"; shift || true
 bin="${GAPFLEET_BIN:-${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}/release/gapfleet}"
 [ -x "$bin" ] || { echo "missing $bin: cargo build --release -p coordinator" >&2; exit 1; }
 command -v chromium >/dev/null || { echo "needs Debian's chromium: apt-get install chromium" >&2; exit 1; }
 log=$(mktemp)
-"$bin" demo --web --seconds 90 "$@" 2>"$log" >/dev/null &
+"$bin" demo --web --seconds "${DEMO_SECONDS:-90}" "$@" 2>"$log" >/dev/null &
 demo=$!
 trap 'kill $demo 2>/dev/null || true; rm -f "$log"' EXIT
 url=""
