@@ -31,6 +31,31 @@ fn step(policy: &mut TrafficPolicy, now: Real, robots: &[PolicyRobot<'_>]) -> Ve
     policy.step(now, robots, &monitor)
 }
 
+/// Views of `robots` standing still, each with a task (leg `i`, `remaining[i]` m left).
+fn standing(
+    robots: &[PolicyRobot<'_>],
+    radius: Real,
+    remaining: &[Real],
+) -> Vec<crate::traffic::RobotView<'static>> {
+    use crate::traffic::{RobotView, TaskView};
+    robots
+        .iter()
+        .zip(remaining)
+        .enumerate()
+        .map(|(i, (r, &remaining_m))| RobotView {
+            position: r.position,
+            velocity: vec2(0.0, 0.0),
+            radius,
+            task: Some(TaskView {
+                leg: i as u64,
+                waypoint: r.route[0],
+                remaining_m,
+            }),
+            intent: &[],
+        })
+        .collect()
+}
+
 /// Two robots head for the same segment from its two ends: the first to ask gets it, the
 /// other waits short of the mouth, outside the segment and clear of the crossing, until
 /// the first has left; a third behind the first, going the same way, does not get in
@@ -376,7 +401,6 @@ fn a_robot_in_line_ahead_of_the_holder_takes_the_station() {
 /// and of every other robot.
 #[test]
 fn a_robot_with_a_robot_behind_it_backs_off_to_the_side() {
-    use crate::traffic::{RobotView, TaskView};
     let (site, radius) = narrow();
     let params = PolicyParams::default();
     let mut policy = TrafficPolicy::new(&site, 4, radius, params);
@@ -396,21 +420,7 @@ fn a_robot_with_a_robot_behind_it_backs_off_to_the_side() {
         route: route.as_slice(),
         station: None,
     });
-    let views: Vec<RobotView<'_>> = robots
-        .iter()
-        .enumerate()
-        .map(|(i, r)| RobotView {
-            position: r.position,
-            velocity: vec2(0.0, 0.0),
-            radius,
-            task: Some(TaskView {
-                leg: i as u64,
-                waypoint: r.route[0],
-                remaining_m: 20.0,
-            }),
-            intent: &[],
-        })
-        .collect();
+    let views = standing(&robots, radius, &[20.0; 4]);
     let map = site.map();
     let mut monitor = TrafficMonitor::new(4, TrafficParams::default());
     let mut retreats = Vec::new();
@@ -494,7 +504,6 @@ fn a_robot_joins_a_long_line_at_its_tail() {
 /// [`PolicyParams::retreat_after_s`] are enough.
 #[test]
 fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
-    use crate::traffic::{RobotView, TaskView};
     let site = Site::hallway(40.0, 3.0, 3);
     let params = PolicyParams::default();
     let mut policy = TrafficPolicy::new(&site, 3, 0.3, params);
@@ -509,21 +518,7 @@ fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
         route: route.as_slice(),
         station: None,
     });
-    let views: Vec<RobotView<'_>> = robots
-        .iter()
-        .enumerate()
-        .map(|(i, r)| RobotView {
-            position: r.position,
-            velocity: vec2(0.0, 0.0),
-            radius: 0.3,
-            task: Some(TaskView {
-                leg: i as u64,
-                waypoint: r.route[0],
-                remaining_m: 20.0,
-            }),
-            intent: &[],
-        })
-        .collect();
+    let views = standing(&robots, 0.3, &[20.0; 3]);
     let map = site.map();
     let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
     let mut first_retreat = None;
@@ -556,23 +551,7 @@ fn step_watched(
     robots: &[PolicyRobot<'_>],
     remaining: &[Real],
 ) -> Vec<PolicyEvent> {
-    use crate::traffic::{RobotView, TaskView};
-    let views: Vec<RobotView<'_>> = robots
-        .iter()
-        .zip(remaining)
-        .enumerate()
-        .map(|(i, (r, &remaining_m))| RobotView {
-            position: r.position,
-            velocity: vec2(0.0, 0.0),
-            radius: 0.4,
-            task: Some(TaskView {
-                leg: i as u64,
-                waypoint: r.route[0],
-                remaining_m,
-            }),
-            intent: &[],
-        })
-        .collect();
+    let views = standing(robots, 0.4, remaining);
     monitor.record(now, 0.1, &views, map, &policy.wait_edges());
     policy.step(now, robots, monitor)
 }
