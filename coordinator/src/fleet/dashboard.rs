@@ -193,13 +193,14 @@ impl DashboardObserver {
     fn robot_rows(
         &self,
         fleet: &Fleet,
+        metrics: &[world_sim::metrics::RobotMetrics],
         nearest: &[Option<f64>],
         delay_share: impl Fn(usize) -> Option<f64>,
     ) -> Vec<RobotRow> {
         let now = fleet.world.time;
         (0..fleet.robots())
             .map(|i| {
-                let m = fleet.metrics(i);
+                let m = &metrics[i];
                 let gone = self.gone.get(i).copied().flatten();
                 let stuck = fleet.traffic().is_stuck(i);
                 let touched = self
@@ -581,7 +582,7 @@ impl Observer for DashboardObserver {
             fleet_metrics.push(("human_delay_s_per_min", w.delay_per_minute()));
             fleet_metrics.push(("human_extra_path_m_per_min", w.extra_path_per_minute()));
         }
-        let robot_rows = self.robot_rows(fleet, &nearest, |i| {
+        let robot_rows = self.robot_rows(fleet, &per_robot, &nearest, |i| {
             let w = impact?;
             (w.delay_s > 0.0).then(|| w.robot_delay_s.get(i).copied().unwrap_or(0.0) / w.delay_s)
         });
