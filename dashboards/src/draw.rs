@@ -335,12 +335,14 @@ fn log_traffic(rec: &rerun::RecordingStream, t: &TrafficView) -> rerun::Recordin
                     TrafficGoal::Hold => "hold",
                     TrafficGoal::Queue => "queue",
                     TrafficGoal::Retreat => "retreat",
+                    TrafficGoal::GiveWay => "give way",
                 };
                 format!("{} {kind}", g.0)
             }))
             .with_colors(t.goals.iter().map(|g| match g.2 {
                 TrafficGoal::Hold | TrafficGoal::Queue => rerun::Color::from_rgb(240, 170, 0),
                 TrafficGoal::Retreat => rerun::Color::from_rgb(230, 30, 30),
+                TrafficGoal::GiveWay => rerun::Color::from_rgb(60, 120, 230),
             })),
     )?;
     Ok(())

@@ -112,6 +112,8 @@ pub enum TrafficGoal {
     Queue,
     /// Backing off out of a wait-for cycle.
     Retreat,
+    /// Pulled over, letting a two-way knot's other direction pass.
+    GiveWay,
 }
 
 /// The fleet's traffic: reservations, who waits on whom, stuck robots.

@@ -324,6 +324,10 @@ pub enum TrafficConstraint {
     Queue,
     /// Back off to `goal`: a wait-for cycle lasted.
     Retreat,
+    /// Stop at `goal` (where the robot stood) and wait: robots of both directions knotted in
+    /// a two-lane corridor, and the other direction passes first.
+    #[serde(rename = "give_way")]
+    GiveWay,
 }
 
 /// Coordinator → agent and dashboards, key `…/robot/<id>/traffic`, every tick while the

@@ -217,6 +217,16 @@ fn every_message_round_trips() {
         station: Some(4),
         ..traffic()
     });
+    let give_way = TrafficMsg {
+        constraint: TrafficConstraint::GiveWay,
+        segment: None,
+        direction: None,
+        ..traffic()
+    };
+    round_trip(give_way.clone());
+    // On the wire as schemas/README.md names it.
+    let bytes = encode(&give_way);
+    assert!(bytes.windows(8).any(|w| w == b"give_way"));
 }
 
 /// A traffic constraint says where to go exactly when it constrains, a hold names its

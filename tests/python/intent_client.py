@@ -41,7 +41,7 @@ def check_intent(key, msg):
     return msg
 
 
-TRAFFIC_CONSTRAINTS = ("free", "lane", "hold", "queue", "retreat")
+TRAFFIC_CONSTRAINTS = ("free", "lane", "hold", "queue", "retreat", "give_way")
 
 
 def check_traffic(msg):

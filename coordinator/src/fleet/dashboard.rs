@@ -285,6 +285,7 @@ fn traffic_view(fleet: &Fleet) -> TrafficView {
                     Constraint::Hold { at, .. } => (at, TrafficGoal::Hold),
                     Constraint::Queue { at, .. } => (at, TrafficGoal::Queue),
                     Constraint::Retreat(at) => (at, TrafficGoal::Retreat),
+                    Constraint::GiveWay(at) => (at, TrafficGoal::GiveWay),
                     Constraint::Free | Constraint::Lane(_) => return None,
                 };
                 Some((i as u32, p(goal), kind))
@@ -340,6 +341,9 @@ fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
             PolicyEvent::Retreat { robot } => {
                 format!("robot {robot} retreats: a wait-for cycle lasted")
             }
+            PolicyEvent::GiveWay { robot } => {
+                format!("robot {robot} gives way: robots of both directions knotted")
+            }
             PolicyEvent::Detour { robot, segment } => {
                 format!("robot {robot} goes round to segment {segment}'s far end, with its flow")
             }
@@ -352,6 +356,7 @@ fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
             PolicyEvent::Granted { robot, .. }
             | PolicyEvent::Released { robot, .. }
             | PolicyEvent::Retreat { robot }
+            | PolicyEvent::GiveWay { robot }
             | PolicyEvent::Detour { robot, .. }
             | PolicyEvent::StationGranted { robot, .. }
             | PolicyEvent::Waiting { robot, .. }

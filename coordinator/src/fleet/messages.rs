@@ -57,6 +57,7 @@ pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg>
         Constraint::Hold { at, .. } => (TrafficConstraint::Hold, Some(at)),
         Constraint::Queue { at, .. } => (TrafficConstraint::Queue, Some(at)),
         Constraint::Retreat(p) => (TrafficConstraint::Retreat, Some(p)),
+        Constraint::GiveWay(p) => (TrafficConstraint::GiveWay, Some(p)),
     };
     let waiting = match policy.constraint(i) {
         Constraint::Hold { segment, .. } => Some(segment),

@@ -94,6 +94,10 @@ pub struct TrafficRun {
     /// column).
     #[serde(default)]
     pub detours: u64,
+    /// Two-way knots in corridors untangled by one direction giving way (0 in runs.csv files
+    /// older than this column).
+    #[serde(default)]
+    pub give_ways: u64,
     /// Stuck robot-seconds in aisles (`world_sim::stuck`; 0 in runs.csv files older than
     /// this column, as are the next six).
     #[serde(default)]
@@ -147,6 +151,7 @@ impl TrafficRun {
             queued: policy.queued,
             reroutes: report.reroutes,
             detours: policy.detours,
+            give_ways: policy.give_ways,
             stuck_aisle_s: report.stuck_where.aisle_s,
             stuck_cross_aisle_s: report.stuck_where.cross_aisle_s,
             stuck_station_s: report.stuck_where.station_s,
@@ -191,6 +196,8 @@ pub struct Cell {
     pub retreats: f64,
     /// Mean detours round blocked segments per run.
     pub detours: f64,
+    /// Mean two-way knots untangled by giving way per run.
+    pub give_ways: f64,
     /// Mean stuck robot-seconds per run by place and company.
     pub stuck_where: StuckBreakdown,
 }
@@ -289,6 +296,7 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                     human_delay_s: m(|r| r.human_delay_s),
                     retreats: m(|r| r.retreats as f64),
                     detours: m(|r| r.detours as f64),
+                    give_ways: m(|r| r.give_ways as f64),
                     stuck_where: StuckBreakdown {
                         aisle_s: m(|r| r.stuck_aisle_s),
                         cross_aisle_s: m(|r| r.stuck_cross_aisle_s),
@@ -308,12 +316,12 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
 /// The summary as a Markdown table.
 pub fn table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | robot-caused contacts | robot–robot contacts | people's delay (person-s) | retreats | detours |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | robot-caused contacts | robot–robot contacts | people's delay (person-s) | retreats | detours | give-ways |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} | {:.1} |\n",
+            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} | {:.1} | {:.1} |\n",
             row_head(c),
             c.runs,
             c.runs_with_deadlock,
@@ -327,6 +335,7 @@ pub fn table(cells: &[Cell]) -> String {
             c.human_delay_s,
             c.retreats,
             c.detours,
+            c.give_ways,
         ));
     }
     out

@@ -14,20 +14,9 @@ impl TrafficPolicy {
     ) {
         // The monitor has just seen this step's wait-for graph and its cycles.
         for cycle in monitor.cycles() {
-            // Lasting: two of its robots have been in cycles that long (not all: a bystander
-            // joining the component must not hold the retreat back, the regrouping that the
-            // monitor counts as one deadlock).
-            let lasting = cycle
-                .iter()
-                .filter(|&&i| {
-                    monitor
-                        .in_cycle_since(i)
-                        .is_some_and(|s| now - s >= self.params.retreat_after_s - 1e-9)
-                })
-                .count();
-            let old = lasting >= 2;
+            let old = self.lasting(now, cycle, monitor);
             let retreating = cycle.iter().any(|&i| self.retreat_until[i] > now);
-            if !old || retreating {
+            if !old || retreating || cycle.iter().any(|&i| self.giving_way(i)) {
                 continue;
             }
             let holds = |i: usize| self.reservations.iter().any(|r| r.holders.contains(&i));
@@ -71,7 +60,7 @@ impl TrafficPolicy {
         }
         // Retreats in progress keep their point.
         for (i, until) in self.retreat_until.iter().enumerate() {
-            if *until > now {
+            if *until > now && !self.giving_way(i) {
                 self.constraints[i] = Constraint::Retreat(self.retreat_at[i]);
             }
         }

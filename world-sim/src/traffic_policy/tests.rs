@@ -501,17 +501,18 @@ fn a_robot_joins_a_long_line_at_its_tail() {
 
 /// A bystander joining a lasting wait-for cycle (the component regroups) does not hold the
 /// retreat back: two robots that have waited on each other for
-/// [`PolicyParams::retreat_after_s`] are enough.
+/// [`PolicyParams::retreat_after_s`] are enough. (A hallway too narrow for two lanes: in a
+/// two-lane one, robots of both directions give way instead.)
 #[test]
 fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
-    let site = Site::hallway(40.0, 3.0, 3);
+    let site = Site::hallway(40.0, 1.3, 3);
     let params = PolicyParams::default();
     let mut policy = TrafficPolicy::new(&site, 3, 0.3, params);
-    let (east, west) = ([vec2(30.0, 1.5)], [vec2(5.0, 1.5)]);
+    let (east, west) = ([vec2(30.0, 0.65)], [vec2(5.0, 0.65)]);
     let robots = [
-        (vec2(10.0, 1.5), &east),
-        (vec2(10.7, 1.5), &west),
-        (vec2(10.35, 2.6), &west),
+        (vec2(10.0, 0.65), &east),
+        (vec2(10.7, 0.65), &west),
+        (vec2(11.4, 0.65), &west),
     ]
     .map(|(position, route)| PolicyRobot {
         position,
@@ -539,6 +540,97 @@ fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
     assert_eq!(monitor.cycles(), &[vec![0, 1, 2]]);
     let when = first_retreat.expect("a retreat");
     assert!((when - 4.1).abs() < 0.15, "{when}");
+}
+
+/// Robots of both directions knotted in a two-lane hallway: once the cycle has lasted
+/// [`PolicyParams::retreat_after_s`], the direction with fewer robots in it stops where it
+/// stands (no retreat) while the other keeps its lane, and the robot giving way drives on
+/// once they are past it; if they never pass, after [`PolicyParams::give_way_s`], and the
+/// retreat rule takes the cycle over.
+#[test]
+fn robots_knotted_both_ways_in_a_hallway_let_one_direction_pass() {
+    let site = Site::hallway(40.0, 3.0, 3);
+    let params = PolicyParams::default();
+    let map = site.map();
+    let (east, west) = ([vec2(30.0, 1.0)], [vec2(5.0, 1.0)]);
+    let mut robots = [
+        (vec2(10.0, 1.0), &east),
+        (vec2(10.7, 1.0), &west),
+        (vec2(11.4, 1.2), &west),
+    ]
+    .map(|(position, route)| PolicyRobot {
+        position,
+        route: route.as_slice(),
+        station: None,
+    });
+    // Policy steps `from`..=`to` (× 0.1 s), robot 2 and robot 0 waiting on each other too;
+    // the give-way and retreat events.
+    let run = |robots: &[PolicyRobot<'_>],
+               policy: &mut TrafficPolicy,
+               monitor: &mut TrafficMonitor,
+               from: u32,
+               to: u32| {
+        let views = standing(robots, 0.3, &[20.0; 3]);
+        let mut seen = Vec::new();
+        for k in from..=to {
+            let now = Real::from(k) * 0.1;
+            monitor.record(now, 0.1, &views, &map, &[(2, 0), (0, 2)]);
+            seen.extend(
+                policy
+                    .step(now, robots, monitor)
+                    .into_iter()
+                    .filter(|e| {
+                        matches!(e, PolicyEvent::GiveWay { .. } | PolicyEvent::Retreat { .. })
+                    })
+                    .map(|e| (now, e)),
+            );
+        }
+        seen
+    };
+    let mut policy = TrafficPolicy::new(&site, 3, 0.3, params);
+    let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+    let seen = run(&robots, &mut policy, &mut monitor, 1, 50);
+    let [(when, PolicyEvent::GiveWay { robot: 0 })] = seen[..] else {
+        panic!("robot 0 alone gives way: {seen:?}");
+    };
+    assert!((when - params.retreat_after_s).abs() < 0.15, "{when}");
+    assert_eq!(policy.totals().give_ways, 1);
+    // Robot 0 stops where it stands.
+    let Constraint::GiveWay(at) = policy.constraint(0) else {
+        panic!("{:?}", policy.constraint(0));
+    };
+    assert_eq!(at, robots[0].position);
+    // The other two keep their lane (right of travel: above the centre line), ahead.
+    for i in [1, 2] {
+        let Constraint::Lane(p) = policy.constraint(i) else {
+            panic!("robot {i}: {:?}", policy.constraint(i));
+        };
+        assert!((p.y - 2.25).abs() < 1e-9, "robot {i}: {p:?}");
+        assert!(p.x < robots[i].position.x, "robot {i}: {p:?}");
+    }
+    // Both past robot 0: it drives on along its lane.
+    robots[1].position = vec2(8.0, 1.5);
+    robots[2].position = vec2(7.0, 1.5);
+    run(&robots, &mut policy, &mut monitor, 51, 51);
+    assert!(
+        matches!(policy.constraint(0), Constraint::Lane(p) if (p.y - 0.75).abs() < 1e-9),
+        "{:?}",
+        policy.constraint(0)
+    );
+    // Never passed: it drives on after give_way_s all the same.
+    robots[1].position = vec2(10.7, 1.0);
+    robots[2].position = vec2(11.4, 1.2);
+    let mut policy = TrafficPolicy::new(&site, 3, 0.3, params);
+    let mut monitor = TrafficMonitor::new(3, TrafficParams::default());
+    let steps = ((when + params.give_way_s) / 0.1).round() as u32;
+    run(&robots, &mut policy, &mut monitor, 1, steps - 1);
+    assert!(matches!(policy.constraint(0), Constraint::GiveWay(_)));
+    let seen = run(&robots, &mut policy, &mut monitor, steps, steps);
+    assert!(!matches!(policy.constraint(0), Constraint::GiveWay(_)));
+    assert!(
+        matches!(seen[..], [(_, PolicyEvent::Retreat { .. })]),
+        "{seen:?}"
+    );
 }
 
 /// One policy step after the monitor has seen `robots` (each with a task whose route left is
