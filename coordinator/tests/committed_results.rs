@@ -1,8 +1,9 @@
 //! The committed study results are what the code computes now: a smoke version of the
 //! open-space study reproduces its cells of `results/open-space/runs.csv` (the papers'
 //! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
-//! every planner) byte for byte, and small versions of the laned and hallway studies reproduce
-//! rows of `results/laned/runs.csv` and `results/hallway/runs.csv`. A change that moves any
+//! every planner) byte for byte, and small versions of the laned, hallway and traffic studies
+//! reproduce rows of `results/laned/runs.csv`, `results/hallway/runs.csv` and
+//! `results/traffic/runs.csv`. A change that moves any
 //! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
 //! re-run the study and commit its results (each study's REPORT.md has the command).
 
@@ -86,6 +87,27 @@ fn hallway_smoke_rows_are_the_committed_rows() {
         seeds: 2,
     };
     rows_are_committed("hallway", &to_csv(study.execute(&|| {})), 2 * 2 * 2);
+}
+
+/// The fleet traffic study (`results/traffic`): seed 1 of the 10-robot fleets in both sites,
+/// policy off and on, 300 s each as the command runs them, are the committed rows.
+#[test]
+fn traffic_rows_are_the_committed_rows() {
+    use coordinator::study::traffic::{Site, TrafficStudy};
+    let site = |name: &str| Site {
+        scenario: Scenario::builtin(name).expect("built-in"),
+        fleets: vec![10],
+    };
+    let study = TrafficStudy {
+        sites: vec![site("warehouse-narrow"), site("hallway-fleet")],
+        planner: "pgp+orca".parse().expect("known"),
+        first_seed: 1,
+        seeds: 1,
+        policies: vec![false, true],
+        seconds: 300.0,
+    };
+    let runs = study.execute(&|| {}).expect("fleet sites");
+    rows_are_committed("traffic", &to_csv(&runs), 4);
 }
 
 /// Every row of `ours` (a runs.csv with its header) is a line of `results/<dir>/runs.csv`,

@@ -71,14 +71,17 @@
 //!   the cycle, 13 deadlocks instead of 5 at 20 robots and 40 instead of 34 at 40 in 10 seeds;
 //!   backing off in trains of up to three robots, the robots behind the one retreating with
 //!   it, 1 deadlock instead of 0 in hallway seeds 1–11 at 20 robots.)
-//! - **Give way in two-way knots.** When the members of such a cycle travel both ways along
-//!   one two-lane corridor (robots pushed out of their lanes by people meet face to face, and
-//!   more join from both sides), the direction with fewer members in it stops where it
+//! - **Give way in two-way knots.** When the members of such a cycle all travel along one
+//!   two-lane hallway, both ways (robots pushed out of their lanes by people meet face to
+//!   face, and more join from both sides), the direction with fewer members in it stops where it
 //!   stands until every member of the other direction is past it, at most
 //!   [`PolicyParams::give_way_s`]; the retreat rule leaves the cycle alone meanwhile, and
 //!   takes over for as long again if the knot is given up unpassed. Robots that stand still
-//!   are easy to move round; robots that dodge back are not. Not in cross-aisles, where the
-//!   retreat rule was tuned on crossings. (`hallway-fleet` seed 81 at 20 robots: 19 robots
+//!   are easy to move round; robots that dodge back are not. Only in hallways, corridors no
+//!   cross-aisle crosses: in `warehouse-narrow`'s corridors at 40 robots, robots stopped in
+//!   knots stood in the crossings, and runs with a deadlock rose from 3 to 12 in seeds 1–73
+//!   (to 7 in seeds 1–58 with the rule kept to knots all on the corridor).
+//!   (`hallway-fleet` seed 81 at 20 robots: 19 robots
 //!   and 8 people knotted in 6 m of hallway, robots of both directions in both lanes, 3 tasks
 //!   in 300 s and a deadlock. With this rule, seeds 1–100 at 20 robots: no run with a
 //!   deadlock, against 1 without, 1.52 tasks/min both ways. A first version pulled those

@@ -199,6 +199,11 @@ impl Site {
             .position(|&(x, half)| (p.x - x).abs() <= half)
     }
 
+    /// How many cross-aisles cross the corridors (none in a hallway).
+    pub fn cross_aisle_count(&self) -> usize {
+        self.cross_aisles.len()
+    }
+
     /// Cross-aisle `j`'s centre line (x) and half width.
     pub fn cross_aisle(&self, j: usize) -> (Real, Real) {
         self.cross_aisles[j]

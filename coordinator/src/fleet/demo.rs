@@ -269,9 +269,17 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     out.push_str(&match &report.policy {
         Some(p) => format!(
             "traffic policy: {} one-way aisle segments granted, {} waits for one, {} stations \
-             granted, {} waits in a station's line, {} retreats, {} robots found against a \
-             segment's direction\n",
-            p.grants, p.waits, p.station_grants, p.queued, p.retreats, p.intrusions
+             granted, {} waits in a station's line, {} retreats, {} two-way knots given way in, \
+             {} robots sent round a blocked segment, {} robots found against a segment's \
+             direction\n",
+            p.grants,
+            p.waits,
+            p.station_grants,
+            p.queued,
+            p.retreats,
+            p.give_ways,
+            p.detours,
+            p.intrusions
         ),
         None => "traffic policy: off\n".to_owned(),
     });
