@@ -17,6 +17,6 @@ page.on("console", (m) => { if (m.type() === "error") console.error("page:", m.t
 await page.goto(url);
 await page.waitForTimeout(Number(waitMs));
 // Software WebGL on a busy 2-core machine can take a while to hand over a frame.
-await page.screenshot({ path: out, timeout: 180000 });
+await page.screenshot({ path: out, timeout: 600000 });
 await browser.close();
 console.log(`saved ${out}`);

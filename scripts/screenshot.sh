@@ -19,7 +19,10 @@ command -v chromium >/dev/null || { echo "needs Debian's chromium: apt-get insta
 log=$(mktemp)
 work=$(mktemp -d)
 server=""
-trap '[ -n "$server" ] && kill $server 2>/dev/null; rm -rf "$log" "$work"' EXIT
+# The server runs in a session of its own, and the whole session goes at the end: the `rerun`
+# on PATH may be pip's wrapper, whose viewer process would otherwise outlive it (and keep
+# using the CPU).
+trap '[ -n "$server" ] && kill -- -"$server" 2>/dev/null; rm -rf "$log" "$work"' EXIT
 if [ "${FROM_RECORDING:-0}" = 1 ]; then
     rerun_cli="${GAPFLEET_RERUN:-rerun}"
     command -v "$rerun_cli" >/dev/null || { echo "needs the rerun CLI: pip install rerun-sdk==0.36.3" >&2; exit 1; }
@@ -28,7 +31,7 @@ if [ "${FROM_RECORDING:-0}" = 1 ]; then
     "$bin" demo --rrd "$rrd" --seconds "${DEMO_SECONDS:-90}" --speed "${SPEED:-10}" "$@" >/dev/null
     port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
     web_port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-    RERUN_ANALYTICS=0 "$rerun_cli" --serve-web --bind 127.0.0.1 --port "$port" \
+    RERUN_ANALYTICS=0 setsid "$rerun_cli" --serve-web --bind 127.0.0.1 --port "$port" \
         --web-viewer-port "$web_port" "$rrd" 2>"$log" >/dev/null &
     server=$!
     for _ in $(seq 1 100); do
@@ -37,7 +40,7 @@ if [ "${FROM_RECORDING:-0}" = 1 ]; then
     done
     url="http://127.0.0.1:$web_port/?url=rerun%2Bhttp%3A%2F%2F127.0.0.1%3A$port%2Fproxy"
 else
-    "$bin" demo --web --seconds "${DEMO_SECONDS:-90}" "$@" 2>"$log" >/dev/null &
+    setsid "$bin" demo --web --seconds "${DEMO_SECONDS:-90}" "$@" 2>"$log" >/dev/null &
     server=$!
     url=""
     for _ in $(seq 1 100); do

@@ -75,6 +75,14 @@ pub enum DashboardError {
     /// The logging thread could not start.
     #[error("dashboard thread: {0}")]
     Thread(#[from] std::io::Error),
+    /// The .rrd file's folder could not be made.
+    #[error("cannot create {path}: {source}")]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
 }
 
 fn rerr(e: impl std::fmt::Display) -> DashboardError {
@@ -110,6 +118,12 @@ impl Dashboard {
         let mut web_url = None;
         let mut web_server = None;
         if let Some(path) = &sinks.rrd {
+            if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+                std::fs::create_dir_all(folder).map_err(|source| DashboardError::Folder {
+                    path: folder.to_path_buf(),
+                    source,
+                })?;
+            }
             sink_list.push(Box::new(rerun::sink::FileSink::new(path).map_err(rerr)?));
         }
         if let Some(url) = &sinks.connect {

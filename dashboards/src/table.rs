@@ -33,7 +33,9 @@ pub fn markdown(rows: &[RobotRow]) -> String {
             .map_or_else(dash, |d| format!("{d:.1} m"));
         let share = r
             .delay_share
-            .map_or_else(dash, |s| format!("{:.0} %", 100.0 * s));
+            // A robot can save people a little time (a negative share); rounded to zero it
+            // reads 0 %, not -0 %.
+            .map_or_else(dash, |s| format!("{:.0} %", (100.0 * s).round() + 0.0));
         let _ = writeln!(
             out,
             "| {} | {} | {state} | {} | {} | {:.2} | {closest} | {share} |",

@@ -7,8 +7,9 @@
 //!    is flagged, the others keep completing tasks;
 //! 3. the agent is restarted: it rejoins and its robot gets work again;
 //! 4. garbage on an agent's observation key: the agent counts it and keeps planning;
-//! 5. the coordinator stops: every agent sends a safe stop within 0.5 s;
-//! 6. SIGTERM: every agent exits cleanly.
+//! 5. one agent gets SIGTERM: it exits cleanly and the coordinator classes it as a leave;
+//! 6. the coordinator stops: every agent still running sends a safe stop within 0.5 s;
+//! 7. SIGTERM: every agent exits cleanly.
 
 use agent::runtime::net::{Role, loopback};
 use coordinator::fleet::{CoordinatorConfig, Event, Status, run_coordinator};
@@ -20,6 +21,8 @@ use world_sim::fleet::Fleet;
 use world_sim::scenario::Scenario;
 
 const ROBOTS: u32 = 10;
+/// The agent that leaves cleanly in step 5.
+const LEAVER: u32 = 7;
 const SITE: &str = "proc-test";
 
 /// What the coordinator showed at one wall second.
@@ -222,7 +225,20 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
     println!("agent 5 after garbage: {info:?}");
     assert!(agents[5].running(), "agent 5 survived the garbage");
 
-    // 5. Stop the coordinator: every agent safe-stops within 0.5 s.
+    // 5. SIGTERM agent 7 while the coordinator runs: it safe-stops, withdraws its token and
+    //    exits, and the coordinator classes that as a clean leave, not a crash.
+    agents[LEAVER as usize].signal("TERM");
+    let (_, event) = wait_for(&events, Duration::from_secs(5), |(_, e)| {
+        matches!(e, Event::Crashed(LEAVER) | Event::Left(LEAVER))
+    })
+    .expect("the coordinator notices agent 7 leaving");
+    assert_eq!(event, Event::Left(LEAVER), "a clean exit is a leave");
+    assert!(
+        agents[LEAVER as usize].wait_success(),
+        "agent 7 exits cleanly on SIGTERM"
+    );
+
+    // 6. Stop the coordinator: every agent still running safe-stops within 0.5 s.
     let cmd_sub = rt
         .block_on(async {
             router
@@ -235,10 +251,12 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
     stop_tx.send(()).expect("coordinator still running");
     let status = rt.block_on(coordinator).expect("coordinator task");
     let mut safe = std::collections::BTreeMap::new();
-    while safe.len() < ROBOTS as usize && stopped_at.elapsed() < Duration::from_secs(3) {
+    let running = ROBOTS as usize - 1;
+    while safe.len() < running && stopped_at.elapsed() < Duration::from_secs(3) {
         if let Ok(Some(sample)) = cmd_sub.try_recv() {
             if let Ok(cmd) = decode::<CommandMsg>(&sample.payload().to_bytes())
                 && cmd.safe_stop
+                && cmd.robot_id != LEAVER
             {
                 safe.entry(cmd.robot_id).or_insert(stopped_at.elapsed());
             }
@@ -247,11 +265,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
         }
     }
     println!("safe stops after the coordinator stopped: {safe:?}");
-    assert_eq!(
-        safe.len(),
-        ROBOTS as usize,
-        "every agent safe-stops: {safe:?}"
-    );
+    assert_eq!(safe.len(), running, "every agent safe-stops: {safe:?}");
     for (robot, after) in &safe {
         assert!(
             *after <= Duration::from_millis(500),
@@ -267,7 +281,8 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
         status.stale_commands
     );
 
-    // 6. SIGTERM: clean exits.
+    // 7. SIGTERM: clean exits.
+    agents.remove(LEAVER as usize);
     for a in &agents {
         a.signal("TERM");
     }

@@ -2,7 +2,8 @@
 //! `runtime`; the planner core never depends on it).
 //!
 //! An agent declares a liveliness token `…/alive/<id>`, subscribes to its observations, plans on
-//! each one and publishes its command and intent. It fetches the static map from the
+//! the newest one (a slow plan skips the observations that arrived meanwhile) and publishes its
+//! command and intent. It fetches the static map from the
 //! coordinator's queryable whenever an observation names a map version it does not hold, and
 //! keeps the robot stopped until it has one. If observations stop for longer than
 //! [`AgentConfig::obs_timeout`], or the coordinator's liveliness token `…/coordinator`
@@ -74,6 +75,9 @@ pub struct AgentCounters {
     pub rejected: AtomicU64,
     /// Observations dropped as older than one already planned on.
     pub stale: AtomicU64,
+    /// Observations replaced by a newer one before the planner got to them (a planner slower
+    /// than the tick plans on the newest only).
+    pub superseded: AtomicU64,
     /// Safe-stop commands sent (timeouts and shutdown).
     pub safe_stops: AtomicU64,
     /// Maps fetched.
@@ -115,14 +119,36 @@ pub async fn run_agent(
         .declare_publisher(keys.robot(id, Channel::Fan))
         .await
         .map_err(zerr("fan publisher"))?;
-    let obs_sub = session
-        .declare_subscriber(keys.robot(id, Channel::Obs))
-        .await
-        .map_err(zerr("observation subscriber"))?;
+    // Observations are decoded as they arrive, in Zenoh's own thread (a small MessagePack
+    // message: microseconds), and only the newest valid one is kept for the planner: nothing
+    // here can block the session, a planner slower than the tick plans on the newest
+    // observation rather than working through a backlog, and every bad message is counted.
+    let newest = Arc::new(NewestObservation::default());
+    let obs_sub = {
+        let newest = newest.clone();
+        let counters = counters.clone();
+        session
+            .declare_subscriber(keys.robot(id, Channel::Obs))
+            .callback(move |sample| {
+                match decode::<Observation>(&sample.payload().to_bytes()) {
+                    Ok(obs) if obs.robot_id == id => {
+                        if newest.put(obs) {
+                            counters.superseded.fetch_add(1, Ordering::Relaxed);
+                        }
+                    }
+                    Ok(obs) => reject(&counters, id, &format!("observation for robot {}", obs.robot_id)),
+                    Err(e) => reject(&counters, id, &e.to_string()),
+                }
+            })
+            .await
+            .map_err(zerr("observation subscriber"))?
+    };
+    // A ring, not a FIFO: a full FIFO would block the session; only the newest changes matter.
     let coordinator_sub = session
         .liveliness()
         .declare_subscriber(keys.coordinator())
         .history(true)
+        .with(zenoh::handlers::RingChannel::new(16))
         .await
         .map_err(zerr("coordinator liveliness subscriber"))?;
 
@@ -143,20 +169,8 @@ pub async fn run_agent(
     loop {
         tokio::select! {
             () = &mut shutdown => break,
-            sample = obs_sub.recv_async() => {
-                let Ok(sample) = sample else { break };
-                let bytes = sample.payload().to_bytes();
-                let obs = match decode::<Observation>(&bytes) {
-                    Ok(obs) if obs.robot_id == id => obs,
-                    Ok(obs) => {
-                        reject(&counters, id, &format!("observation for robot {}", obs.robot_id));
-                        continue;
-                    }
-                    Err(e) => {
-                        reject(&counters, id, &e.to_string());
-                        continue;
-                    }
-                };
+            () = newest.ready.notified() => {
+                let Some(obs) = newest.take() else { continue };
                 // Older than what was planned on: drop, unless the agent had lost contact (the
                 // coordinator restarted and counts from 0 again).
                 if let Some((seq, _)) = last
@@ -174,7 +188,11 @@ pub async fn run_agent(
                     let due = last_map_attempt.is_none_or(|t| t.elapsed() > Duration::from_secs(1));
                     if due {
                         last_map_attempt = Some(Instant::now());
-                        let fetched = tokio::time::timeout(MAP_QUERY_TIMEOUT, fetch_map(session, &keys)).await;
+                        let fetched = tokio::time::timeout(
+                            MAP_QUERY_TIMEOUT,
+                            fetch_map(session, &keys, obs.map_version),
+                        )
+                        .await;
                         match fetched {
                             Ok(Ok((version, m))) => {
                                 counters.maps.fetch_add(1, Ordering::Relaxed);
@@ -289,8 +307,39 @@ pub async fn run_agent(
     }
     safe_stop(&cmd_pub, id, last, &counters).await;
     drop(token);
+    drop(obs_sub);
     tracing::info!(robot = id, "agent down");
     Ok(())
+}
+
+/// The newest valid observation, not yet planned on: written by the subscriber's callback,
+/// taken by the agent's loop.
+#[derive(Debug, Default)]
+struct NewestObservation {
+    slot: std::sync::Mutex<Option<Observation>>,
+    /// Signalled on every new observation (a permit is kept when the loop is busy, so none is
+    /// missed).
+    ready: tokio::sync::Notify,
+}
+
+impl NewestObservation {
+    /// Keeps `obs`; true if it replaced one the loop had not taken.
+    fn put(&self, obs: Observation) -> bool {
+        // A poisoned lock only means a panic elsewhere while holding it; the slot is still
+        // a whole Option.
+        let replaced = self
+            .slot
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .replace(obs)
+            .is_some();
+        self.ready.notify_one();
+        replaced
+    }
+
+    fn take(&self) -> Option<Observation> {
+        self.slot.lock().unwrap_or_else(|e| e.into_inner()).take()
+    }
 }
 
 /// Completes on SIGINT or SIGTERM: the shutdown of every gapfleet process.
@@ -340,16 +389,30 @@ enum MapFetchError {
     /// The coordinator answered with an error.
     #[error("error reply: {0}")]
     ErrorReply(String),
+    /// The map is not the version the observations name.
+    #[error("the map served is version {got}, the observations name {want}")]
+    Version {
+        /// The version served.
+        got: u32,
+        /// The version the observations name.
+        want: u32,
+    },
     /// The map's geometry is unusable.
     #[error(transparent)]
     Map(#[from] crate::map::MapError),
 }
 
+/// Whether the `n`-th rejected message (counting from 1) is logged: the first ten, then every
+/// hundredth, so that a flood of bad messages cannot flood the log. Every gapfleet process
+/// logs what it rejects this way.
+pub fn log_rejection(n: u64) -> bool {
+    n <= 10 || n.is_multiple_of(100)
+}
+
 fn reject(counters: &AgentCounters, id: u32, why: &str) {
     let n = counters.rejected.fetch_add(1, Ordering::Relaxed) + 1;
-    // The first ten, then every hundredth: a flood of garbage must not flood the log.
-    if n <= 10 || n.is_multiple_of(100) {
-        tracing::warn!(robot = id, rejected = n, "bad observation: {why}");
+    if log_rejection(n) {
+        tracing::warn!(robot = id, rejected = n, "bad message: {why}");
     }
 }
 
@@ -374,9 +437,12 @@ async fn safe_stop(
     }
 }
 
+/// The map of version `want` (the one the coordinator's observations name): a reply with
+/// another version is skipped, whoever sent it.
 async fn fetch_map(
     session: &zenoh::Session,
     keys: &Keys,
+    want: u32,
 ) -> Result<(u32, StaticMap), MapFetchError> {
     let replies = session
         .get(keys.map())
@@ -387,6 +453,12 @@ async fn fetch_map(
     while let Ok(reply) = replies.recv_async().await {
         match reply.result() {
             Ok(sample) => match decode::<MapMsg>(&sample.payload().to_bytes()) {
+                Ok(msg) if msg.map_version != want => {
+                    last_error = MapFetchError::Version {
+                        got: msg.map_version,
+                        want,
+                    };
+                }
                 Ok(msg) => {
                     let map = wire::map_from_wire(&msg)?;
                     return Ok((msg.map_version, map));

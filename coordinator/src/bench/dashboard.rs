@@ -23,6 +23,11 @@ pub struct DashboardBench {
     pub with_us: f64,
     /// (with − without) / without.
     pub overhead: f64,
+    /// Median CPU time per tick of the simulating thread, without a dashboard (µs).
+    pub without_cpu_us: f64,
+    /// The same with the dashboard (µs): the part of the overhead that is work done on the
+    /// tick's own thread; the rest is the dashboard's threads competing for the CPU.
+    pub with_cpu_us: f64,
     /// Frames the dashboard dropped (its thread fell behind).
     pub dropped: u64,
 }
@@ -34,10 +39,11 @@ pub fn bench_dashboard(
     ticks: usize,
     rrd: &std::path::Path,
 ) -> Result<DashboardBench> {
-    use crate::fleet::{Observer, Status, observation};
+    use crate::fleet::{Observer, Status, map_message, observation};
     use world_sim::fleet::Fleet;
-    let time = |with: bool| -> Result<(f64, u64)> {
+    let time = |with: bool| -> Result<(f64, f64, u64)> {
         let mut fleet = Fleet::new(scenario)?;
+        let map_version = map_message(&fleet).map_version;
         let park = vec![agent::model::Command::STOP; fleet.robots()];
         let mut observer = if with {
             let sinks = dashboards::Sinks {
@@ -55,25 +61,33 @@ pub fn bench_dashboard(
             ..Status::default()
         };
         let mut times = Vec::with_capacity(ticks);
+        let mut cpu_times = Vec::with_capacity(ticks);
         for tick in 0..ticks + 20 {
             let started = Instant::now();
+            let cpu_started = super::machine::thread_cpu_ns();
             let mut events = fleet.step(&park);
             events.extend(fleet.dispatch());
             for i in 0..fleet.robots() {
-                std::hint::black_box(schemas::encode(&observation(&mut fleet, i, tick as u64)));
+                std::hint::black_box(schemas::encode(&observation(&mut fleet, i, tick as u64, map_version)));
             }
             status.tick = tick as u64;
             status.sim_time = fleet.world.time;
             observer.tick(&fleet, &status, &events);
             if tick >= 20 {
                 times.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
+                let cpu_us = super::machine::thread_cpu_ns().saturating_sub(cpu_started) / 1000;
+                cpu_times.push(cpu_us.min(u64::from(u32::MAX)) as u32);
             }
         }
         let dropped = observer.map_or(0, |o| o.finish().dropped);
-        Ok((percentile(&mut times, 0.5), dropped))
+        Ok((
+            percentile(&mut times, 0.5),
+            percentile(&mut cpu_times, 0.5),
+            dropped,
+        ))
     };
-    let (without_us, _) = time(false)?;
-    let (with_us, dropped) = time(true)?;
+    let (without_us, without_cpu_us, _) = time(false)?;
+    let (with_us, with_cpu_us, dropped) = time(true)?;
     Ok(DashboardBench {
         robots: scenario.fleet_size().map_or(0, |f| f.0),
         humans: scenario.fleet_size().map_or(0, |f| f.1),
@@ -81,6 +95,8 @@ pub fn bench_dashboard(
         without_us,
         with_us,
         overhead: (with_us - without_us) / without_us,
+        without_cpu_us,
+        with_cpu_us,
         dropped,
     })
 }

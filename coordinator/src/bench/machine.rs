@@ -250,7 +250,8 @@ fn job(seed: u64) -> u64 {
     x
 }
 
-fn thread_cpu_ns() -> u64 {
+/// CPU time of the calling thread (ns).
+pub(crate) fn thread_cpu_ns() -> u64 {
     let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
     (t.tv_sec.max(0) as u64) * 1_000_000_000 + t.tv_nsec.max(0) as u64
 }

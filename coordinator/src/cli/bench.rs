@@ -120,14 +120,18 @@ impl Bench {
                     println!("{}", serde_json::to_string(&b)?);
                 } else {
                     println!(
-                        "{} robots, {} people, {} ticks: median tick {:.0} µs without dashboard, {:.0} µs with (.rrd): overhead {:.1} %, {} frames dropped",
+                        "{} robots, {} people, {} ticks: median tick {:.0} µs without dashboard, {:.0} µs with (.rrd): overhead {:.1} %, {} frames dropped\n\
+                         the tick thread's CPU time: {:.0} µs without, {:.0} µs with ({:+.1} %)",
                         b.robots,
                         b.humans,
                         b.ticks,
                         b.without_us,
                         b.with_us,
                         b.overhead * 100.0,
-                        b.dropped
+                        b.dropped,
+                        b.without_cpu_us,
+                        b.with_cpu_us,
+                        (b.with_cpu_us / b.without_cpu_us - 1.0) * 100.0,
                     );
                 }
                 Ok(())

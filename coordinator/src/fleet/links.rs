@@ -22,6 +22,10 @@ const SENT_KEPT: usize = 16;
 pub(super) struct Link {
     pub(super) alive: bool,
     pub(super) flagged: bool,
+    /// The agent's token went in an earlier tick and the exit is not yet classed: its last
+    /// command (a safe stop, if it shut down cleanly) may still be on its way, as data and
+    /// liveliness travel on different priorities and need not arrive in order.
+    leaving: bool,
     /// Newest command: the observation it answers, the command, whether it was a safe stop.
     pub(super) command: Option<(u64, Command, bool)>,
     /// Next observation sequence number.
@@ -79,6 +83,14 @@ impl RoundTrips {
     }
 }
 
+/// Counts a rejected message and logs why (the first ten, then every hundredth).
+pub(super) fn reject(status: &mut Status, why: std::fmt::Arguments<'_>) {
+    status.rejected += 1;
+    if agent::runtime::log_rejection(status.rejected) {
+        tracing::warn!(rejected = status.rejected, "rejected: {why}");
+    }
+}
+
 /// Tells the status and the event channel that `event` happened.
 pub(super) fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
     if let Some(tx) = &config.events {
@@ -88,7 +100,8 @@ pub(super) fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event
 }
 
 /// An agent's liveliness token came (its robot is released) or went (its robot is held and
-/// flagged: a clean leave if its last command was a safe stop, a crash otherwise).
+/// flagged at once; whether it left cleanly or crashed is decided a tick later, by
+/// [`settle_exits`]).
 pub(super) fn liveliness_change(
     sample: &Sample,
     keys: &Keys,
@@ -102,11 +115,14 @@ pub(super) fn liveliness_change(
     };
     let n = links.len();
     let Some(link) = links.get_mut(id as usize) else {
-        tracing::warn!("agent {id} has no robot here ({n} robots)");
+        reject(status, format_args!("agent {id} has no robot here ({n} robots)"));
         return;
     };
     match sample.kind() {
         SampleKind::Put => {
+            if link.leaving {
+                settle_exit(id, link, status, config);
+            }
             link.alive = true;
             link.flagged = false;
             link.command = None;
@@ -117,20 +133,34 @@ pub(super) fn liveliness_change(
         SampleKind::Delete => {
             link.alive = false;
             link.flagged = true;
+            link.leaving = true;
             fleet.set_held(id as usize, true);
-            let clean = link.command.is_some_and(|c| c.2);
-            let event = if clean {
-                Event::Left(id)
-            } else {
-                Event::Crashed(id)
-            };
-            tracing::warn!(
-                robot = id,
-                "agent gone: {event:?}; robot stopped and flagged"
-            );
-            emit(status, config, event);
         }
     }
+}
+
+/// Classes the exits of agents whose tokens went in an earlier tick, after this tick's
+/// commands are in: a clean leave if the last command was a safe stop, a crash otherwise.
+pub(super) fn settle_exits(links: &mut [Link], status: &mut Status, config: &CoordinatorConfig) {
+    for (id, link) in links.iter_mut().enumerate() {
+        if link.leaving {
+            settle_exit(id as u32, link, status, config);
+        }
+    }
+}
+
+fn settle_exit(id: u32, link: &mut Link, status: &mut Status, config: &CoordinatorConfig) {
+    link.leaving = false;
+    let event = if link.command.is_some_and(|c| c.2) {
+        Event::Left(id)
+    } else {
+        Event::Crashed(id)
+    };
+    tracing::warn!(
+        robot = id,
+        "agent gone: {event:?}; robot stopped and flagged"
+    );
+    emit(status, config, event);
 }
 
 /// Takes in every command that arrived: the newest per robot is kept; answers to recent
@@ -165,19 +195,20 @@ fn take_command(
     let cmd = match decode::<CommandMsg>(bytes) {
         Ok(cmd) => cmd,
         Err(e) => {
-            status.rejected += 1;
-            tracing::debug!("bad command: {e}");
+            reject(status, format_args!("command on robot {key_id:?}'s key: {e}"));
             return;
         }
     };
     let link = match links.get_mut(cmd.robot_id as usize) {
         Some(link) if Some(cmd.robot_id) == key_id && cmd.obs_seq < link.next_seq => link,
         _ => {
-            status.rejected += 1;
-            tracing::debug!(
-                robot = cmd.robot_id,
-                obs_seq = cmd.obs_seq,
-                "command rejected: wrong key ({key_id:?}), no such robot ({n} here), or an observation not yet sent"
+            reject(
+                status,
+                format_args!(
+                    "command for robot {} answering observation {}: wrong key ({key_id:?}), no \
+                     such robot ({n} here), or an observation not yet sent",
+                    cmd.robot_id, cmd.obs_seq
+                ),
             );
             return;
         }

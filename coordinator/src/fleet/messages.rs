@@ -13,11 +13,8 @@ use schemas::{
 use world_sim::fleet::{Fleet, Stage};
 use world_sim::traffic_policy::Constraint;
 
-/// Version of the map the coordinator serves (the generated map never changes during a run).
-pub const MAP_VERSION: u32 = 1;
-
-/// Robot `i`'s observation with sequence number `seq`.
-pub fn observation(fleet: &mut Fleet, i: usize, seq: u64) -> Observation {
+/// Robot `i`'s observation with sequence number `seq`, naming the served map's version.
+pub fn observation(fleet: &mut Fleet, i: usize, seq: u64, map_version: u32) -> Observation {
     let (ego, seen) = fleet.observe(i);
     let task = fleet.job(i).map(|job| TaskRef {
         task_id: job.task.id,
@@ -31,7 +28,7 @@ pub fn observation(fleet: &mut Fleet, i: usize, seq: u64) -> Observation {
         seq,
         sim_time: fleet.world.time,
         dt: fleet.world.dt,
-        map_version: MAP_VERSION,
+        map_version,
         p: wire::p2(ego.position),
         heading: ego.heading,
         vel: wire::p2(ego.velocity),
@@ -82,8 +79,29 @@ pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg>
     })
 }
 
-/// The site's static map and stations as served by the `…/map` queryable.
+/// The site's static map and stations as served by the `…/map` queryable. Its version is
+/// derived from its content ([`map_version`]): a coordinator restarted on another site or
+/// scenario serves another version, and agents fetch the new map.
 pub fn map_message(fleet: &Fleet) -> schemas::MapMsg {
+    let mut msg = unversioned_map(fleet);
+    msg.map_version = map_version(&msg);
+    msg
+}
+
+/// The version of `msg`'s content: FNV-1a (32 bits) of the message encoded with version 0,
+/// never 0 (agents that hold no map yet compare against nothing).
+pub fn map_version(msg: &schemas::MapMsg) -> u32 {
+    let bytes = schemas::encode(&schemas::MapMsg {
+        map_version: 0,
+        ..msg.clone()
+    });
+    let hash = bytes.iter().fold(0x811c_9dc5_u32, |h, &b| {
+        (h ^ u32::from(b)).wrapping_mul(0x0100_0193)
+    });
+    hash.max(1)
+}
+
+fn unversioned_map(fleet: &Fleet) -> schemas::MapMsg {
     let site = fleet.site();
     let stations = site
         .stations
@@ -94,7 +112,7 @@ pub fn map_message(fleet: &Fleet) -> schemas::MapMsg {
         })
         .collect();
     let map: &StaticMap = &fleet.world.map;
-    wire::map_to_wire(map, MAP_VERSION, stations, [vec2(0.0, 0.0), site.size])
+    wire::map_to_wire(map, 0, stations, [vec2(0.0, 0.0), site.size])
 }
 
 /// The fleet metrics frame published once per simulated second.
@@ -148,5 +166,33 @@ pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> F
         stuck_robots: per_robot.iter().filter(|r| r.stuck).count() as u32,
         stuck_robot_s: traffic.stuck_robot_s,
         per_robot,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use world_sim::scenario::Scenario;
+
+    fn version(name: &str) -> u32 {
+        let scenario = Scenario::builtin(name).expect("built in");
+        map_message(&Fleet::new(&scenario).expect("a warehouse")).map_version
+    }
+
+    /// The map's version follows its content: the same site gives the same version, another
+    /// site another one (an agent that outlives a coordinator restarted on another scenario
+    /// then fetches the new map).
+    #[test]
+    fn the_map_version_follows_the_map() {
+        let (a, b) = (version("warehouse"), version("warehouse-narrow"));
+        assert_eq!(a, version("warehouse"));
+        assert_ne!(a, b);
+        assert!(a != 0 && b != 0);
+        let scenario = Scenario::builtin("warehouse").expect("built in");
+        let msg = map_message(&Fleet::new(&scenario).expect("a warehouse"));
+        assert_eq!(map_version(&msg), msg.map_version);
+        let mut moved = msg.clone();
+        moved.bounds[1].0 += 0.01;
+        assert_ne!(map_version(&moved), msg.map_version);
     }
 }

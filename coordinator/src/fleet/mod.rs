@@ -1,8 +1,8 @@
 //! The coordinator: runs a warehouse [`Fleet`] in (scaled) real time and connects it to the
 //! agents over Zenoh.
 //!
-//! Every tick runs these phases, each a function below: take in liveliness changes (an agent
-//! joined, left or crashed: its robot is held and stops) and the newest command per robot
+//! Every tick runs these phases, each a function below: take in the newest command per robot
+//! and liveliness changes (an agent joined, left or crashed: its robot is held and stops)
 //! (`Coordinator::take_arrivals`); take in heartbeats, fans and intents
 //! (`Coordinator::take_reports`); apply each robot's newest command unless it is stale
 //! (answers an observation more than `stale_ticks` old: the robot stops), step the world and
@@ -18,7 +18,7 @@ mod links;
 mod messages;
 mod status;
 
-pub use messages::{MAP_VERSION, map_message, observation, traffic_message};
+pub use messages::{map_message, map_version, observation, traffic_message};
 pub use status::{CoordinatorConfig, CoordinatorError, Event, Observer, RoundTrip, Status};
 
 use agent::model::Command;
@@ -69,6 +69,8 @@ struct Wire<'s> {
     traffic: Vec<Publisher<'s>>,
     metrics: Publisher<'s>,
     map_server: tokio::task::JoinHandle<()>,
+    /// The served map's version, named in every observation.
+    map_version: u32,
     _presence: Option<zenoh::liveliness::LivelinessToken>,
 }
 
@@ -80,7 +82,9 @@ impl<'s> Wire<'s> {
     ) -> Result<Self, CoordinatorError> {
         let keys = Keys::new(&config.site)?;
         let n = fleet.robots();
-        let map_bytes = encode(&map_message(fleet));
+        let map = map_message(fleet);
+        let map_version = map.map_version;
+        let map_bytes = encode(&map);
         let queryable = session
             .declare_queryable(keys.map())
             .await
@@ -184,6 +188,7 @@ impl<'s> Wire<'s> {
             traffic,
             metrics,
             map_server,
+            map_version,
             _presence: presence,
         })
     }
@@ -211,8 +216,15 @@ enum Published {
 }
 
 impl Coordinator<'_> {
-    /// Liveliness changes and commands.
+    /// Commands, then liveliness changes. An agent that shuts down sends its safe stop and
+    /// then withdraws its token; the two travel on different priorities, so the stop may
+    /// arrive in the same tick as the token's end or in the next. An exit is therefore classed
+    /// (clean leave or crash) one tick after the token went, once that tick's commands are in.
+    /// (A join resets the robot's command, so a previous agent's last commands never carry
+    /// over to a new one.)
     fn take_arrivals(&mut self) {
+        self.take_commands();
+        links::settle_exits(&mut self.links, &mut self.status, &self.config);
         while let Ok(Some(sample)) = self.wire.alive.try_recv() {
             links::liveliness_change(
                 &sample,
@@ -223,7 +235,6 @@ impl Coordinator<'_> {
                 &self.config,
             );
         }
-        self.take_commands();
         self.status.rejected += self.wire.cmd_overflow.swap(0, Ordering::Relaxed);
     }
 
@@ -249,12 +260,20 @@ impl Coordinator<'_> {
                 .filter(|&(id, c)| c == channel && (id as usize) < n)
                 .map(|(id, _)| id)
         };
+        // Why a report was rejected, for the (rate-limited) log.
+        let why = |sample: &Sample, decoded: Result<u32, schemas::DecodeError>| match decoded {
+            Ok(id) => format!("{} names robot {id}", sample.key_expr()),
+            Err(e) => format!("{}: {e}", sample.key_expr()),
+        };
         while let Ok(Some(sample)) = self.wire.infos.try_recv() {
             match decode::<schemas::AgentInfo>(&sample.payload().to_bytes()) {
                 Ok(info) if Some(info.robot_id) == sender(&sample, Channel::Info) => {
                     self.planner_p99[info.robot_id as usize] = info.plan_p99_us;
                 }
-                _ => self.status.rejected += 1,
+                other => {
+                    let why = why(&sample, other.map(|m| m.robot_id));
+                    links::reject(&mut self.status, format_args!("{why}"));
+                }
             }
         }
         self.status.planner_p99_us = (0..n)
@@ -267,7 +286,10 @@ impl Coordinator<'_> {
                     let id = fan.robot_id as usize;
                     self.status.fans[id] = Some(fan);
                 }
-                _ => self.status.rejected += 1,
+                other => {
+                    let why = why(&sample, other.map(|m| m.robot_id));
+                    links::reject(&mut self.status, format_args!("{why}"));
+                }
             }
         }
         while let Ok(Some(sample)) = self.wire.intents.try_recv() {
@@ -277,7 +299,10 @@ impl Coordinator<'_> {
                     self.fleet
                         .set_intent(intent.robot_id as usize, intent.stamp, samples);
                 }
-                _ => self.status.rejected += 1,
+                other => {
+                    let why = why(&sample, other.map(|m| m.robot_id));
+                    links::reject(&mut self.status, format_args!("{why}"));
+                }
             }
         }
     }
@@ -373,7 +398,12 @@ impl Coordinator<'_> {
             }
             previous = Some(tokio::time::Instant::now());
             for &i in chunk {
-                let obs = observation(&mut self.fleet, i, self.links[i].next_seq);
+                let obs = observation(
+                    &mut self.fleet,
+                    i,
+                    self.links[i].next_seq,
+                    self.wire.map_version,
+                );
                 let bytes = encode(&obs);
                 self.links[i].sent(obs.seq);
                 self.status.observations += 1;
