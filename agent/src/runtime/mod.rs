@@ -129,17 +129,21 @@ pub async fn run_agent(
         let counters = counters.clone();
         session
             .declare_subscriber(keys.robot(id, Channel::Obs))
-            .callback(move |sample| {
-                match decode::<Observation>(&sample.payload().to_bytes()) {
+            .callback(
+                move |sample| match decode::<Observation>(&sample.payload().to_bytes()) {
                     Ok(obs) if obs.robot_id == id => {
                         if newest.put(obs) {
                             counters.superseded.fetch_add(1, Ordering::Relaxed);
                         }
                     }
-                    Ok(obs) => reject(&counters, id, &format!("observation for robot {}", obs.robot_id)),
+                    Ok(obs) => reject(
+                        &counters,
+                        id,
+                        &format!("observation for robot {}", obs.robot_id),
+                    ),
                     Err(e) => reject(&counters, id, &e.to_string()),
-                }
-            })
+                },
+            )
             .await
             .map_err(zerr("observation subscriber"))?
     };

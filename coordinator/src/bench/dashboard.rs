@@ -68,7 +68,12 @@ pub fn bench_dashboard(
             let mut events = fleet.step(&park);
             events.extend(fleet.dispatch());
             for i in 0..fleet.robots() {
-                std::hint::black_box(schemas::encode(&observation(&mut fleet, i, tick as u64, map_version)));
+                std::hint::black_box(schemas::encode(&observation(
+                    &mut fleet,
+                    i,
+                    tick as u64,
+                    map_version,
+                )));
             }
             status.tick = tick as u64;
             status.sim_time = fleet.world.time;

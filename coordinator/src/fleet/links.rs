@@ -115,7 +115,10 @@ pub(super) fn liveliness_change(
     };
     let n = links.len();
     let Some(link) = links.get_mut(id as usize) else {
-        reject(status, format_args!("agent {id} has no robot here ({n} robots)"));
+        reject(
+            status,
+            format_args!("agent {id} has no robot here ({n} robots)"),
+        );
         return;
     };
     match sample.kind() {
@@ -195,7 +198,10 @@ fn take_command(
     let cmd = match decode::<CommandMsg>(bytes) {
         Ok(cmd) => cmd,
         Err(e) => {
-            reject(status, format_args!("command on robot {key_id:?}'s key: {e}"));
+            reject(
+                status,
+                format_args!("command on robot {key_id:?}'s key: {e}"),
+            );
             return;
         }
     };
