@@ -26,6 +26,16 @@ export GAPFLEET_PYTHON="$pyenv/bin/python"
 export GAPFLEET_RERUN="$pyenv/bin/rerun"
 export RERUN_ANALYTICS=0
 
+# A real zenohd router, the version of the zenoh crate (tests/tests/secure_site.rs puts it between
+# the coordinator and the agents with the site's access-control list). Built once, with the
+# transports and authentication the site uses, into a folder of its own outside the work tree.
+zenohd_root="${GAPFLEET_ZENOHD_ROOT:-$HOME/.cache/gapfleet-zenohd}"
+if ! "$zenohd_root/bin/zenohd" --version 2>/dev/null | grep -q "1\.10\.2"; then
+    cargo install zenohd --version "=1.10.2" --locked --root "$zenohd_root" --no-default-features \
+        --features zenoh/transport_tcp,zenoh/transport_tls,zenoh/auth_usrpwd
+fi
+export GAPFLEET_ZENOHD="$zenohd_root/bin/zenohd"
+
 if cargo fmt --version >/dev/null 2>&1; then
     cargo fmt --all -- --check
 else

@@ -4,6 +4,7 @@ the documented shape, fetches the map from the coordinator's queryable, and prin
 summary on stdout.
 
     python intent_client.py --connect tcp/127.0.0.1:7447 --site demo --count 40
+    python intent_client.py --config SITE/observer-python/zenoh.json5 --site demo --count 40
 
 Needs eclipse-zenoh==1.10.2 and msgpack==1.2.4 (tests/run.sh installs them).
 """
@@ -63,11 +64,19 @@ def check_traffic(msg):
     return msg
 
 
-def open_session(endpoint, timeout_s):
-    conf = zenoh.Config()
-    conf.insert_json5("mode", '"client"')
-    conf.insert_json5("connect/endpoints", json.dumps([endpoint]))
-    conf.insert_json5("scouting/multicast/enabled", "false")
+def open_session(endpoint, config_file, timeout_s):
+    if config_file is not None:
+        # A secured site's observer config (gapfleet site init): mutual TLS with the
+        # observer's certificate, its user and password; the site's router lets it read only.
+        conf = zenoh.Config.from_file(config_file)
+        # Fail fast on a refused connection (the config waits forever): retried below.
+        conf.insert_json5("connect/timeout_ms", "2000")
+        endpoint = config_file
+    else:
+        conf = zenoh.Config()
+        conf.insert_json5("mode", '"client"')
+        conf.insert_json5("connect/endpoints", json.dumps([endpoint]))
+        conf.insert_json5("scouting/multicast/enabled", "false")
     deadline = time.time() + timeout_s
     while True:
         try:
@@ -80,13 +89,15 @@ def open_session(endpoint, timeout_s):
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--connect", required=True)
+    where = parser.add_mutually_exclusive_group(required=True)
+    where.add_argument("--connect", help="endpoint of an unsecured fleet, e.g. tcp/127.0.0.1:7447")
+    where.add_argument("--config", help="a secured site's observer config (zenoh.json5)")
     parser.add_argument("--site", default="demo")
     parser.add_argument("--count", type=int, default=40)
     parser.add_argument("--timeout", type=float, default=30.0)
     args = parser.parse_args()
 
-    session = open_session(args.connect, args.timeout)
+    session = open_session(args.connect, args.config, args.timeout)
     prefix = f"gapfleet/{args.site}"
     sub = session.declare_subscriber(f"{prefix}/robot/*/intent")
     traffic = session.declare_subscriber(f"{prefix}/robot/*/traffic")

@@ -1,6 +1,7 @@
 //! A Python client (eclipse-zenoh 1.10.2 + msgpack, installed by tests/run.sh) subscribes to a
 //! live fleet's intents and traffic constraints and decodes them using nothing but
-//! schemas/README.md.
+//! schemas/README.md: on a plain fleet, and on a secured one (`demo --secure`) with its own
+//! observer credentials.
 
 use gapfleet_tests::{binary, free_endpoint};
 use std::process::{Command, Stdio};
@@ -11,8 +12,8 @@ fn python() -> String {
     std::env::var("GAPFLEET_PYTHON").unwrap_or_else(|_| "python3".to_owned())
 }
 
-#[test]
-fn python_client_decodes_a_live_fleets_intents() {
+/// The Python, checked for the client's packages.
+fn checked_python() -> String {
     let python = python();
     let check = Command::new(&python)
         .args(["-c", "import zenoh, msgpack"])
@@ -22,6 +23,14 @@ fn python_client_decodes_a_live_fleets_intents() {
         check.success(),
         "{python} lacks eclipse-zenoh/msgpack: run `bash tests/run.sh` (it installs them) or set GAPFLEET_PYTHON"
     );
+    python
+}
+
+const CLIENT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/python/intent_client.py");
+
+#[test]
+fn python_client_decodes_a_live_fleets_intents() {
+    let python = checked_python();
     let endpoint = free_endpoint();
     let mut demo = Command::new(binary("gapfleet"))
         .args(["demo", "--robots", "4", "--humans", "10", "--seconds", "60"])
@@ -41,9 +50,8 @@ fn python_client_decodes_a_live_fleets_intents() {
         );
         std::thread::sleep(Duration::from_millis(100));
     }
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/python/intent_client.py");
     let out = Command::new(&python)
-        .args([script, "--connect", &endpoint, "--site", "pytest"])
+        .args([CLIENT, "--connect", &endpoint, "--site", "pytest"])
         .args(["--count", "40", "--timeout", "30"])
         .output()
         .expect("the client runs");
@@ -76,4 +84,66 @@ fn python_client_decodes_a_live_fleets_intents() {
     );
     let kinds = summary["traffic_constraints"].as_array().expect("a list");
     assert!(kinds.contains(&serde_json::json!("lane")), "{summary}");
+}
+
+/// The same client on a secured fleet: it connects with the site's `observer-python`
+/// credentials (mutual TLS, user and password), reads intents and the map, and the run's
+/// summary is that of the plain fleet.
+#[test]
+fn python_client_reads_a_secured_fleet_with_its_own_credentials() {
+    use std::io::BufRead;
+    let python = checked_python();
+    let mut demo = Command::new(binary("gapfleet"))
+        .args(["demo", "--robots", "4", "--humans", "10", "--seconds", "60"])
+        .args(["--speed", "2", "--site", "pysec", "--secure"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("gapfleet demo starts");
+    // The demo names its site's folder on stderr; the rest of stderr is drained meanwhile.
+    let stderr = demo.stderr.take().expect("piped");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            if let Some(dir) = line.split("site files in ").nth(1) {
+                let _ = tx.send(dir.trim().to_owned());
+            }
+        }
+    });
+    let dir = rx
+        .recv_timeout(Duration::from_secs(30))
+        .expect("the secured demo names its site folder");
+    let config = format!("{dir}/observer-python/zenoh.json5");
+    let out = Command::new(&python)
+        .args([CLIENT, "--config", &config, "--site", "pysec"])
+        .args(["--count", "40", "--timeout", "30"])
+        .output()
+        .expect("the client runs");
+    // SIGTERM: the demo shuts down and removes its site folder.
+    let _ = Command::new("kill")
+        .args(["-TERM", &demo.id().to_string()])
+        .status();
+    let _ = demo.wait();
+    assert!(
+        !std::path::Path::new(&dir).exists(),
+        "the demo removed its site folder {dir}"
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "client failed: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("python client (secured): {stdout}");
+    let summary: serde_json::Value = serde_json::from_str(stdout.trim()).expect("JSON summary");
+    assert_eq!(summary["received"], 40, "{summary}");
+    assert!(
+        summary["robots"].as_array().is_some_and(|r| r.len() >= 2),
+        "intents from several robots: {summary}"
+    );
+    assert!(summary["map_obstacles"].as_u64().is_some_and(|n| n > 4));
 }

@@ -70,14 +70,19 @@ fn json_list(items: &[String]) -> String {
     format!("[{}]", quoted.join(","))
 }
 
+/// The Zenoh config in the JSON5 file at `path`, as written by `gapfleet site init`.
+pub fn from_file(path: &std::path::Path) -> Result<zenoh::Config, ConfigError> {
+    zenoh::Config::from_file(path).map_err(|e| ConfigError {
+        setting: path.display().to_string(),
+        source: e,
+    })
+}
+
 /// Builds the session config: the file (if any), then mode and endpoints from the arguments.
 /// Without a file, multicast scouting is off (loopback fleets and CI must not find strangers).
 pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, ConfigError> {
     let mut config = match &args.zenoh_config {
-        Some(path) => zenoh::Config::from_file(path).map_err(|e| ConfigError {
-            setting: path.display().to_string(),
-            source: e,
-        })?,
+        Some(path) => from_file(path)?,
         None => {
             let mut c = zenoh::Config::default();
             set(&mut c, "scouting/multicast/enabled", "false")?;

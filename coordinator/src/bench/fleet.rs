@@ -5,7 +5,7 @@
 use super::BenchError;
 use super::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
 use crate::fleet::RoundTrip;
-use crate::fleet::demo::{DemoOptions, run_demo};
+use crate::fleet::demo::{DemoOptions, Transport, run_demo};
 use agent::planner::{LocalKind, PlannerSpec};
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
@@ -69,12 +69,14 @@ pub struct FleetBench {
     pub round_trip_p99_clear_ms: Option<f64>,
 }
 
-/// Runs the fleet for `seconds` in real time with `agents` agents, then the raw round trip.
+/// Runs the fleet for `seconds` in real time with `agents` agents over `transport`, then the
+/// raw round trip (plain TCP).
 pub async fn bench_fleet(
     scenario: world_sim::scenario::Scenario,
     agents: usize,
     humans: usize,
     seconds: f64,
+    transport: Transport,
 ) -> Result<FleetBench> {
     let (round_trips_tx, round_trips_rx) = std::sync::mpsc::channel();
     let options = DemoOptions {
@@ -87,6 +89,7 @@ pub async fn bench_fleet(
         speed: 1.0,
         site: "bench".to_owned(),
         listen: None,
+        transport,
         share_intents: true,
         traffic_policy: true,
         sinks: dashboards::Sinks::default(),

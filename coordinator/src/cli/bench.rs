@@ -7,6 +7,7 @@ use clap::builder::TypedValueParser as _;
 use coordinator::bench::fleet::FleetBench;
 use coordinator::bench::machine::{CpuSpeedProbe, CpuTimes};
 use coordinator::bench::world::bench_world;
+use coordinator::fleet::demo::Transport;
 use std::path::PathBuf;
 use world_sim::scenario::{Scenario, WallModel};
 
@@ -72,7 +73,12 @@ pub enum Bench {
         /// Seconds to run (real time, 10 Hz).
         #[arg(long, default_value_t = 30.0, value_parser = positive)]
         seconds: f64,
-        /// Print one JSON object instead of text.
+        /// `plain` TCP; `secured`: mutual TLS, user/password and the access-control list of
+        /// a site written by `site init`; `both`: plain, secured, plain, secured in one run
+        /// (alternated, so that the machine's drift falls on both) and the ratios.
+        #[arg(long, value_enum, default_value_t = Security::Plain)]
+        security: Security,
+        /// Print one JSON object instead of text (with `--security both`, one per run).
         #[arg(long)]
         json: bool,
     },
@@ -140,14 +146,54 @@ impl Bench {
                 agents,
                 humans,
                 seconds,
+                security,
                 json,
             } => {
                 init_logging("warn");
                 let scenario = warehouse_large(agents, humans)?;
-                let b = runtime()?.block_on(coordinator::bench::fleet::bench_fleet(
-                    scenario, agents, humans, seconds,
-                ))?;
-                print_fleet(&b, json)
+                let secured_runs: &[bool] = match security {
+                    Security::Plain => &[false],
+                    Security::Secured => &[true],
+                    Security::Both => &[false, true, false, true],
+                };
+                let rt = runtime()?;
+                let mut results = Vec::new();
+                for &secured in secured_runs {
+                    // A fresh site per secured run; its files go with it.
+                    let site = if secured {
+                        let robots = u32::try_from(agents).unwrap_or(u32::MAX);
+                        Some(coordinator::site::TemporarySite::new("bench", robots)?)
+                    } else {
+                        None
+                    };
+                    let transport = match &site {
+                        Some(site) => Transport::Secured(site.paths.clone()),
+                        None => Transport::Tcp,
+                    };
+                    if !json && secured_runs.len() > 1 {
+                        println!(
+                            "\n== {} ==",
+                            if secured {
+                                "secured: mutual TLS + user/password + access control"
+                            } else {
+                                "plain TCP"
+                            }
+                        );
+                    }
+                    let b = rt.block_on(coordinator::bench::fleet::bench_fleet(
+                        scenario.clone(),
+                        agents,
+                        humans,
+                        seconds,
+                        transport,
+                    ))?;
+                    print_fleet(&b, json)?;
+                    results.push((secured, b));
+                }
+                if !json && secured_runs.len() > 1 {
+                    print_security_cost(&results);
+                }
+                Ok(())
             }
             Bench::World {
                 scenario,
@@ -235,6 +281,47 @@ fn world(
 }
 
 /// `bench fleet`'s report.
+/// What `bench fleet` runs over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Security {
+    /// Plain TCP.
+    Plain,
+    /// Mutual TLS, user/password and the access-control list.
+    Secured,
+    /// Both, alternated: plain, secured, plain, secured.
+    Both,
+}
+
+/// The round trips of plain and secured runs side by side, and their ratios.
+fn print_security_cost(results: &[(bool, FleetBench)]) {
+    println!("\nround trip (ms)      p50     p99   lost");
+    for (secured, b) in results {
+        println!(
+            "{:<16} {:7.2} {:7.2} {:6}",
+            if *secured { "secured" } else { "plain" },
+            b.round_trip_p50_ms,
+            b.round_trip_p99_ms,
+            b.lost
+        );
+    }
+    let median = |secured: bool, f: fn(&FleetBench) -> f64| {
+        let mut v: Vec<f64> = results
+            .iter()
+            .filter(|r| r.0 == secured)
+            .map(|r| f(&r.1))
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    let p50 = |b: &FleetBench| b.round_trip_p50_ms;
+    let p99 = |b: &FleetBench| b.round_trip_p99_ms;
+    println!(
+        "secured / plain: p50 {:.2}x, p99 {:.2}x (each the upper median of its runs)",
+        median(true, p50) / median(false, p50),
+        median(true, p99) / median(false, p99)
+    );
+}
+
 fn print_fleet(b: &FleetBench, json: bool) -> Result<()> {
     if json {
         println!("{}", serde_json::to_string(b)?);

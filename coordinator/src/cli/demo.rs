@@ -3,7 +3,8 @@
 use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime, speed};
 use agent::planner::PlannerSpec;
 use anyhow::Result;
-use coordinator::fleet::demo::{DemoOptions, run_demo, status_line, summary};
+use coordinator::fleet::demo::{DemoOptions, Transport, run_demo, status_line, summary};
+use coordinator::site::TemporarySite;
 use std::io::IsTerminal;
 use world_sim::scenario::Scenario;
 
@@ -38,6 +39,11 @@ pub struct DemoArgs {
     /// Site name.
     #[arg(long, default_value = "demo")]
     site: String,
+    /// Secure the fleet as a deployed site would be (`gapfleet site init` into a temporary
+    /// folder): mutual TLS on every link, user/password authentication, and an access-control
+    /// list that lets each agent use only its own robot's keys. Not with --listen.
+    #[arg(long, conflicts_with = "listen")]
+    secure: bool,
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
@@ -76,6 +82,23 @@ impl DemoArgs {
                 self.planner
             );
         }
+        // The site's files live as long as the demo runs.
+        let site = if self.secure {
+            let robots = u32::try_from(robots).unwrap_or(u32::MAX);
+            Some(TemporarySite::new(&self.site, robots)?)
+        } else {
+            None
+        };
+        let transport = match &site {
+            Some(site) => {
+                eprintln!(
+                    "secured: mutual TLS, user/password and the access-control list; site files in {}",
+                    site.paths.dir.display()
+                );
+                Transport::Secured(site.paths.clone())
+            }
+            None => Transport::Tcp,
+        };
         let options = DemoOptions {
             scenario,
             planner: self.planner,
@@ -83,6 +106,7 @@ impl DemoArgs {
             speed: self.speed,
             site: self.site,
             listen: self.listen,
+            transport,
             share_intents: !self.no_intent_sharing,
             traffic_policy: !self.no_traffic_policy,
             sinks: self.rerun.sinks(),

@@ -7,6 +7,7 @@ pub mod coordinator;
 pub mod demo;
 #[cfg(feature = "studies")]
 pub mod experiment;
+pub mod site;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
@@ -40,6 +41,9 @@ pub enum Command {
     Demo(demo::DemoArgs),
     /// Run the warehouse world and serve agents over Zenoh (`gapfleet-agent` processes).
     Coordinator(coordinator::CoordinatorArgs),
+    /// A secured site: its certificate authority, identities and Zenoh configs.
+    #[command(subcommand)]
+    Site(site::Site),
 }
 
 impl Command {
@@ -51,6 +55,7 @@ impl Command {
             Command::Bench(b) => b.run(),
             Command::Demo(d) => d.run(),
             Command::Coordinator(c) => c.run(),
+            Command::Site(s) => s.run(),
         }
     }
 }

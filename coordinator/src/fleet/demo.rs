@@ -31,8 +31,10 @@ pub struct DemoOptions {
     pub speed: f64,
     /// Site name.
     pub site: String,
-    /// Where the coordinator listens (default: a free loopback port).
+    /// Where the coordinator listens (default: a free loopback port; plain TCP only).
     pub listen: Option<String>,
+    /// How the sessions connect.
+    pub transport: Transport,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
     /// Whether the traffic policy (`world_sim::traffic_policy`) constrains the robots' goals.
@@ -41,6 +43,18 @@ pub struct DemoOptions {
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
     pub round_trips: Option<std::sync::mpsc::Sender<RoundTrip>>,
+}
+
+/// How the demo's sessions connect.
+#[derive(Debug, Clone, Default)]
+pub enum Transport {
+    /// Plain TCP on loopback, no authentication.
+    #[default]
+    Tcp,
+    /// A secured site written by [`crate::site::init`] for the demo's site name and at least
+    /// its robots: the coordinator routes with the site's `coordinator/zenoh.json5` (mutual
+    /// TLS, user/password, the access-control list), each agent connects with its robot's.
+    Secured(crate::site::SitePaths),
 }
 
 /// What a demo run produced.
@@ -112,18 +126,29 @@ pub async fn run_demo(
     } else {
         None
     };
-    let endpoint = match &options.listen {
-        Some(e) => e.clone(),
-        None => format!("tcp/127.0.0.1:{}", free_loopback_port()?),
+    let (router, endpoint) = match &options.transport {
+        Transport::Tcp => {
+            let endpoint = match &options.listen {
+                Some(e) => e.clone(),
+                None => format!("tcp/127.0.0.1:{}", free_loopback_port()?),
+            };
+            (open_loopback(Role::Router, &endpoint).await?, endpoint)
+        }
+        Transport::Secured(site) => {
+            let path = site.coordinator_config();
+            (open_file(&path).await?, path.display().to_string())
+        }
     };
-    let router = open_loopback(Role::Router, &endpoint).await?;
-    tracing::info!("coordinator listening on {endpoint}");
+    tracing::info!("coordinator listening: {endpoint}");
 
     let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
     let mut agents = Vec::new();
     let mut counters = Vec::new();
     for id in 0..fleet.robots() as u32 {
-        let session = open_loopback(Role::Client, &endpoint).await?;
+        let session = match &options.transport {
+            Transport::Tcp => open_loopback(Role::Client, &endpoint).await?,
+            Transport::Secured(site) => open_file(&site.robot_config(id)).await?,
+        };
         let c = Arc::new(AgentCounters::default());
         counters.push(c.clone());
         let mut agent_config = AgentConfig::new(id, &options.site, options.planner);
@@ -180,6 +205,15 @@ pub async fn run_demo(
         dashboard,
         traffic,
         policy,
+    })
+}
+
+/// Opens a session with the config file at `path`.
+async fn open_file(path: &std::path::Path) -> Result<zenoh::Session, ConfigError> {
+    let config = agent::runtime::net::from_file(path)?;
+    zenoh::open(config).await.map_err(|source| ConfigError {
+        setting: format!("session with {}", path.display()),
+        source,
     })
 }
 
