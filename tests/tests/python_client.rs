@@ -26,6 +26,24 @@ fn checked_python() -> String {
     python
 }
 
+/// The client's JSON summary, once it succeeded with 40 intents from several robots.
+fn client_summary(out: &std::process::Output, fleet: &str) -> serde_json::Value {
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "client failed: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("python client ({fleet} fleet): {stdout}");
+    let summary: serde_json::Value = serde_json::from_str(stdout.trim()).expect("JSON summary");
+    assert_eq!(summary["received"], 40, "{summary}");
+    assert!(
+        summary["robots"].as_array().is_some_and(|r| r.len() >= 2),
+        "intents from several robots: {summary}"
+    );
+    summary
+}
+
 const CLIENT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/python/intent_client.py");
 
 #[test]
@@ -57,19 +75,7 @@ fn python_client_decodes_a_live_fleets_intents() {
         .expect("the client runs");
     let _ = demo.kill();
     let _ = demo.wait();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "client failed: {}\n{stdout}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    println!("python client: {stdout}");
-    let summary: serde_json::Value = serde_json::from_str(stdout.trim()).expect("JSON summary");
-    assert_eq!(summary["received"], 40, "{summary}");
-    assert!(
-        summary["robots"].as_array().is_some_and(|r| r.len() >= 2),
-        "intents from several robots: {summary}"
-    );
+    let summary = client_summary(&out, "plain");
     assert_eq!(summary["planners"], serde_json::json!(["pgp+orca"]));
     assert_eq!(
         summary["max_samples"], 32,
@@ -132,18 +138,6 @@ fn python_client_reads_a_secured_fleet_with_its_own_credentials() {
         !std::path::Path::new(&dir).exists(),
         "the demo removed its site folder {dir}"
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "client failed: {}\n{stdout}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    println!("python client (secured): {stdout}");
-    let summary: serde_json::Value = serde_json::from_str(stdout.trim()).expect("JSON summary");
-    assert_eq!(summary["received"], 40, "{summary}");
-    assert!(
-        summary["robots"].as_array().is_some_and(|r| r.len() >= 2),
-        "intents from several robots: {summary}"
-    );
+    let summary = client_summary(&out, "secured");
     assert!(summary["map_obstacles"].as_u64().is_some_and(|n| n > 4));
 }

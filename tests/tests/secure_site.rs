@@ -309,15 +309,13 @@ struct Seen {
     path_m: Vec<f64>,
 }
 
-/// Runs a coordinator with two robots on `router` and robot 0's agent on a session with
-/// `agent_config`, while robot 1's credentials (`attacker_config`) forge commands for robot 1
-/// (with a far-future `obs_seq`) and for robot 0. Returns what the coordinator saw and how
-/// many forged commands for robot 1 were sent.
-async fn forge_against_a_fleet(
-    coordinator_session: Session,
-    agent_config: zenoh::Config,
-    attacker_config: zenoh::Config,
-) -> (Seen, u64) {
+/// Runs a coordinator with two robots on `coordinator_session` and robot 0's agent with its
+/// credentials from `paths`, while robot 1's credentials forge commands for robot 1 (with a
+/// far-future `obs_seq`) and for robot 0. Returns what the coordinator saw and how many forged
+/// commands for robot 1 were sent.
+async fn forge_against_a_fleet(coordinator_session: Session, paths: &SitePaths) -> (Seen, u64) {
+    let agent_config = from_file(&paths.robot_config(0)).expect("parses");
+    let attacker_config = quick(&paths.robot_config(1));
     let keys = Keys::new(SITE).expect("valid");
     let mut scenario = Scenario::builtin("warehouse").expect("built in");
     let w = scenario.warehouse.as_mut().expect("a warehouse");
@@ -424,12 +422,7 @@ fn forged_commands_have_no_effect_on_a_secured_fleet() {
         let router = open(from_file(&paths.coordinator_config()).expect("parses"))
             .await
             .expect("the coordinator routes");
-        forge_against_a_fleet(
-            router,
-            from_file(&paths.robot_config(0)).expect("parses"),
-            quick(&paths.robot_config(1)),
-        )
-        .await
+        forge_against_a_fleet(router, paths).await
     });
     check_forgeries_failed(&seen, forged_for_1);
 }
@@ -496,12 +489,7 @@ fn a_zenohd_router_enforces_the_same_list() {
         );
         drop(heard);
         robot1.close().await.expect("closes");
-        forge_against_a_fleet(
-            coordinator,
-            from_file(&paths.robot_config(0)).expect("parses"),
-            quick(&paths.robot_config(1)),
-        )
-        .await
+        forge_against_a_fleet(coordinator, paths).await
     });
     check_forgeries_failed(&seen, forged_for_1);
 }

@@ -12,62 +12,58 @@ pub enum Site {
     /// password for the coordinator, a zenohd router, every robot and every observer, and
     /// their Zenoh configs (mutual TLS, user/password, an access-control list that lets each
     /// identity do only its part).
-    Init {
-        /// Folder to write (created; must be empty).
-        dir: PathBuf,
-        /// Site name (the second chunk of every key).
-        #[arg(long, default_value = "demo")]
-        site: String,
-        /// Robots 0..N get an identity each.
-        #[arg(long, default_value_t = 10)]
-        robots: u32,
-        /// Read-only observers, by name (comma-separated).
-        #[arg(long, value_delimiter = ',', default_value = "dashboard,python")]
-        observers: Vec<String>,
-        /// Where agents, observers and a coordinator behind a router connect.
-        #[arg(long, default_value = "tls/127.0.0.1:7447")]
-        endpoint: String,
-        /// Where the routing process listens (default: --endpoint), e.g. tls/0.0.0.0:7447.
-        #[arg(long)]
-        listen: Option<String>,
-        /// Host names and IP addresses the router's certificate is valid for (repeatable;
-        /// default: the endpoint's host, localhost and 127.0.0.1).
-        #[arg(long = "host")]
-        hosts: Vec<String>,
-        /// Days the certificates are valid.
-        #[arg(long, default_value_t = 825)]
-        valid_days: u32,
-    },
+    Init(InitArgs),
+}
+
+/// `gapfleet site init`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct InitArgs {
+    /// Folder to write (created; must be empty).
+    dir: PathBuf,
+    /// Site name (the second chunk of every key).
+    #[arg(long, default_value = "demo")]
+    site: String,
+    /// Robots 0..N get an identity each.
+    #[arg(long, default_value_t = 10)]
+    robots: u32,
+    /// Read-only observers, by name (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "dashboard,python")]
+    observers: Vec<String>,
+    /// Where agents, observers and a coordinator behind a router connect.
+    #[arg(long, default_value = "tls/127.0.0.1:7447")]
+    endpoint: String,
+    /// Where the routing process listens (default: --endpoint), e.g. tls/0.0.0.0:7447.
+    #[arg(long)]
+    listen: Option<String>,
+    /// Host names and IP addresses the router's certificate is valid for (repeatable;
+    /// default: the endpoint's host, localhost and 127.0.0.1).
+    #[arg(long = "host")]
+    hosts: Vec<String>,
+    /// Days the certificates are valid.
+    #[arg(long, default_value_t = 825)]
+    valid_days: u32,
 }
 
 impl Site {
     /// Runs the subcommand.
     pub fn run(self) -> Result<()> {
         match self {
-            Site::Init {
-                dir,
-                site,
-                robots,
-                observers,
-                endpoint,
-                listen,
-                hosts,
-                valid_days,
-            } => {
-                let hosts = if hosts.is_empty() {
-                    default_hosts(&endpoint)
+            Site::Init(args) => {
+                let hosts = if args.hosts.is_empty() {
+                    default_hosts(&args.endpoint)
                 } else {
-                    hosts
+                    args.hosts
                 };
                 let spec = SiteSpec {
-                    site,
-                    robots,
-                    observers,
-                    endpoint,
-                    listen,
+                    site: args.site,
+                    robots: args.robots,
+                    observers: args.observers,
+                    endpoint: args.endpoint,
+                    listen: args.listen,
                     hosts,
-                    valid_days,
+                    valid_days: args.valid_days,
                 };
+                let dir = args.dir;
                 let paths = init(&dir, &spec)?;
                 let d = paths.dir.display();
                 let last = spec.robots - 1;
