@@ -90,6 +90,7 @@ pub async fn bench_fleet(
         site: "bench".to_owned(),
         listen: None,
         transport,
+        journal: None,
         share_intents: true,
         traffic_policy: true,
         sinks: dashboards::Sinks::default(),

@@ -5,6 +5,7 @@ use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
 use coordinator::fleet::demo::status_line;
+use coordinator::fleet::journal::{Header, Journal};
 use coordinator::fleet::{CoordinatorConfig, Event, Status, run_coordinator};
 use world_sim::fleet::Fleet;
 
@@ -39,6 +40,10 @@ pub struct CoordinatorArgs {
     /// retreats (`world_sim::traffic_policy`).
     #[arg(long)]
     no_traffic_policy: bool,
+    /// Keep the run's inputs and events in DIR (a new folder), so that `gapfleet replay DIR`
+    /// re-runs it bit for bit (coordinator/README.md, Journal).
+    #[arg(long, value_name = "DIR")]
+    state: Option<std::path::PathBuf>,
     #[command(flatten)]
     net: NetArgs,
     #[command(flatten)]
@@ -49,12 +54,25 @@ impl CoordinatorArgs {
     /// Serves the fleet until the time is up or SIGINT/SIGTERM.
     pub fn run(self) -> Result<()> {
         init_logging("info,zenoh=warn");
-        let scenario = self.scenario.fleet_site(Overrides {
+        let overrides = Overrides {
             robots: self.robots,
             humans: self.humans,
             seed: self.seed,
             ..Overrides::default()
-        })?;
+        };
+        let scenario = self.scenario.fleet_site(overrides)?;
+        let journal = match &self.state {
+            Some(dir) => Some(Journal::create(
+                dir,
+                &Header::new(
+                    &self.site,
+                    self.scenario.source(overrides),
+                    !self.no_intent_sharing,
+                    !self.no_traffic_policy,
+                ),
+            )?),
+            None => None,
+        };
         let mut net = self.net.clone();
         if net.listen.is_empty() && net.connect.is_empty() && net.zenoh_config.is_none() {
             net.listen.push("tcp/127.0.0.1:7447".to_owned());
@@ -67,6 +85,7 @@ impl CoordinatorArgs {
         let mut config_ = CoordinatorConfig::new(&self.site);
         config_.speed = self.speed;
         config_.seconds = self.seconds;
+        config_.journal = journal.as_ref().map(Journal::sink);
         runtime()?.block_on(async {
             let session = zenoh::open(config(&net, Role::Router)?)
                 .await
@@ -124,6 +143,10 @@ impl CoordinatorArgs {
                 .close()
                 .await
                 .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
+            if let (Some(journal), Some(dir)) = (journal, &self.state) {
+                let ticks = journal.finish()?;
+                eprintln!("journal: {ticks} ticks in {}", dir.display());
+            }
             Ok(())
         })
     }

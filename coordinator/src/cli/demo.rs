@@ -4,6 +4,7 @@ use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime, 
 use agent::planner::PlannerSpec;
 use anyhow::Result;
 use coordinator::fleet::demo::{DemoOptions, Transport, run_demo, status_line, summary};
+use coordinator::fleet::journal::{Header, Journal};
 use coordinator::site::TemporarySite;
 use std::io::IsTerminal;
 use world_sim::scenario::Scenario;
@@ -44,6 +45,10 @@ pub struct DemoArgs {
     /// list that lets each agent use only its own robot's keys. Not with --listen.
     #[arg(long, conflicts_with = "listen")]
     secure: bool,
+    /// Keep the run's inputs and events in DIR (a new folder), so that `gapfleet replay DIR`
+    /// re-runs it bit for bit (coordinator/README.md, Journal).
+    #[arg(long, value_name = "DIR")]
+    state: Option<std::path::PathBuf>,
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
@@ -62,12 +67,16 @@ pub struct DemoArgs {
 impl DemoArgs {
     /// The warehouse to run: the scenario with the counts and seed given on the command line.
     pub fn scenario(&self) -> Result<Scenario> {
-        self.scenario.fleet_site(Overrides {
+        self.scenario.fleet_site(self.overrides())
+    }
+
+    fn overrides(&self) -> Overrides {
+        Overrides {
             robots: self.robots,
             humans: self.humans,
             seed: self.seed,
             no_safety: self.no_safety,
-        })
+        }
     }
 
     /// Runs the demo, printing a live status line and the final metrics table.
@@ -99,6 +108,18 @@ impl DemoArgs {
             }
             None => Transport::Tcp,
         };
+        let journal = match &self.state {
+            Some(dir) => Some(Journal::create(
+                dir,
+                &Header::new(
+                    &self.site,
+                    self.scenario.source(self.overrides()),
+                    !self.no_intent_sharing,
+                    !self.no_traffic_policy,
+                ),
+            )?),
+            None => None,
+        };
         let options = DemoOptions {
             scenario,
             planner: self.planner,
@@ -107,6 +128,7 @@ impl DemoArgs {
             site: self.site,
             listen: self.listen,
             transport,
+            journal: journal.as_ref().map(Journal::sink),
             share_intents: !self.no_intent_sharing,
             traffic_policy: !self.no_traffic_policy,
             sinks: self.rerun.sinks(),
@@ -135,6 +157,14 @@ impl DemoArgs {
             eprintln!();
         }
         println!("{}", summary(&report, self.planner));
+        if let (Some(journal), Some(dir)) = (journal, &self.state) {
+            let ticks = journal.finish()?;
+            println!(
+                "journal: {ticks} ticks in {}; `gapfleet replay {}` re-runs them",
+                dir.display(),
+                dir.display()
+            );
+        }
         Ok(())
     }
 }

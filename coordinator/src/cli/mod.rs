@@ -7,6 +7,7 @@ pub mod coordinator;
 pub mod demo;
 #[cfg(feature = "studies")]
 pub mod experiment;
+pub mod replay;
 pub mod site;
 
 use anyhow::{Context, Result, bail};
@@ -44,6 +45,9 @@ pub enum Command {
     /// A secured site: its certificate authority, identities and Zenoh configs.
     #[command(subcommand)]
     Site(site::Site),
+    /// Re-run a recorded live run (`--state DIR` of `coordinator` or `demo`) in-process and
+    /// check that it comes out bit for bit the same.
+    Replay(replay::ReplayArgs),
 }
 
 impl Command {
@@ -56,6 +60,7 @@ impl Command {
             Command::Demo(d) => d.run(),
             Command::Coordinator(c) => c.run(),
             Command::Site(s) => s.run(),
+            Command::Replay(r) => r.run(),
         }
     }
 }
@@ -68,6 +73,8 @@ pub struct ScenarioRef {
     pub name: String,
     /// Its content (boxed: a scenario is large beside the other arguments).
     pub scenario: Box<Scenario>,
+    /// Its TOML text (a journal keeps it, to build the scenario again).
+    pub toml: String,
 }
 
 impl std::str::FromStr for ScenarioRef {
@@ -75,19 +82,26 @@ impl std::str::FromStr for ScenarioRef {
 
     fn from_str(name_or_path: &str) -> Result<Self> {
         let path = Path::new(name_or_path);
-        let scenario = match Scenario::builtin(name_or_path) {
-            Ok(s) => s,
+        let (scenario, toml) = match Scenario::builtin(name_or_path) {
+            Ok(s) => {
+                let text = world_sim::scenario::BUILTIN
+                    .iter()
+                    .find(|(name, _)| *name == name_or_path)
+                    .map_or(String::new(), |(_, text)| (*text).to_owned());
+                (s, text)
+            }
             // Neither a built-in nor a file: the error lists the built-ins.
             Err(unknown) if !path.exists() => return Err(unknown.into()),
             Err(_) => {
                 let text = std::fs::read_to_string(path)
                     .with_context(|| format!("reading {}", path.display()))?;
-                Scenario::from_toml(&text, name_or_path)?
+                (Scenario::from_toml(&text, name_or_path)?, text)
             }
         };
         Ok(Self {
             name: name_or_path.to_owned(),
             scenario: Box::new(scenario),
+            toml,
         })
     }
 }
@@ -106,6 +120,18 @@ pub struct Overrides {
 }
 
 impl ScenarioRef {
+    /// Where the scenario came from with `overrides`, for a journal.
+    pub fn source(&self, overrides: Overrides) -> ::coordinator::fleet::journal::ScenarioSource {
+        ::coordinator::fleet::journal::ScenarioSource {
+            name: self.name.clone(),
+            toml: self.toml.clone(),
+            robots: overrides.robots,
+            humans: overrides.humans,
+            seed: overrides.seed,
+            no_safety: overrides.no_safety,
+        }
+    }
+
     /// The scenario as a fleet site (a warehouse or a fleet hallway) with `overrides` applied
     /// (and validated again).
     pub fn fleet_site(&self, overrides: Overrides) -> Result<Scenario> {

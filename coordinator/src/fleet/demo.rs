@@ -35,6 +35,8 @@ pub struct DemoOptions {
     pub listen: Option<String>,
     /// How the sessions connect.
     pub transport: Transport,
+    /// Where the coordinator's journal goes (`--state DIR`), when kept.
+    pub journal: Option<super::journal::JournalSink>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
     /// Whether the traffic policy (`world_sim::traffic_policy`) constrains the robots' goals.
@@ -173,6 +175,7 @@ pub async fn run_demo(
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     config.round_trips = options.round_trips;
+    config.journal = options.journal;
     // The demo holds the coordinator's token itself and drops it after its agents have shut
     // down: the end of a demo is planned, not a lost coordinator.
     config.announce_presence = false;

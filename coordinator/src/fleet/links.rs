@@ -93,6 +93,13 @@ pub(super) fn reject(status: &mut Status, why: std::fmt::Arguments<'_>) {
 
 /// Tells the status and the event channel that `event` happened.
 pub(super) fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event) {
+    if let Some(journal) = &config.journal {
+        journal.event(super::journal::EventRecord {
+            tick: status.tick,
+            sim_time: status.sim_time,
+            event: format!("{event:?}"),
+        });
+    }
     if let Some(tx) = &config.events {
         let _ = tx.send((Instant::now(), event.clone()));
     }

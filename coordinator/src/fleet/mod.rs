@@ -14,6 +14,7 @@
 
 pub mod dashboard;
 pub mod demo;
+pub mod journal;
 mod links;
 mod messages;
 mod status;
@@ -206,6 +207,8 @@ struct Coordinator<'s> {
     planner_p99: Vec<f64>,
     /// Wall time of one tick.
     tick_wall: Duration,
+    /// Each robot's held flag as the journal last recorded it.
+    journal_held: Vec<bool>,
 }
 
 /// How a tick's observations went out.
@@ -321,11 +324,48 @@ impl Coordinator<'_> {
                 None => {}
             }
         }
+        let mut input = self
+            .config
+            .journal
+            .is_some()
+            .then(|| self.journal_input(&commands));
         let mut events = self.fleet.step(&commands);
         events.extend(self.fleet.dispatch());
+        if let (Some(journal), Some(mut input)) = (&self.config.journal, input.take()) {
+            if (input.tick + 1).is_multiple_of(journal::FINGERPRINT_EVERY) {
+                input.fingerprint = Some(journal::fingerprint(&self.fleet));
+            }
+            journal.tick(input);
+        }
         self.status.tick += 1;
         self.status.sim_time = self.fleet.world.time;
         events
+    }
+
+    /// This tick's inputs for the journal: held flags changed since the last tick, and the
+    /// command each moving robot drives on.
+    fn journal_input(&mut self, commands: &[Command]) -> journal::TickInput {
+        let mut held = Vec::new();
+        for (i, last) in self.journal_held.iter_mut().enumerate() {
+            let now = self.fleet.is_held(i);
+            if now != *last {
+                held.push((i as u32, now));
+                *last = now;
+            }
+        }
+        let commands = commands
+            .iter()
+            .enumerate()
+            // Bit for bit: a command of -0.0 is not left out as a stop.
+            .filter(|(_, c)| !matches!(c, Command::Velocity(v) if v.x.to_bits() == 0 && v.y.to_bits() == 0))
+            .map(|(i, c)| (i as u32, wire::motion(*c)))
+            .collect();
+        journal::TickInput {
+            tick: self.status.tick,
+            held,
+            commands,
+            fingerprint: None,
+        }
     }
 
     /// Sends new assignments to their robots and counts finished tasks.
@@ -469,6 +509,7 @@ pub async fn run_coordinator(
         round_trips: RoundTrips::new(config.round_trips.clone()),
         planner_p99: vec![0.0; n],
         tick_wall,
+        journal_held: vec![true; n],
         config,
     };
     let mut ticker = tokio::time::interval(tick_wall);
@@ -507,6 +548,14 @@ pub async fn run_coordinator(
             last_status = Instant::now();
             c.report_status(observer);
         }
+    }
+    if let Some(journal) = &c.config.journal {
+        journal.end(journal::End {
+            ticks: c.status.tick,
+            fingerprint: journal::fingerprint(&c.fleet),
+            tasks_done: c.status.tasks_done,
+            lost: 0,
+        });
     }
     // Final frame and status.
     let frame = c.metrics_frame();

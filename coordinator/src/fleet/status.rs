@@ -27,6 +27,8 @@ pub struct CoordinatorConfig {
     /// [`declare_presence`], to outlive the run: the demo keeps it until its agents have
     /// shut down, so that a planned end is not a lost coordinator to them.
     pub announce_presence: bool,
+    /// Where each tick's inputs and the events go (`--state DIR`), when kept.
+    pub journal: Option<super::journal::JournalSink>,
 }
 
 impl CoordinatorConfig {
@@ -41,6 +43,7 @@ impl CoordinatorConfig {
             round_trips: None,
             stagger: 100,
             announce_presence: true,
+            journal: None,
         }
     }
 }

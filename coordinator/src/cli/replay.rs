@@ -1,0 +1,99 @@
+//! `gapfleet replay DIR`: a recorded live run re-run in-process from its journal.
+
+use super::{RerunArgs, init_logging};
+use anyhow::Result;
+use coordinator::fleet::dashboard::DashboardObserver;
+use coordinator::fleet::journal::{read, replay};
+use coordinator::fleet::{Observer, Status};
+use std::path::PathBuf;
+
+/// `gapfleet replay`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct ReplayArgs {
+    /// The folder a `coordinator --state DIR` or `demo --state DIR` run wrote.
+    dir: PathBuf,
+    /// Print the event log too.
+    #[arg(long)]
+    events: bool,
+    #[command(flatten)]
+    rerun: RerunArgs,
+}
+
+impl ReplayArgs {
+    /// Re-runs the journal and reports whether it came out bit for bit as recorded.
+    pub fn run(self) -> Result<()> {
+        init_logging("warn");
+        let recorded = read(&self.dir)?;
+        let h = &recorded.header;
+        println!(
+            "site {:?}, scenario {} ({} robots, {} people overridden), {} ticks recorded{}",
+            h.site,
+            h.scenario.name,
+            h.scenario
+                .robots
+                .map_or("not".to_owned(), |n| n.to_string()),
+            h.scenario
+                .humans
+                .map_or("not".to_owned(), |n| n.to_string()),
+            recorded.ticks.len(),
+            match &recorded.end {
+                Some(end) => format!(", ended cleanly after {} ticks", end.ticks),
+                None => ", no clean end (the coordinator stopped without one)".to_owned(),
+            }
+        );
+        if let Some(end) = &recorded.end
+            && end.lost > 0
+        {
+            println!(
+                "warning: the journal dropped {} records while the run went on",
+                end.lost
+            );
+        }
+        if self.events {
+            for e in &recorded.events {
+                println!("tick {:6}  t {:7.1} s  {}", e.tick, e.sim_time, e.event);
+            }
+        }
+        let sinks = self.rerun.sinks();
+        let mut dashboard = None;
+        let mut status = Status::default();
+        let replayed = replay(&recorded, |fleet, events| {
+            if sinks.any() && dashboard.is_none() {
+                match DashboardObserver::start(fleet, &sinks, "replay") {
+                    Ok(d) => {
+                        if let Some(url) = d.web_url() {
+                            eprintln!("dashboard: open {url}");
+                        }
+                        dashboard = Some(d);
+                    }
+                    Err(e) => eprintln!("dashboard: {e}"),
+                }
+            }
+            if let Some(d) = &mut dashboard {
+                status.robots = fleet.robots();
+                status.tick += 1;
+                status.sim_time = fleet.world.time;
+                d.tick(fleet, &status, events);
+            }
+        })?;
+        if let Some(d) = dashboard {
+            let stats = d.finish();
+            eprintln!(
+                "dashboard: {} frames logged, {} dropped",
+                stats.logged, stats.dropped
+            );
+        }
+        println!(
+            "replayed {} ticks: {} tasks done, fingerprint {:016x}; {} fingerprints on the way \
+             and the final one match the recorded run",
+            replayed.ticks, replayed.tasks_done, replayed.fingerprint, replayed.checked
+        );
+        if let Some(end) = &recorded.end {
+            println!(
+                "recorded: {} ticks, {} tasks done, fingerprint {:016x}",
+                end.ticks, end.tasks_done, end.fingerprint
+            );
+        }
+        Ok(())
+    }
+}

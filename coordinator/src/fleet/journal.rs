@@ -1,0 +1,601 @@
+//! The coordinator's journal (`--state DIR`): everything needed to re-run a live run bit for
+//! bit, in a redb database, `DIR/state.redb`.
+//!
+//! The simulator is deterministic: given the scenario, a run is decided by which command each
+//! robot drove on at each tick and which robots were held (no agent, or agent gone). Those are
+//! the only inputs the journal keeps, one record per tick, with a fingerprint of the world
+//! every 100 ticks and at the end (event sourcing, as databases keep a write-ahead log). The
+//! event log (joins, leaves, crashes, tasks done) is kept beside them for people to read.
+//!
+//! Writes leave the tick through a bounded queue to a thread of their own, which commits every
+//! 200 ms: the tick never waits for the disk. What a crash can lose is what was not yet
+//! committed: at most the last 200 ms of inputs, plus the queue if the disk fell behind. If
+//! the queue ever fills, records are dropped and counted, and the journal says so: a replay of
+//! it then stops where the gap begins.
+//!
+//! redb rather than SQLite: pure Rust (no C to build beside zenoh and rerun), one file,
+//! crash-safe ACID transactions, and the data is plain key → bytes, which needs no SQL.
+
+use agent::runtime::wire;
+use redb::{ReadableDatabase, ReadableTable, TableDefinition};
+use schemas::Motion;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, SyncSender, TrySendError, sync_channel};
+use std::time::Duration;
+use world_sim::fleet::Fleet;
+use world_sim::scenario::Scenario;
+
+const META: TableDefinition<&str, &[u8]> = TableDefinition::new("meta");
+const TICKS: TableDefinition<u64, &[u8]> = TableDefinition::new("ticks");
+const EVENTS: TableDefinition<u64, &[u8]> = TableDefinition::new("events");
+
+/// The journal's format.
+const FORMAT: u32 = 1;
+
+/// Records queued before new ones are dropped (and counted).
+const QUEUE: usize = 8192;
+
+/// The writer commits this often.
+const COMMIT_EVERY: Duration = Duration::from_millis(200);
+
+/// A fingerprint of the world goes into the journal every this many ticks.
+pub const FINGERPRINT_EVERY: u64 = 100;
+
+/// Where a run's scenario came from, enough to build it again.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ScenarioSource {
+    /// Its name (a built-in's, or the file's path) for messages.
+    pub name: String,
+    /// Its TOML text.
+    pub toml: String,
+    /// Robots, when overridden.
+    pub robots: Option<usize>,
+    /// People, when overridden.
+    pub humans: Option<usize>,
+    /// Seed, when overridden.
+    pub seed: Option<u64>,
+    /// Whether the safety layer was turned off.
+    pub no_safety: bool,
+}
+
+impl ScenarioSource {
+    /// The scenario as a fleet site, with the overrides applied and validated.
+    pub fn scenario(&self) -> Result<Scenario, JournalError> {
+        let bad = |e: String| JournalError::Scenario(format!("{}: {e}", self.name));
+        let mut s = Scenario::from_toml(&self.toml, &self.name).map_err(|e| bad(e.to_string()))?;
+        if !s.set_fleet_size(self.robots, self.humans) {
+            return Err(bad(
+                "not a fleet site (it needs a [warehouse] table, or a [hallway] with robots = N)"
+                    .to_owned(),
+            ));
+        }
+        if let Some(seed) = self.seed {
+            s.seed = seed;
+        }
+        if self.no_safety {
+            s.robot.safety = false;
+        }
+        s.validate(&self.name).map_err(|e| bad(e.to_string()))?;
+        Ok(s)
+    }
+}
+
+/// What a run is: written once, first.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    /// The journal's format.
+    pub format: u32,
+    /// Site name.
+    pub site: String,
+    /// The scenario.
+    pub scenario: ScenarioSource,
+    /// Whether observations carried other robots' intents (no effect on the world; kept for
+    /// the record).
+    pub share_intents: bool,
+    /// Whether the traffic policy ran.
+    pub traffic_policy: bool,
+}
+
+impl Header {
+    /// A run of `scenario` on `site`.
+    pub fn new(
+        site: &str,
+        scenario: ScenarioSource,
+        share_intents: bool,
+        traffic_policy: bool,
+    ) -> Self {
+        Self {
+            format: FORMAT,
+            site: site.to_owned(),
+            scenario,
+            share_intents,
+            traffic_policy,
+        }
+    }
+}
+
+/// One tick's inputs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TickInput {
+    /// The tick (0 = the first step).
+    pub tick: u64,
+    /// Robots whose held flag changed before this tick's step, with the new flag.
+    pub held: Vec<(u32, bool)>,
+    /// The command each moving robot drove on (robots not listed stood still).
+    pub commands: Vec<(u32, Motion)>,
+    /// The world's fingerprint after this tick's step, every [`FINGERPRINT_EVERY`] ticks.
+    pub fingerprint: Option<u64>,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct End {
+    /// Ticks run.
+    pub ticks: u64,
+    /// The world's fingerprint at the end.
+    pub fingerprint: u64,
+    /// Tasks done.
+    pub tasks_done: u64,
+    /// Records the queue dropped (0 for a journal that replays to the end).
+    pub lost: u64,
+}
+
+/// A line of the event log.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EventRecord {
+    /// The tick it happened at.
+    pub tick: u64,
+    /// Simulated time (s).
+    pub sim_time: f64,
+    /// What happened, as the coordinator logs it.
+    pub event: String,
+}
+
+#[derive(Debug)]
+enum Record {
+    Tick(TickInput),
+    Event(EventRecord),
+    End(End),
+}
+
+/// Why the journal failed.
+#[derive(Debug, thiserror::Error)]
+pub enum JournalError {
+    /// The database refused.
+    #[error("journal {path}: {what}: {message}")]
+    Database {
+        /// The database file.
+        path: PathBuf,
+        /// What was being done.
+        what: &'static str,
+        /// redb's message.
+        message: String,
+    },
+    /// The folder holds a journal already (restarting on it is not built yet), or none, or
+    /// the replay left the recorded run.
+    #[error("journal: {0}")]
+    State(String),
+    /// A record would not decode.
+    #[error("journal: bad record: {0}")]
+    Record(String),
+    /// The recorded scenario cannot be built again.
+    #[error("journal: scenario {0}")]
+    Scenario(String),
+    /// The folder could not be made.
+    #[error("journal {path}: {source}")]
+    Io {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+fn db_err<'a>(path: &'a Path, what: &'static str) -> impl Fn(String) -> JournalError + 'a {
+    move |message| JournalError::Database {
+        path: path.to_path_buf(),
+        what,
+        message,
+    }
+}
+
+fn pack<T: Serialize>(value: &T) -> Vec<u8> {
+    // Plain structs of numbers, strings and lists always encode.
+    rmp_serde::to_vec_named(value).unwrap_or_default()
+}
+
+fn unpack<'a, T: Deserialize<'a>>(bytes: &'a [u8]) -> Result<T, JournalError> {
+    rmp_serde::from_slice(bytes).map_err(|e| JournalError::Record(e.to_string()))
+}
+
+/// The database file in `dir`.
+pub fn database(dir: &Path) -> PathBuf {
+    dir.join("state.redb")
+}
+
+/// The coordinator's end of the journal: cheap to clone, never blocks.
+#[derive(Debug, Clone)]
+pub struct JournalSink {
+    tx: SyncSender<Record>,
+    lost: Arc<AtomicU64>,
+}
+
+impl JournalSink {
+    fn send(&self, record: Record) {
+        match self.tx.try_send(record) {
+            Ok(()) => {}
+            Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
+                let n = self.lost.fetch_add(1, Ordering::Relaxed) + 1;
+                if agent::runtime::log_rejection(n) {
+                    tracing::warn!(lost = n, "journal behind: record dropped");
+                }
+            }
+        }
+    }
+
+    /// Records one tick's inputs.
+    pub fn tick(&self, input: TickInput) {
+        self.send(Record::Tick(input));
+    }
+
+    /// Records an event.
+    pub fn event(&self, record: EventRecord) {
+        self.send(Record::Event(record));
+    }
+
+    /// Records the end of the run.
+    pub fn end(&self, mut end: End) {
+        end.lost = self.lost.load(Ordering::Relaxed);
+        self.send(Record::End(end));
+    }
+
+    /// Records dropped so far.
+    pub fn lost(&self) -> u64 {
+        self.lost.load(Ordering::Relaxed)
+    }
+}
+
+/// A journal being written: hand [`Journal::sink`] to the coordinator, [`Journal::finish`]
+/// after it returns.
+#[derive(Debug)]
+pub struct Journal {
+    sink: JournalSink,
+    writer: Option<std::thread::JoinHandle<Result<u64, JournalError>>>,
+}
+
+impl Journal {
+    /// Starts a new journal in `dir` (created if missing), which must not hold one already.
+    pub fn create(dir: &Path, header: &Header) -> Result<Self, JournalError> {
+        std::fs::create_dir_all(dir).map_err(|source| JournalError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let path = database(dir);
+        if path.exists() {
+            return Err(JournalError::State(format!(
+                "{} holds a run already; resuming one is not built yet: give a new folder",
+                path.display()
+            )));
+        }
+        let db =
+            redb::Database::create(&path).map_err(|e| db_err(&path, "create")(e.to_string()))?;
+        let txn = db
+            .begin_write()
+            .map_err(|e| db_err(&path, "begin")(e.to_string()))?;
+        {
+            let mut meta = txn
+                .open_table(META)
+                .map_err(|e| db_err(&path, "open meta")(e.to_string()))?;
+            meta.insert("header", pack(header).as_slice())
+                .map_err(|e| db_err(&path, "write header")(e.to_string()))?;
+        }
+        txn.commit()
+            .map_err(|e| db_err(&path, "commit")(e.to_string()))?;
+        let (tx, rx) = sync_channel(QUEUE);
+        let writer = std::thread::Builder::new()
+            .name("journal".to_owned())
+            .spawn(move || write_loop(&db, &path, &rx))
+            .map_err(|source| JournalError::Io {
+                path: dir.to_path_buf(),
+                source,
+            })?;
+        Ok(Self {
+            sink: JournalSink {
+                tx,
+                lost: Arc::new(AtomicU64::new(0)),
+            },
+            writer: Some(writer),
+        })
+    }
+
+    /// The coordinator's end.
+    pub fn sink(&self) -> JournalSink {
+        self.sink.clone()
+    }
+
+    /// Waits for every queued record to be committed; returns how many ticks were written.
+    pub fn finish(mut self) -> Result<u64, JournalError> {
+        let writer = self.writer.take();
+        // The writer ends when every sender is gone.
+        drop(self);
+        match writer.map(|w| w.join()) {
+            Some(Ok(result)) => result,
+            Some(Err(_)) => Err(JournalError::State("writer thread panicked".to_owned())),
+            None => Ok(0),
+        }
+    }
+}
+
+fn write_loop(
+    db: &redb::Database,
+    path: &Path,
+    rx: &Receiver<Record>,
+) -> Result<u64, JournalError> {
+    let mut ticks = 0;
+    let mut events = 0u64;
+    while let Ok(first) = rx.recv() {
+        let mut batch = vec![first];
+        let deadline = std::time::Instant::now() + COMMIT_EVERY;
+        while let Some(left) = deadline.checked_duration_since(std::time::Instant::now()) {
+            match rx.recv_timeout(left) {
+                Ok(record) => batch.push(record),
+                Err(_) => break,
+            }
+        }
+        let txn = db
+            .begin_write()
+            .map_err(|e| db_err(path, "begin")(e.to_string()))?;
+        {
+            let mut tick_table = txn
+                .open_table(TICKS)
+                .map_err(|e| db_err(path, "open ticks")(e.to_string()))?;
+            let mut event_table = txn
+                .open_table(EVENTS)
+                .map_err(|e| db_err(path, "open events")(e.to_string()))?;
+            let mut meta = txn
+                .open_table(META)
+                .map_err(|e| db_err(path, "open meta")(e.to_string()))?;
+            for record in batch {
+                match record {
+                    Record::Tick(input) => {
+                        tick_table
+                            .insert(input.tick, pack(&input).as_slice())
+                            .map_err(|e| db_err(path, "write tick")(e.to_string()))?;
+                        ticks += 1;
+                    }
+                    Record::Event(event) => {
+                        event_table
+                            .insert(events, pack(&event).as_slice())
+                            .map_err(|e| db_err(path, "write event")(e.to_string()))?;
+                        events += 1;
+                    }
+                    Record::End(end) => {
+                        meta.insert("end", pack(&end).as_slice())
+                            .map_err(|e| db_err(path, "write end")(e.to_string()))?;
+                    }
+                }
+            }
+        }
+        txn.commit()
+            .map_err(|e| db_err(path, "commit")(e.to_string()))?;
+    }
+    Ok(ticks)
+}
+
+/// A journal read back.
+#[derive(Debug, Clone)]
+pub struct Recorded {
+    /// What the run was.
+    pub header: Header,
+    /// Its inputs, tick by tick, as far as they were committed.
+    pub ticks: Vec<TickInput>,
+    /// Its event log.
+    pub events: Vec<EventRecord>,
+    /// How it ended (None: it did not end cleanly, e.g. the coordinator was killed).
+    pub end: Option<End>,
+}
+
+/// Reads the journal in `dir`.
+pub fn read(dir: &Path) -> Result<Recorded, JournalError> {
+    let path = database(dir);
+    if !path.exists() {
+        return Err(JournalError::State(format!(
+            "{}: no such journal",
+            path.display()
+        )));
+    }
+    let db = redb::Database::open(&path).map_err(|e| db_err(&path, "open")(e.to_string()))?;
+    let txn = db
+        .begin_read()
+        .map_err(|e| db_err(&path, "begin")(e.to_string()))?;
+    let meta = txn
+        .open_table(META)
+        .map_err(|e| db_err(&path, "open meta")(e.to_string()))?;
+    let header: Header = match meta
+        .get("header")
+        .map_err(|e| db_err(&path, "read header")(e.to_string()))?
+    {
+        Some(bytes) => unpack(bytes.value())?,
+        None => {
+            return Err(JournalError::State(format!(
+                "{}: no header",
+                path.display()
+            )));
+        }
+    };
+    if header.format != FORMAT {
+        return Err(JournalError::State(format!(
+            "{}: format {} (this gapfleet reads {FORMAT})",
+            path.display(),
+            header.format
+        )));
+    }
+    let end = match meta
+        .get("end")
+        .map_err(|e| db_err(&path, "read end")(e.to_string()))?
+    {
+        Some(bytes) => Some(unpack(bytes.value())?),
+        None => None,
+    };
+    let mut ticks = Vec::new();
+    if let Ok(table) = txn.open_table(TICKS) {
+        for row in table
+            .iter()
+            .map_err(|e| db_err(&path, "read ticks")(e.to_string()))?
+        {
+            let (_, bytes) = row.map_err(|e| db_err(&path, "read tick")(e.to_string()))?;
+            ticks.push(unpack(bytes.value())?);
+        }
+    }
+    let mut events = Vec::new();
+    if let Ok(table) = txn.open_table(EVENTS) {
+        for row in table
+            .iter()
+            .map_err(|e| db_err(&path, "read events")(e.to_string()))?
+        {
+            let (_, bytes) = row.map_err(|e| db_err(&path, "read event")(e.to_string()))?;
+            events.push(unpack(bytes.value())?);
+        }
+    }
+    Ok(Recorded {
+        header,
+        ticks,
+        events,
+        end,
+    })
+}
+
+/// A fingerprint of the world: FNV-1a over the bits of the simulated time, every robot's
+/// pose, velocity, held flag, tasks done and path length, and every person's position and
+/// velocity.
+pub fn fingerprint(fleet: &Fleet) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325_u64;
+    let mut eat = |x: u64| {
+        for b in x.to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    };
+    eat(fleet.world.time.to_bits());
+    for (i, r) in fleet.world.robots.iter().enumerate() {
+        let s = &r.state;
+        for x in [
+            s.position.x,
+            s.position.y,
+            s.velocity.x,
+            s.velocity.y,
+            s.heading,
+        ] {
+            eat(x.to_bits());
+        }
+        eat(u64::from(fleet.is_held(i)));
+        eat(fleet.tasks_done(i));
+        eat(fleet.metrics(i).path_length_m.to_bits());
+    }
+    let crowd = &fleet.world.humans.crowd;
+    for i in 0..crowd.len() {
+        for x in [
+            crowd.positions[i].x,
+            crowd.positions[i].y,
+            crowd.velocities[i].x,
+            crowd.velocities[i].y,
+        ] {
+            eat(x.to_bits());
+        }
+    }
+    h
+}
+
+/// Tasks done by the whole fleet.
+fn tasks_done(fleet: &Fleet) -> u64 {
+    (0..fleet.robots()).map(|i| fleet.tasks_done(i)).sum()
+}
+
+/// What a replay found.
+#[derive(Debug)]
+pub struct Replayed {
+    /// Ticks re-run.
+    pub ticks: u64,
+    /// The world's fingerprint after them.
+    pub fingerprint: u64,
+    /// Fingerprints checked on the way (every [`FINGERPRINT_EVERY`] ticks), all equal.
+    pub checked: u64,
+    /// Tasks done.
+    pub tasks_done: u64,
+    /// The fleet at the end.
+    pub fleet: Fleet,
+}
+
+/// Re-runs a recorded run in-process: builds its scenario, applies each tick's held flags and
+/// commands, steps and dispatches as the coordinator did. A fingerprint that differs from
+/// the recorded one is an error naming the tick.
+pub fn replay(
+    recorded: &Recorded,
+    mut on_tick: impl FnMut(&Fleet, &[world_sim::fleet::FleetEvent]),
+) -> Result<Replayed, JournalError> {
+    let scenario = recorded.header.scenario.scenario()?;
+    let mut fleet = Fleet::new(&scenario).map_err(|e| JournalError::Scenario(e.to_string()))?;
+    fleet.share_intents = recorded.header.share_intents;
+    if recorded.header.traffic_policy {
+        fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
+    }
+    let n = fleet.robots();
+    for i in 0..n {
+        fleet.set_held(i, true);
+    }
+    let mut checked = 0;
+    let mut commands = vec![agent::model::Command::STOP; n];
+    for (k, input) in recorded.ticks.iter().enumerate() {
+        if input.tick != k as u64 {
+            return Err(JournalError::State(format!(
+                "tick {} is missing (the record after it is tick {})",
+                k, input.tick
+            )));
+        }
+        for &(robot, held) in &input.held {
+            if robot as usize >= n {
+                return Err(JournalError::Record(format!("robot {robot} of {n}")));
+            }
+            fleet.set_held(robot as usize, held);
+        }
+        commands.fill(agent::model::Command::STOP);
+        for &(robot, motion) in &input.commands {
+            let slot = commands
+                .get_mut(robot as usize)
+                .ok_or_else(|| JournalError::Record(format!("robot {robot} of {n}")))?;
+            *slot = wire::command(motion);
+        }
+        let mut events = fleet.step(&commands);
+        events.extend(fleet.dispatch());
+        on_tick(&fleet, &events);
+        if let Some(recorded_print) = input.fingerprint {
+            let now = fingerprint(&fleet);
+            if now != recorded_print {
+                return Err(JournalError::State(format!(
+                    "the replay left the recorded run at tick {}: fingerprint {now:016x}, recorded {recorded_print:016x}",
+                    input.tick
+                )));
+            }
+            checked += 1;
+        }
+    }
+    let print = fingerprint(&fleet);
+    if let Some(end) = &recorded.end
+        && end.ticks == recorded.ticks.len() as u64
+        && end.fingerprint != print
+    {
+        return Err(JournalError::State(format!(
+            "the replay ended on fingerprint {print:016x}, the run on {:016x}",
+            end.fingerprint
+        )));
+    }
+    Ok(Replayed {
+        ticks: recorded.ticks.len() as u64,
+        fingerprint: print,
+        checked,
+        tasks_done: tasks_done(&fleet),
+        fleet,
+    })
+}
