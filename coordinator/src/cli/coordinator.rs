@@ -5,8 +5,8 @@ use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
 use coordinator::fleet::demo::status_line;
-use coordinator::fleet::journal::{Header, Journal};
-use coordinator::fleet::{CoordinatorConfig, Event, Status, run_coordinator};
+use coordinator::fleet::journal::{Header, Journal, replay};
+use coordinator::fleet::{CoordinatorConfig, Event, Resume, Status, run_coordinator};
 use world_sim::fleet::Fleet;
 
 /// `gapfleet coordinator`'s arguments.
@@ -40,8 +40,9 @@ pub struct CoordinatorArgs {
     /// retreats (`world_sim::traffic_policy`).
     #[arg(long)]
     no_traffic_policy: bool,
-    /// Keep the run's inputs and events in DIR (a new folder), so that `gapfleet replay DIR`
-    /// re-runs it bit for bit (coordinator/README.md, Journal).
+    /// Keep the run's inputs and events in DIR, so that `gapfleet replay DIR` re-runs it bit
+    /// for bit; on a DIR that holds a run of the same site and scenario, go on with that run
+    /// where its journal ends (after a crash, say). See coordinator/README.md, Journal.
     #[arg(long, value_name = "DIR")]
     state: Option<std::path::PathBuf>,
     #[command(flatten)]
@@ -61,31 +62,54 @@ impl CoordinatorArgs {
             ..Overrides::default()
         };
         let scenario = self.scenario.fleet_site(overrides)?;
-        let journal = match &self.state {
-            Some(dir) => Some(Journal::create(
-                dir,
-                &Header::new(
+        // A folder with a journal: the run goes on from it, its world rebuilt by replaying it.
+        let (journal, recorded) = match &self.state {
+            Some(dir) => {
+                let header = Header::new(
                     &self.site,
                     self.scenario.source(overrides),
                     !self.no_intent_sharing,
                     !self.no_traffic_policy,
-                ),
-            )?),
-            None => None,
+                );
+                let (journal, recorded) = Journal::open(dir, &header)?;
+                (Some(journal), recorded)
+            }
+            None => (None, None),
         };
         let mut net = self.net.clone();
         if net.listen.is_empty() && net.connect.is_empty() && net.zenoh_config.is_none() {
             net.listen.push("tcp/127.0.0.1:7447".to_owned());
         }
-        let mut fleet = Fleet::new(&scenario)?;
+        let mut resume = None;
+        let mut fleet = match &recorded {
+            Some(recorded) => {
+                let started = std::time::Instant::now();
+                let replayed = replay(recorded, |_, _| {})?;
+                eprintln!(
+                    "resuming: {} ticks and {} tasks replayed from the journal in {:.2} s \
+                     ({} fingerprints checked)",
+                    replayed.ticks,
+                    replayed.tasks_done,
+                    started.elapsed().as_secs_f64(),
+                    replayed.checked
+                );
+                resume = Some(Resume {
+                    tick: replayed.ticks,
+                    tasks_done: replayed.tasks_done,
+                });
+                replayed.fleet
+            }
+            None => Fleet::new(&scenario)?,
+        };
         fleet.share_intents = !self.no_intent_sharing;
-        if !self.no_traffic_policy {
+        if !self.no_traffic_policy && fleet.traffic_policy().is_none() {
             fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
         }
         let mut config_ = CoordinatorConfig::new(&self.site);
         config_.speed = self.speed;
         config_.seconds = self.seconds;
         config_.journal = journal.as_ref().map(Journal::sink);
+        config_.resume = resume;
         runtime()?.block_on(async {
             let session = zenoh::open(config(&net, Role::Router)?)
                 .await

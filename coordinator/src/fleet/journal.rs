@@ -267,21 +267,36 @@ pub struct Journal {
 }
 
 impl Journal {
-    /// Starts a new journal in `dir` (created if missing), which must not hold one already.
-    pub fn create(dir: &Path, header: &Header) -> Result<Self, JournalError> {
+    /// Starts a new journal in `dir` (created if missing), or continues the one there: then
+    /// also returns what it holds, after checking that it is a run of the same site and
+    /// scenario. A continued journal loses its end record (the run goes on).
+    pub fn open(dir: &Path, header: &Header) -> Result<(Self, Option<Recorded>), JournalError> {
         std::fs::create_dir_all(dir).map_err(|source| JournalError::Io {
             path: dir.to_path_buf(),
             source,
         })?;
         let path = database(dir);
-        if path.exists() {
-            return Err(JournalError::State(format!(
-                "{} holds a run already; resuming one is not built yet: give a new folder",
-                path.display()
-            )));
-        }
+        let existed = path.exists();
         let db =
             redb::Database::create(&path).map_err(|e| db_err(&path, "create")(e.to_string()))?;
+        let recorded = if existed {
+            let recorded = read_db(&db, &path)?;
+            if recorded.header != *header {
+                return Err(JournalError::State(format!(
+                    "{} holds a run of site {:?}, scenario {} ({:?} robots, {:?} people, seed \
+                     {:?}); this one differs: give a new folder",
+                    path.display(),
+                    recorded.header.site,
+                    recorded.header.scenario.name,
+                    recorded.header.scenario.robots,
+                    recorded.header.scenario.humans,
+                    recorded.header.scenario.seed,
+                )));
+            }
+            Some(recorded)
+        } else {
+            None
+        };
         let txn = db
             .begin_write()
             .map_err(|e| db_err(&path, "begin")(e.to_string()))?;
@@ -291,24 +306,40 @@ impl Journal {
                 .map_err(|e| db_err(&path, "open meta")(e.to_string()))?;
             meta.insert("header", pack(header).as_slice())
                 .map_err(|e| db_err(&path, "write header")(e.to_string()))?;
+            meta.remove("end")
+                .map_err(|e| db_err(&path, "remove end")(e.to_string()))?;
         }
         txn.commit()
             .map_err(|e| db_err(&path, "commit")(e.to_string()))?;
+        let first_event = recorded.as_ref().map_or(0, |r| r.events.len() as u64);
         let (tx, rx) = sync_channel(QUEUE);
         let writer = std::thread::Builder::new()
             .name("journal".to_owned())
-            .spawn(move || write_loop(&db, &path, &rx))
+            .spawn(move || write_loop(&db, &path, &rx, first_event))
             .map_err(|source| JournalError::Io {
                 path: dir.to_path_buf(),
                 source,
             })?;
-        Ok(Self {
+        let journal = Self {
             sink: JournalSink {
                 tx,
                 lost: Arc::new(AtomicU64::new(0)),
             },
             writer: Some(writer),
-        })
+        };
+        Ok((journal, recorded))
+    }
+
+    /// Starts a new journal in `dir` (created if missing), which must not hold one already.
+    pub fn create(dir: &Path, header: &Header) -> Result<Self, JournalError> {
+        let path = database(dir);
+        if path.exists() {
+            return Err(JournalError::State(format!(
+                "{} holds a run already: give a new folder",
+                path.display()
+            )));
+        }
+        Ok(Self::open(dir, header)?.0)
     }
 
     /// The coordinator's end.
@@ -333,9 +364,10 @@ fn write_loop(
     db: &redb::Database,
     path: &Path,
     rx: &Receiver<Record>,
+    first_event: u64,
 ) -> Result<u64, JournalError> {
     let mut ticks = 0;
-    let mut events = 0u64;
+    let mut events = first_event;
     while let Ok(first) = rx.recv() {
         let mut batch = vec![first];
         let deadline = std::time::Instant::now() + COMMIT_EVERY;
@@ -408,6 +440,11 @@ pub fn read(dir: &Path) -> Result<Recorded, JournalError> {
         )));
     }
     let db = redb::Database::open(&path).map_err(|e| db_err(&path, "open")(e.to_string()))?;
+    read_db(&db, &path)
+}
+
+fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
+    let path = path.to_path_buf();
     let txn = db
         .begin_read()
         .map_err(|e| db_err(&path, "begin")(e.to_string()))?;
@@ -541,10 +578,9 @@ pub fn replay(
     if recorded.header.traffic_policy {
         fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
     }
+    // Held flags start as a new fleet's (none held); the first tick's record holds the
+    // coordinator's holding every robot without an agent.
     let n = fleet.robots();
-    for i in 0..n {
-        fleet.set_held(i, true);
-    }
     let mut checked = 0;
     let mut commands = vec![agent::model::Command::STOP; n];
     for (k, input) in recorded.ticks.iter().enumerate() {

@@ -20,7 +20,7 @@ mod messages;
 mod status;
 
 pub use messages::{map_message, map_version, observation, traffic_message};
-pub use status::{CoordinatorConfig, CoordinatorError, Event, Observer, RoundTrip, Status};
+pub use status::{CoordinatorConfig, CoordinatorError, Event, Observer, Resume, RoundTrip, Status};
 
 use agent::model::Command;
 use agent::runtime::wire;
@@ -492,10 +492,24 @@ pub async fn run_coordinator(
     let n = fleet.robots();
     let dt = fleet.world.dt;
     let wire = Wire::declare(session, &fleet, &config).await?;
+    // The journal records held flags as they change, from the fleet's as handed over.
+    let journal_held: Vec<bool> = (0..n).map(|i| fleet.is_held(i)).collect();
     // Robots without a live agent are held until one joins.
     for i in 0..n {
         fleet.set_held(i, true);
     }
+    let resume = config.resume.unwrap_or(status::Resume {
+        tick: 0,
+        tasks_done: 0,
+    });
+    if config.resume.is_some() {
+        tracing::info!(
+            tick = resume.tick,
+            tasks_done = resume.tasks_done,
+            "resuming the run"
+        );
+    }
+    let start_time = fleet.world.time;
     let tick_wall = Duration::from_secs_f64(dt / config.speed);
     let mut c = Coordinator {
         fleet,
@@ -504,12 +518,15 @@ pub async fn run_coordinator(
         status: Status {
             robots: n,
             fans: vec![None; n],
+            tick: resume.tick,
+            tasks_done: resume.tasks_done,
+            sim_time: start_time,
             ..Status::default()
         },
         round_trips: RoundTrips::new(config.round_trips.clone()),
         planner_p99: vec![0.0; n],
         tick_wall,
-        journal_held: vec![true; n],
+        journal_held,
         config,
     };
     let mut ticker = tokio::time::interval(tick_wall);

@@ -29,6 +29,19 @@ pub struct CoordinatorConfig {
     pub announce_presence: bool,
     /// Where each tick's inputs and the events go (`--state DIR`), when kept.
     pub journal: Option<super::journal::JournalSink>,
+    /// The run goes on from a journal: the fleet handed over is the journal's replay, this
+    /// many ticks in, with this many tasks done (ticks and `seconds` count from the run's
+    /// start).
+    pub resume: Option<Resume>,
+}
+
+/// Where a resumed run picks up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Resume {
+    /// Ticks already run.
+    pub tick: u64,
+    /// Tasks already done.
+    pub tasks_done: u64,
 }
 
 impl CoordinatorConfig {
@@ -44,6 +57,7 @@ impl CoordinatorConfig {
             stagger: 100,
             announce_presence: true,
             journal: None,
+            resume: None,
         }
     }
 }

@@ -1,0 +1,223 @@
+//! The coordinator killed mid-run and restarted on its journal, with real processes: a `zenohd`
+//! 1.10.2 router (tests/run.sh installs it), `gapfleet coordinator --state DIR` as its client,
+//! three `gapfleet-agent` processes, and the test's own session watching the commands.
+//!
+//! 1. SIGKILL the coordinator: every agent safe-stops within 0.5 s (its token is gone).
+//! 2. Restart it with the same `--state`: it replays its journal, goes on from the tick where
+//!    the journal ends, and every agent rejoins within 2 s.
+//! 3. The whole run, before and after the crash, replays bit for bit (`gapfleet replay`), and
+//!    no task is done twice.
+
+use gapfleet_tests::{AgentProcess, binary, free_endpoint};
+use schemas::{Channel, CommandMsg, Keys, decode};
+use std::io::BufRead;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+const SITE: &str = "restart-test";
+const ROBOTS: u32 = 3;
+
+/// A child process, killed when dropped.
+struct Proc(Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts the coordinator on `state` behind `router`; its stderr lines arrive on the channel.
+fn coordinator(
+    router: &str,
+    state: &std::path::Path,
+    seconds: &str,
+) -> (Proc, mpsc::Receiver<String>) {
+    let mut child = Command::new(binary("gapfleet"))
+        .args([
+            "coordinator",
+            "--site",
+            SITE,
+            "--robots",
+            &ROBOTS.to_string(),
+        ])
+        .args(["--humans", "10", "--speed", "4", "--seconds", seconds])
+        .args(["--mode", "client", "--connect", router])
+        .arg("--state")
+        .arg(state)
+        .env("RUST_LOG", "warn")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("gapfleet coordinator starts");
+    let stderr = child.stderr.take().expect("piped");
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            let _ = tx.send(line);
+        }
+    });
+    (Proc(child), rx)
+}
+
+/// Waits for a line with `what`; returns it.
+fn wait_line(rx: &mpsc::Receiver<String>, what: &str, timeout: Duration) -> String {
+    let deadline = Instant::now() + timeout;
+    while let Some(left) = deadline.checked_duration_since(Instant::now()) {
+        match rx.recv_timeout(left) {
+            Ok(line) if line.contains(what) => return line,
+            Ok(_) => {}
+            Err(_) => break,
+        }
+    }
+    panic!("no line with {what:?} within {timeout:?}");
+}
+
+#[test]
+fn a_killed_coordinator_restarts_where_its_journal_ends() {
+    let zenohd = std::env::var("GAPFLEET_ZENOHD").unwrap_or_else(|_| "zenohd".to_owned());
+    let endpoint = free_endpoint();
+    let _router = Proc(
+        Command::new(&zenohd)
+            .args(["--listen", &endpoint, "--no-multicast-scouting"])
+            .env("RUST_LOG", "error")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| panic!("{zenohd}: {e}; tests/run.sh installs zenohd 1.10.2")),
+    );
+    let state = std::env::temp_dir().join(format!("gapfleet-restart-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&state);
+    let keys = Keys::new(SITE).expect("valid");
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("runtime");
+    // The test's eyes: a client of the router, watching every command.
+    let watcher = rt
+        .block_on(async {
+            zenoh::open(
+                agent::runtime::net::loopback(
+                    agent::runtime::net::Role::Client,
+                    &[],
+                    std::slice::from_ref(&endpoint),
+                )
+                .expect("config"),
+            )
+            .await
+        })
+        .expect("a session");
+    let commands = rt
+        .block_on(async {
+            watcher
+                .declare_subscriber(keys.every_robot(Channel::Cmd))
+                .with(zenoh::handlers::RingChannel::new(4096))
+                .await
+        })
+        .expect("a subscriber");
+
+    // The run: 80 simulated seconds at 4x.
+    let (first, lines) = coordinator(&endpoint, &state, "80");
+    let _agents: Vec<AgentProcess> = (0..ROBOTS)
+        .map(|id| AgentProcess::spawn(id, &endpoint, SITE, "pgp+orca"))
+        .collect();
+    wait_line(
+        &lines,
+        &format!("agents {ROBOTS}/{ROBOTS}"),
+        Duration::from_secs(30),
+    );
+    std::thread::sleep(Duration::from_secs(5));
+
+    // 1. SIGKILL: every agent safe-stops within 0.5 s.
+    while let Ok(Some(_)) = commands.try_recv() {}
+    let killed_at = Instant::now();
+    drop(first);
+    let mut safe = std::collections::BTreeMap::new();
+    while safe.len() < ROBOTS as usize && killed_at.elapsed() < Duration::from_secs(3) {
+        match commands.try_recv() {
+            Ok(Some(sample)) => {
+                if let Ok(cmd) = decode::<CommandMsg>(&sample.payload().to_bytes())
+                    && cmd.safe_stop
+                {
+                    safe.entry(cmd.robot_id).or_insert(killed_at.elapsed());
+                }
+            }
+            _ => std::thread::sleep(Duration::from_millis(2)),
+        }
+    }
+    println!("safe stops after the kill: {safe:?}");
+    assert_eq!(
+        safe.len(),
+        ROBOTS as usize,
+        "every agent safe-stops: {safe:?}"
+    );
+    for (robot, after) in &safe {
+        assert!(
+            *after <= Duration::from_millis(500),
+            "agent {robot} after {after:?}"
+        );
+    }
+
+    // 2. Restart on the same journal: it resumes, and every agent is back within 2 s.
+    let restarted_at = Instant::now();
+    let (second, lines) = coordinator(&endpoint, &state, "80");
+    let resumed = wait_line(&lines, "resuming:", Duration::from_secs(10));
+    println!("{resumed}");
+    let ticks: u64 = resumed
+        .split_whitespace()
+        .nth(1)
+        .and_then(|t| t.parse().ok())
+        .expect("resuming: N ticks ...");
+    assert!(ticks >= 100, "the journal held the run so far: {resumed}");
+    let mut joined = 0;
+    while joined < ROBOTS {
+        let line = wait_line(&lines, "event: Joined", Duration::from_secs(10));
+        joined += 1;
+        println!("{line} after {:?}", restarted_at.elapsed());
+    }
+    let back = restarted_at.elapsed();
+    println!("every agent rejoined {back:?} after the restart");
+    assert!(back <= Duration::from_secs(2), "rejoined after {back:?}");
+    let end = wait_line(&lines, "stopped after", Duration::from_secs(60));
+    println!("{end}");
+    let mut second = second;
+    assert!(
+        second.0.wait().is_ok_and(|s| s.success()),
+        "the coordinator ends cleanly"
+    );
+
+    // 3. The whole run replays bit for bit, and no task was done twice.
+    let out = Command::new(binary("gapfleet"))
+        .arg("replay")
+        .arg(&state)
+        .arg("--events")
+        .output()
+        .expect("gapfleet replay runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("800 ticks recorded, ended cleanly after 800 ticks"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("match the recorded run"), "{stdout}");
+    let mut done: Vec<&str> = stdout
+        .lines()
+        .filter_map(|l| l.split("task: ").nth(1))
+        .collect();
+    let all = done.len();
+    done.sort_unstable();
+    done.dedup();
+    assert_eq!(done.len(), all, "a task done twice: {stdout}");
+    let _ = std::fs::remove_dir_all(&state);
+}
