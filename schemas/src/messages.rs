@@ -192,6 +192,12 @@ pub struct AgentInfo {
     pub rejected: u64,
     /// 99th percentile of planning time over the last second (µs).
     pub plan_p99_us: f64,
+    /// Maps fetched from the coordinator since start (optional on the wire: 0 when absent).
+    #[serde(default)]
+    pub maps: u64,
+    /// Version of the map it holds (optional on the wire: 0, none, when absent).
+    #[serde(default)]
+    pub map_version: u32,
 }
 
 /// One candidate of PGP's fan.

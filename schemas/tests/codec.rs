@@ -560,3 +560,27 @@ mod fuzz {
         }
     }
 }
+
+/// An agent from before `maps` and `map_version` were added still reports: both read as 0.
+#[test]
+fn agent_info_without_the_map_fields_decodes() {
+    #[derive(Serialize)]
+    struct OlderInfo {
+        robot_id: u32,
+        planner: String,
+        version: String,
+        plans: u64,
+        rejected: u64,
+        plan_p99_us: f64,
+    }
+    let older = OlderInfo {
+        robot_id: 3,
+        planner: "pgp+orca".into(),
+        version: "0.1.0".into(),
+        plans: 10,
+        rejected: 0,
+        plan_p99_us: 100.0,
+    };
+    let info = decode::<AgentInfo>(&with_version(SCHEMA_VERSION, &older)).expect("decodes");
+    assert_eq!((info.plans, info.maps, info.map_version), (10, 0, 0));
+}

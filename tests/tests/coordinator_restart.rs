@@ -7,9 +7,10 @@
 //!    the journal ends, and every agent rejoins within 2 s.
 //! 3. The whole run, before and after the crash, replays bit for bit (`gapfleet replay`), and
 //!    no task is done twice.
+//! 4. A coordinator on another scenario: the same agents fetch its map (another version).
 
 use gapfleet_tests::{AgentProcess, binary, free_endpoint};
-use schemas::{Channel, CommandMsg, Keys, decode};
+use schemas::{AgentInfo, Channel, CommandMsg, Keys, decode};
 use std::io::BufRead;
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
@@ -28,24 +29,14 @@ impl Drop for Proc {
     }
 }
 
-/// Starts the coordinator on `state` behind `router`; its stderr lines arrive on the channel.
-fn coordinator(
-    router: &str,
-    state: &std::path::Path,
-    seconds: &str,
-) -> (Proc, mpsc::Receiver<String>) {
+/// Starts the coordinator behind `router` with `args`; its stderr lines arrive on the channel.
+fn coordinator(router: &str, args: &[&str]) -> (Proc, mpsc::Receiver<String>) {
+    let robots = ROBOTS.to_string();
     let mut child = Command::new(binary("gapfleet"))
-        .args([
-            "coordinator",
-            "--site",
-            SITE,
-            "--robots",
-            &ROBOTS.to_string(),
-        ])
-        .args(["--humans", "10", "--speed", "4", "--seconds", seconds])
+        .args(["coordinator", "--site", SITE, "--robots", robots.as_str()])
+        .args(["--humans", "10", "--speed", "4"])
         .args(["--mode", "client", "--connect", router])
-        .arg("--state")
-        .arg(state)
+        .args(args)
         .env("RUST_LOG", "warn")
         .stdin(Stdio::null())
         .stdout(Stdio::null())
@@ -123,7 +114,9 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
         .expect("a subscriber");
 
     // The run: 80 simulated seconds at 4x.
-    let (first, lines) = coordinator(&endpoint, &state, "80");
+    let state_arg = state.display().to_string();
+    let run = ["--seconds", "80", "--state", state_arg.as_str()];
+    let (first, lines) = coordinator(&endpoint, &run);
     let _agents: Vec<AgentProcess> = (0..ROBOTS)
         .map(|id| AgentProcess::spawn(id, &endpoint, SITE, "pgp+orca"))
         .collect();
@@ -133,6 +126,37 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
         Duration::from_secs(30),
     );
     std::thread::sleep(Duration::from_secs(5));
+
+    let infos = rt
+        .block_on(async {
+            watcher
+                .declare_subscriber(keys.every_robot(Channel::Info))
+                .with(zenoh::handlers::RingChannel::new(64))
+                .await
+        })
+        .expect("a subscriber");
+    // The map each agent holds, from its heartbeats (once a second).
+    let maps_held = |wanted: &dyn Fn(u32) -> bool| -> Vec<u32> {
+        let mut held = vec![0u32; ROBOTS as usize];
+        let deadline = Instant::now() + Duration::from_secs(15);
+        while held.iter().any(|&v| !wanted(v)) && Instant::now() < deadline {
+            match infos.try_recv() {
+                Ok(Some(sample)) => {
+                    if let Ok(info) = decode::<AgentInfo>(&sample.payload().to_bytes()) {
+                        held[info.robot_id as usize] = info.map_version;
+                    }
+                }
+                _ => std::thread::sleep(Duration::from_millis(20)),
+            }
+        }
+        held
+    };
+    let first_maps = maps_held(&|v| v != 0);
+    let first_map = first_maps[0];
+    assert!(
+        first_maps.iter().all(|&v| v == first_map && v != 0),
+        "every agent holds the coordinator's map: {first_maps:?}"
+    );
 
     // 1. SIGKILL: every agent safe-stops within 0.5 s.
     while let Ok(Some(_)) = commands.try_recv() {}
@@ -166,7 +190,7 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
 
     // 2. Restart on the same journal: it resumes, and every agent is back within 2 s.
     let restarted_at = Instant::now();
-    let (second, lines) = coordinator(&endpoint, &state, "80");
+    let (second, lines) = coordinator(&endpoint, &run);
     let resumed = wait_line(&lines, "resuming:", Duration::from_secs(10));
     println!("{resumed}");
     let ticks: u64 = resumed
@@ -220,4 +244,24 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
     done.dedup();
     assert_eq!(done.len(), all, "a task done twice: {stdout}");
     let _ = std::fs::remove_dir_all(&state);
+
+    // 4. Another scenario, another map: the same agents fetch it.
+    let (_third, lines) = coordinator(
+        &endpoint,
+        &["--scenario", "warehouse-narrow", "--seconds", "60"],
+    );
+    wait_line(
+        &lines,
+        &format!("agents {ROBOTS}/{ROBOTS}"),
+        Duration::from_secs(30),
+    );
+    while let Ok(Some(_)) = infos.try_recv() {}
+    let new_maps = maps_held(&|v| v != 0 && v != first_map);
+    println!("maps held: {first_map:08x} before, {new_maps:08x?} after the scenario changed");
+    assert!(
+        new_maps
+            .iter()
+            .all(|&v| v != 0 && v != first_map && v == new_maps[0]),
+        "every agent fetched the new map: {new_maps:08x?} (the old one was {first_map:08x})"
+    );
 }

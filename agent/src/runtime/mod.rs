@@ -301,6 +301,8 @@ pub async fn run_agent(
                     plans: counters.plans.load(Ordering::Relaxed),
                     rejected: counters.rejected.load(Ordering::Relaxed),
                     plan_p99_us: p99(&mut plan_times_us),
+                    maps: counters.maps.load(Ordering::Relaxed),
+                    map_version: map.as_ref().map_or(0, |(v, _)| *v),
                 };
                 plan_times_us.clear();
                 if let Err(e) = info_pub.put(encode(&info)).await {

@@ -86,6 +86,8 @@ pub fn info() -> AgentInfo {
         plans: 100,
         rejected: 2,
         plan_p99_us: 154.0,
+        maps: 1,
+        map_version: 0x1234_5678,
     }
 }
 
