@@ -32,9 +32,21 @@ pub struct AgentProcess {
 impl AgentProcess {
     /// Starts an agent for `robot_id` connecting to `endpoint`.
     pub fn spawn(robot_id: u32, endpoint: &str, site: &str, planner: &str) -> Self {
+        Self::spawn_with(robot_id, endpoint, site, planner, &[])
+    }
+
+    /// The same with `extra` arguments.
+    pub fn spawn_with(
+        robot_id: u32,
+        endpoint: &str,
+        site: &str,
+        planner: &str,
+        extra: &[&str],
+    ) -> Self {
         let child = Command::new(binary("gapfleet-agent"))
             .args(["--robot-id", &robot_id.to_string()])
             .args(["--planner", planner, "--site", site, "--connect", endpoint])
+            .args(extra)
             // GAPFLEET_TEST_AGENT_LOG=info shows the agents' logs when a test misbehaves.
             .env(
                 "RUST_LOG",

@@ -42,6 +42,10 @@ struct Args {
     /// robot's base: 1 m/s, 1.5 m/s² to speed up and to brake.
     #[arg(long)]
     no_safety: bool,
+    /// Fault injection for tests: every plan takes this many milliseconds longer (the agent's
+    /// thread sleeps, as a planner busy that long would hold it).
+    #[arg(long, hide = true, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=60_000))]
+    fault_plan_delay_ms: u64,
     #[command(flatten)]
     net: NetArgs,
 }
@@ -72,6 +76,7 @@ async fn main() -> anyhow::Result<()> {
     let mut agent_config = AgentConfig::new(args.robot_id, &args.site, args.planner);
     agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
     agent_config.share_fan = args.share_fan;
+    agent_config.fault_plan_delay = Duration::from_millis(args.fault_plan_delay_ms);
     if args.no_safety {
         agent_config.safety = None;
     }

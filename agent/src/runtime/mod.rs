@@ -50,6 +50,9 @@ pub struct AgentConfig {
     /// The safety layer under the planner, with the base's limits (its control period is the
     /// observation's step); `None` runs the planner's commands as they are, as the papers do.
     pub safety: Option<SafetyLimits>,
+    /// Fault injection for tests: every plan holds the agent's thread this much longer, as a
+    /// slow planner would (zero in normal use).
+    pub fault_plan_delay: Duration,
 }
 
 impl AgentConfig {
@@ -62,6 +65,7 @@ impl AgentConfig {
             obs_timeout: DEFAULT_OBS_TIMEOUT,
             share_fan: false,
             safety: Some(SafetyLimits::SIMULATED_ROBOT),
+            fault_plan_delay: Duration::ZERO,
         }
     }
 }
@@ -224,6 +228,10 @@ pub async fn run_agent(
                             visibility: profile.as_ref(),
                         };
                         let mut plan = stack.plan(&input);
+                        if !config.fault_plan_delay.is_zero() {
+                            // Blocking on purpose: a busy planner holds its thread.
+                            std::thread::sleep(config.fault_plan_delay);
+                        }
                         let mut zone = SafetyZone::Clear;
                         if let Some(guard) = &mut guard {
                             let guarded = guard.check(plan.command, &input);

@@ -320,6 +320,7 @@ impl Coordinator<'_> {
                 Some(command) => commands[i] = command,
                 None if link.alive && self.fleet.job(i).is_some() && link.next_seq > 0 => {
                     self.status.stale_commands += 1;
+                    self.status.stale_per_robot[i] += 1;
                 }
                 None => {}
             }
@@ -518,6 +519,7 @@ pub async fn run_coordinator(
         status: Status {
             robots: n,
             fans: vec![None; n],
+            stale_per_robot: vec![0; n],
             tick: resume.tick,
             tasks_done: resume.tasks_done,
             sim_time: start_time,

@@ -116,6 +116,8 @@ pub struct Status {
     pub answered: u64,
     /// Ticks in which a robot with a task had no fresh command (it stopped).
     pub stale_commands: u64,
+    /// The same per robot.
+    pub stale_per_robot: Vec<u64>,
     /// Messages rejected by the decoder or for naming the wrong robot.
     pub rejected: u64,
     /// Events so far.
