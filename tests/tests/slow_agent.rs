@@ -13,7 +13,7 @@ use coordinator::fleet::{CoordinatorConfig, Status, run_coordinator};
 use gapfleet_tests::{AgentProcess, free_endpoint};
 use schemas::{Channel, CommandMsg, Keys, Observation, decode};
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 use world_sim::fleet::Fleet;
 use world_sim::scenario::Scenario;
 
