@@ -124,12 +124,12 @@ impl CoordinatorArgs {
             );
             let mut seen_events = 0;
             let log = |status: &Status, _: &Fleet| {
-                for event in &status.events[seen_events..] {
+                for event in status.events_since(seen_events) {
                     if !matches!(event, Event::TaskDone { .. }) {
                         eprintln!("event: {event:?}");
                     }
                 }
-                seen_events = status.events.len();
+                seen_events = status.events_total();
                 eprintln!("{}", status_line(status));
             };
             let sinks = self.rerun.sinks();

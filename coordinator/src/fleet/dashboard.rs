@@ -55,7 +55,7 @@ pub struct DashboardObserver {
     dashboard: Dashboard,
     planner: String,
     contacts: Contacts,
-    seen_events: usize,
+    seen_events: u64,
     /// The zone of each robot's previous command, for protective stops at their onset.
     zones: Vec<SafetyZone>,
     /// Per robot: its agent left ("left") or crashed ("crashed"), until it joins again.
@@ -471,7 +471,7 @@ impl Observer for DashboardObserver {
             .collect();
         let mut events = Vec::new();
         self.gone.resize(fleet.robots(), None);
-        for e in &status.events[self.seen_events..] {
+        for e in status.events_since(self.seen_events) {
             let gone = match e {
                 Event::Joined(i) => Some((*i, None)),
                 Event::Left(i) => Some((*i, Some("left"))),
@@ -501,7 +501,7 @@ impl Observer for DashboardObserver {
                 warning,
             });
         }
-        self.seen_events = status.events.len();
+        self.seen_events = status.events_total();
         let mut heat = Vec::new();
         let nearest = self.contact_events(fleet, &mut events, &mut heat);
         self.safety_events(fleet, status, &mut events);

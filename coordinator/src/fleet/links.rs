@@ -103,7 +103,7 @@ pub(super) fn emit(status: &mut Status, config: &CoordinatorConfig, event: Event
     if let Some(tx) = &config.events {
         let _ = tx.send((Instant::now(), event.clone()));
     }
-    status.events.push(event);
+    status.push_event(event);
 }
 
 /// An agent's liveliness token came (its robot is released) or went (its robot is held and

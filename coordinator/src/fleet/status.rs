@@ -91,6 +91,10 @@ pub enum Event {
     },
 }
 
+/// Events a status keeps: a long run's log would otherwise grow without bound (and be cloned
+/// for every observer once a second). The journal (`--state`) keeps them all.
+pub const EVENTS_KEPT: usize = 10_000;
+
 /// What the coordinator reports while it runs (once per wall second) and at the end.
 #[derive(Debug, Clone, Default)]
 pub struct Status {
@@ -120,8 +124,11 @@ pub struct Status {
     pub stale_per_robot: Vec<u64>,
     /// Messages rejected by the decoder or for naming the wrong robot.
     pub rejected: u64,
-    /// Events so far.
+    /// The newest events (at most [`EVENTS_KEPT`]; older ones are let go in halves and
+    /// counted in `events_dropped`). Read them with [`Status::events_since`].
     pub events: Vec<Event>,
+    /// Events let go from the front of `events`.
+    pub events_dropped: u64,
     /// Largest planning-time p99 reported by a live agent in its last heartbeat (µs).
     pub planner_p99_us: f64,
     /// The newest candidate fan of each robot whose agent shares it (index = robot id).
@@ -185,5 +192,54 @@ impl<O: Observer> Observer for Option<O> {
         if let Some(o) = self {
             o.status(fleet, status);
         }
+    }
+}
+
+impl Status {
+    /// Events counted from the run's first: how many have happened.
+    pub fn events_total(&self) -> u64 {
+        self.events_dropped + self.events.len() as u64
+    }
+
+    /// The events from the `seen`-th on (counting from the run's first), as many as are still
+    /// kept: an observer that read `seen` events last time reads on from there.
+    pub fn events_since(&self, seen: u64) -> &[Event] {
+        let start = seen.saturating_sub(self.events_dropped) as usize;
+        &self.events[start.min(self.events.len())..]
+    }
+
+    /// Keeps `event`, letting the oldest half go when [`EVENTS_KEPT`] are kept.
+    pub(super) fn push_event(&mut self, event: Event) {
+        if self.events.len() >= EVENTS_KEPT {
+            let half = EVENTS_KEPT / 2;
+            self.events.drain(..half);
+            self.events_dropped += half as u64;
+        }
+        self.events.push(event);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past the cap the oldest half goes, and a reader that kept its count reads on exactly
+    /// where it was (or from the oldest kept, if it fell further behind).
+    #[test]
+    fn events_are_capped_and_read_on_from_where_the_reader_was() {
+        let mut status = Status::default();
+        for i in 0..EVENTS_KEPT as u32 {
+            status.push_event(Event::Joined(i));
+        }
+        let seen = status.events_total();
+        assert_eq!(status.events_since(seen).len(), 0);
+        status.push_event(Event::Left(7));
+        assert_eq!(status.events.len(), EVENTS_KEPT / 2 + 1);
+        assert_eq!(status.events_total(), EVENTS_KEPT as u64 + 1);
+        assert_eq!(status.events_since(seen), &[Event::Left(7)]);
+        assert_eq!(
+            status.events_since(0)[0],
+            Event::Joined(EVENTS_KEPT as u32 / 2)
+        );
     }
 }
