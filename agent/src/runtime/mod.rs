@@ -73,6 +73,8 @@ impl AgentConfig {
 /// Counters an agent keeps; shared so that tests and the demo can read them while it runs.
 #[derive(Debug, Default)]
 pub struct AgentCounters {
+    /// Valid observations received (planned on, superseded or stale).
+    pub received: AtomicU64,
     /// Observations planned on.
     pub plans: AtomicU64,
     /// Messages the decoder rejected.
@@ -136,6 +138,7 @@ pub async fn run_agent(
             .callback(
                 move |sample| match decode::<Observation>(&sample.payload().to_bytes()) {
                     Ok(obs) if obs.robot_id == id => {
+                        counters.received.fetch_add(1, Ordering::Relaxed);
                         if newest.put(obs) {
                             counters.superseded.fetch_add(1, Ordering::Relaxed);
                         }

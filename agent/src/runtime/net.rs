@@ -65,6 +65,12 @@ fn set(config: &mut zenoh::Config, key: &str, value: &str) -> Result<(), ConfigE
 /// 10 Hz control loop whose messages are small, so latency matters more than throughput.
 const EXPRESS_QOS: &str = r#"[{ key_exprs: ["gapfleet/**"], config: { express: true } }]"#;
 
+/// Zenoh's link lease (ms), set on every gapfleet session: a peer not heard from for this long
+/// (keep-alives go 4 times a lease) is gone, its transport closed and its liveliness tokens
+/// withdrawn, so a robot cut off by a partition is flagged within 3 s. (Zenoh's default is
+/// 10 s.) A closed TCP connection, as when a process dies, is noticed at once.
+pub const LEASE_MS: u64 = 3000;
+
 fn json_list(items: &[String]) -> String {
     let quoted: Vec<String> = items.iter().map(|s| format!("{s:?}")).collect();
     format!("[{}]", quoted.join(","))
@@ -87,6 +93,7 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
             let mut c = zenoh::Config::default();
             set(&mut c, "scouting/multicast/enabled", "false")?;
             set(&mut c, "qos/publication", EXPRESS_QOS)?;
+            set(&mut c, "transport/link/tx/lease", &LEASE_MS.to_string())?;
             set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
             if default_role == Role::Client {
                 set(&mut c, "connect/timeout_ms", "-1")?;
@@ -117,6 +124,7 @@ pub fn loopback(
     set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
     set(&mut c, "scouting/multicast/enabled", "false")?;
     set(&mut c, "qos/publication", EXPRESS_QOS)?;
+    set(&mut c, "transport/link/tx/lease", &LEASE_MS.to_string())?;
     set(&mut c, "listen/endpoints", &json_list(listen))?;
     if role == Role::Client {
         set(&mut c, "connect/timeout_ms", "-1")?;

@@ -1,10 +1,12 @@
 //! How fast things run on this machine, to size a deployment: the fleet's round trip over
 //! Zenoh ([`fleet`]), the dashboard's cost per tick ([`dashboard`]), world steps ([`world`]),
-//! and what the machine itself did meanwhile ([`machine`]).
+//! a long run watched for growth, drift and loss ([`soak`]), and what the machine itself did
+//! meanwhile ([`machine`]).
 
 pub mod dashboard;
 pub mod fleet;
 pub mod machine;
+pub mod soak;
 pub mod world;
 
 /// Why a benchmark could not run.

@@ -82,6 +82,29 @@ pub enum Bench {
         #[arg(long)]
         json: bool,
     },
+    /// A fleet run long and fast, watched window by window for memory growth, round-trip
+    /// drift and lost observations.
+    Soak {
+        /// Agents (robots).
+        #[arg(long, default_value_t = 100, value_parser = at_least_one)]
+        agents: usize,
+        /// People.
+        #[arg(long, default_value_t = 0)]
+        humans: usize,
+        /// Ticks to run (0.1 simulated s each).
+        #[arg(long, default_value_t = 1_000_000)]
+        ticks: u64,
+        /// Simulated seconds per wall second, in [0.001, 1000] (the fleet runs as fast as the
+        /// machine allows below it).
+        #[arg(long, default_value_t = 1000.0, value_parser = super::speed)]
+        speed: f64,
+        /// Wall seconds per window.
+        #[arg(long, default_value_t = 60.0, value_parser = positive)]
+        window_s: f64,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// World steps per second: people walking (robots parked, planners not included).
     World {
         /// `open-space` (sized to --density), or a warehouse scenario (built-in name or file;
@@ -193,6 +216,64 @@ impl Bench {
                 if !json && secured_runs.len() > 1 {
                     print_security_cost(&results);
                 }
+                Ok(())
+            }
+            Bench::Soak {
+                agents,
+                humans,
+                ticks,
+                speed,
+                window_s,
+                json,
+            } => {
+                init_logging("warn");
+                let scenario = warehouse_large(agents, humans)?;
+                if !json {
+                    println!("  wall s     ticks   RSS MiB   round trips   p50 ms   p99 ms");
+                }
+                let row = |w: &coordinator::bench::soak::SoakWindow| {
+                    println!(
+                        "{:8.0} {:9} {:9.1} {:13} {:8.2} {:8.2}",
+                        w.wall_s, w.ticks, w.rss_mib, w.round_trips, w.p50_ms, w.p99_ms
+                    );
+                };
+                let soak = runtime()?.block_on(coordinator::bench::soak::bench_soak(
+                    scenario,
+                    agents,
+                    ticks,
+                    speed,
+                    std::time::Duration::from_secs_f64(window_s),
+                    |w| {
+                        if !json {
+                            row(w);
+                        }
+                    },
+                ))?;
+                if json {
+                    println!("{}", serde_json::to_string(&soak)?);
+                    return Ok(());
+                }
+                if let Some(last) = soak.windows.last() {
+                    row(last);
+                }
+                println!(
+                    "{} agents, {} ticks in {:.0} wall s (asked {}x): {} observations, {} lost, \
+                     {} skipped for a newer one, {} answered; {} stale-command ticks, {} rejected",
+                    soak.agents,
+                    soak.ticks,
+                    soak.wall_s,
+                    soak.speed,
+                    soak.observations,
+                    soak.lost,
+                    soak.superseded,
+                    soak.answered,
+                    soak.stale_commands,
+                    soak.rejected
+                );
+                println!(
+                    "resident memory from the first window to the last: {:+.1} %",
+                    soak.rss_growth_percent
+                );
                 Ok(())
             }
             Bench::World {

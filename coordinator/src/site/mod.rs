@@ -404,6 +404,7 @@ fn routing_config(
     config["transport"] = json!({
         "link": {
             "protocols": ["tls"],
+            "tx": { "lease": agent::runtime::net::LEASE_MS },
             "tls": {
                 "root_ca_certificate": path(&tls.ca),
                 "listen_private_key": path(&tls.folder.join("key.pem")),
@@ -434,6 +435,7 @@ fn client_config(tls: &Tls, user: &Credentials, endpoint: &str) -> Value {
     config["transport"] = json!({
         "link": {
             "protocols": ["tls"],
+            "tx": { "lease": agent::runtime::net::LEASE_MS },
             "tls": {
                 "root_ca_certificate": path(&tls.ca),
                 "connect_private_key": path(&tls.folder.join("key.pem")),

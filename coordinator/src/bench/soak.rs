@@ -1,0 +1,196 @@
+//! `gapfleet bench soak`: a fleet run for a long time as fast as the machine allows, watched for
+//! what grows (resident memory), what drifts (the round trip's p99, window by window) and what
+//! is lost (observations never answered).
+
+use super::BenchError;
+use crate::fleet::RoundTrip;
+use crate::fleet::demo::{DemoOptions, Transport, run_demo};
+use agent::planner::{LocalKind, PlannerSpec};
+use agent::runtime::percentile;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+type Result<T> = std::result::Result<T, BenchError>;
+
+/// One window of a soak.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SoakWindow {
+    /// Wall seconds since the start, at the window's end.
+    pub wall_s: f64,
+    /// Ticks run by then.
+    pub ticks: u64,
+    /// Resident memory at the window's end (MiB; Linux `/proc`, 0 elsewhere).
+    pub rss_mib: f64,
+    /// Round trips timed in the window.
+    pub round_trips: usize,
+    /// Their median (ms).
+    pub p50_ms: f64,
+    /// Their 99th percentile (ms).
+    pub p99_ms: f64,
+}
+
+/// What `bench soak` measured.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Soak {
+    /// Agents.
+    pub agents: usize,
+    /// Ticks run.
+    pub ticks: u64,
+    /// Simulated seconds per wall second asked for.
+    pub speed: f64,
+    /// Wall seconds.
+    pub wall_s: f64,
+    /// Observations published.
+    pub observations: u64,
+    /// Observations answered.
+    pub answered: u64,
+    /// Observations that never reached their agent (sent − received, summed over agents; the
+    /// last tick's may still be on their way when the run ends).
+    pub lost: u64,
+    /// Observations an agent received but skipped for a newer one (it plans on the newest).
+    pub superseded: u64,
+    /// Ticks in which a robot with a task had no fresh command.
+    pub stale_commands: u64,
+    /// Messages rejected.
+    pub rejected: u64,
+    /// The windows.
+    pub windows: Vec<SoakWindow>,
+    /// Resident memory growth from the end of the first window to the end of the last, %.
+    pub rss_growth_percent: f64,
+}
+
+/// Resident memory of this process (MiB), from `/proc/self/statm`; 0 where there is none.
+pub fn rss_mib() -> f64 {
+    let pages = std::fs::read_to_string("/proc/self/statm")
+        .ok()
+        .and_then(|s| s.split_whitespace().nth(1)?.parse::<f64>().ok())
+        .unwrap_or(0.0);
+    // 4 KiB pages on the machines this runs on (x86-64 and aarch64 Linux defaults).
+    pages * 4096.0 / (1024.0 * 1024.0)
+}
+
+/// Runs `agents` agents in `scenario` for `ticks` ticks at `speed`, one window every
+/// `window` of wall time, each shown to `on_window` as it closes.
+pub async fn bench_soak(
+    scenario: world_sim::scenario::Scenario,
+    agents: usize,
+    ticks: u64,
+    speed: f64,
+    window: Duration,
+    mut on_window: impl FnMut(&SoakWindow),
+) -> Result<Soak> {
+    let (round_trips_tx, round_trips_rx) = std::sync::mpsc::channel::<RoundTrip>();
+    let dt = scenario.dt_s;
+    let options = DemoOptions {
+        scenario,
+        planner: PlannerSpec {
+            pgp: true,
+            local: LocalKind::Orca,
+        },
+        seconds: ticks as f64 * dt,
+        speed,
+        site: "soak".to_owned(),
+        listen: None,
+        transport: Transport::Tcp,
+        journal: None,
+        share_intents: true,
+        traffic_policy: true,
+        sinks: dashboards::Sinks::default(),
+        round_trips: Some(round_trips_tx),
+    };
+    let started = Instant::now();
+    let windows = Arc::new(Mutex::new(Vec::<SoakWindow>::new()));
+    let pending = Arc::new(Mutex::new(Vec::<u32>::new()));
+    // Round trips are gathered as they come and cut into windows by the status callback.
+    let gather = {
+        let pending = pending.clone();
+        std::thread::spawn(move || {
+            while let Ok(trip) = round_trips_rx.recv() {
+                let us = trip
+                    .arrived
+                    .saturating_duration_since(trip.published)
+                    .as_micros()
+                    .min(u128::from(u32::MAX)) as u32;
+                if let Ok(mut p) = pending.lock() {
+                    p.push(us);
+                }
+            }
+        })
+    };
+    let pending_end = pending.clone();
+    let mut next_cut = started + window;
+    let windows_in = windows.clone();
+    let last_rss = Arc::new(Mutex::new(0.0f64));
+    let last_rss_in = last_rss.clone();
+    let on_status = move |s: &crate::fleet::Status| {
+        if let Ok(mut r) = last_rss_in.lock() {
+            *r = rss_mib();
+        }
+        if Instant::now() < next_cut {
+            return;
+        }
+        next_cut += window;
+        let mut trips = pending
+            .lock()
+            .map(|mut p| std::mem::take(&mut *p))
+            .unwrap_or_default();
+        let w = SoakWindow {
+            wall_s: started.elapsed().as_secs_f64(),
+            ticks: s.tick,
+            rss_mib: rss_mib(),
+            round_trips: trips.len(),
+            p50_ms: percentile(&mut trips, 0.5) / 1000.0,
+            p99_ms: percentile(&mut trips, 0.99) / 1000.0,
+        };
+        on_window(&w);
+        if let Ok(mut ws) = windows_in.lock() {
+            ws.push(w);
+        }
+    };
+    let report = run_demo(options, std::future::pending(), on_status, |_| {}).await?;
+    let _ = gather.join();
+    let mut windows = windows.lock().map(|w| w.clone()).unwrap_or_default();
+    // The last (partial) window, with the memory the run held at its last status (by now
+    // the sessions are closed).
+    let mut trips = pending_end
+        .lock()
+        .map(|mut p| std::mem::take(&mut *p))
+        .unwrap_or_default();
+    if !trips.is_empty() {
+        windows.push(SoakWindow {
+            wall_s: started.elapsed().as_secs_f64(),
+            ticks: report.status.tick,
+            rss_mib: last_rss.lock().map_or(0.0, |r| *r),
+            round_trips: trips.len(),
+            p50_ms: percentile(&mut trips, 0.5) / 1000.0,
+            p99_ms: percentile(&mut trips, 0.99) / 1000.0,
+        });
+    }
+    let growth = match (windows.first(), windows.last()) {
+        (Some(a), Some(b)) if a.rss_mib > 0.0 => (b.rss_mib / a.rss_mib - 1.0) * 100.0,
+        _ => 0.0,
+    };
+    let s = &report.status;
+    let sum = |f: fn(&agent::runtime::AgentCounters) -> &std::sync::atomic::AtomicU64| -> u64 {
+        report
+            .agents
+            .iter()
+            .map(|c| f(c).load(std::sync::atomic::Ordering::Relaxed))
+            .sum()
+    };
+    let received = sum(|c| &c.received);
+    Ok(Soak {
+        agents,
+        ticks: s.tick,
+        speed,
+        wall_s: started.elapsed().as_secs_f64(),
+        observations: s.observations,
+        answered: s.answered,
+        lost: s.observations.saturating_sub(received),
+        superseded: sum(|c| &c.superseded),
+        stale_commands: s.stale_commands,
+        rejected: s.rejected,
+        windows,
+        rss_growth_percent: growth,
+    })
+}
