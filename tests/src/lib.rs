@@ -99,3 +99,33 @@ pub fn free_endpoint() -> String {
     let port = agent::runtime::net::free_loopback_port().expect("a free loopback port");
     format!("tcp/127.0.0.1:{port}")
 }
+
+/// The tests' Tokio runtime: two worker threads, as on the machines this runs on.
+pub fn runtime() -> tokio::runtime::Runtime {
+    tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("a Tokio runtime")
+}
+
+/// A loopback router session listening at `endpoint` (as the coordinator's, or a zenohd).
+pub fn router(rt: &tokio::runtime::Runtime, endpoint: &str) -> zenoh::Session {
+    let config = agent::runtime::net::loopback(
+        agent::runtime::net::Role::Router,
+        &[endpoint.to_owned()],
+        &[],
+    )
+    .expect("a router config");
+    rt.block_on(async { zenoh::open(config).await })
+        .expect("a router session")
+}
+
+/// The built-in `warehouse` with `robots` robots and `humans` people.
+pub fn warehouse(robots: usize, humans: usize) -> world_sim::scenario::Scenario {
+    let mut scenario = world_sim::scenario::Scenario::builtin("warehouse").expect("built in");
+    let w = scenario.warehouse.as_mut().expect("a warehouse");
+    w.robots = robots;
+    w.humans = humans;
+    scenario
+}

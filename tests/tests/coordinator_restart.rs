@@ -85,11 +85,7 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
     let state = std::env::temp_dir().join(format!("gapfleet-restart-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&state);
     let keys = Keys::new(SITE).expect("valid");
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = gapfleet_tests::runtime();
     // The test's eyes: a client of the router, watching every command.
     let watcher = rt
         .block_on(async {

@@ -52,11 +52,7 @@ fn wait_for<T>(
 
 #[test]
 fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = gapfleet_tests::runtime();
     let endpoint = free_endpoint();
     let keys = Keys::new(SITE).expect("valid site");
 

@@ -46,11 +46,7 @@ fn a_recorded_demo_replays_bit_for_bit() {
         sinks: dashboards::Sinks::default(),
         round_trips: None,
     };
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = gapfleet_tests::runtime();
     let report = rt
         .block_on(run_demo(options, std::future::pending(), |_| {}, |_| {}))
         .expect("the demo runs");

@@ -21,7 +21,6 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use world_sim::fleet::{Fleet, FleetEvent};
-use world_sim::scenario::Scenario;
 
 const SITE: &str = "partition-test";
 
@@ -100,11 +99,7 @@ impl Observer for Watch {
 
 #[test]
 fn a_partitioned_agent_stops_is_flagged_and_comes_back() {
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = gapfleet_tests::runtime();
     let endpoint = free_endpoint();
     let open = Arc::new(AtomicBool::new(true));
     let (router, via_proxy) = rt.block_on(async {
@@ -117,10 +112,7 @@ fn a_partitioned_agent_stops_is_flagged_and_comes_back() {
         (router, via)
     });
 
-    let mut scenario = Scenario::builtin("warehouse").expect("built in");
-    let w = scenario.warehouse.as_mut().expect("a warehouse");
-    w.robots = 2;
-    w.humans = 0;
+    let scenario = gapfleet_tests::warehouse(2, 0);
     let fleet = Fleet::new(&scenario).expect("a warehouse");
     let mut config = CoordinatorConfig::new(SITE);
     config.seconds = Some(25.0);

@@ -23,20 +23,11 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use world_sim::fleet::Fleet;
-use world_sim::scenario::Scenario;
 use zenoh::Session;
 use zenoh::handlers::{FifoChannelHandler, RingChannel};
 use zenoh::sample::Sample;
 
 const SITE: &str = "sec-test";
-
-fn runtime() -> tokio::runtime::Runtime {
-    tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime")
-}
 
 /// `path`'s config, edited by `edit` (as JSON: the site writes JSON, which is JSON5), failing
 /// after 3 s instead of waiting for the router forever.
@@ -81,7 +72,7 @@ async fn settle() {
 
 #[test]
 fn the_router_refuses_strangers_and_holds_each_identity_to_its_part() {
-    let rt = runtime();
+    let rt = gapfleet_tests::runtime();
     let site = TemporarySite::new(SITE, 8).expect("a site");
     let other = TemporarySite::new(SITE, 8).expect("another site");
     let paths = &site.paths;
@@ -317,10 +308,7 @@ async fn forge_against_a_fleet(coordinator_session: Session, paths: &SitePaths) 
     let agent_config = from_file(&paths.robot_config(0)).expect("parses");
     let attacker_config = quick(&paths.robot_config(1));
     let keys = Keys::new(SITE).expect("valid");
-    let mut scenario = Scenario::builtin("warehouse").expect("built in");
-    let w = scenario.warehouse.as_mut().expect("a warehouse");
-    w.robots = 2;
-    w.humans = 0;
+    let scenario = gapfleet_tests::warehouse(2, 0);
     let fleet = Fleet::new(&scenario).expect("a warehouse");
     let mut config = CoordinatorConfig::new(SITE);
     config.speed = 4.0;
@@ -415,7 +403,7 @@ fn check_forgeries_failed(seen: &Seen, forged_for_1: u64) {
 
 #[test]
 fn forged_commands_have_no_effect_on_a_secured_fleet() {
-    let rt = runtime();
+    let rt = gapfleet_tests::runtime();
     let site = TemporarySite::new(SITE, 2).expect("a site");
     let paths = &site.paths;
     let (seen, forged_for_1) = rt.block_on(async {
@@ -465,7 +453,7 @@ fn a_zenohd_router_enforces_the_same_list() {
             .spawn()
             .expect("zenohd starts"),
     );
-    let rt = runtime();
+    let rt = gapfleet_tests::runtime();
     let (seen, forged_for_1) = rt.block_on(async {
         // The coordinator is a client of zenohd now: it waits for the router to listen.
         let coordinator =

@@ -15,28 +15,16 @@ use schemas::{Channel, CommandMsg, Keys, Observation, decode};
 use std::sync::mpsc;
 use std::time::Instant;
 use world_sim::fleet::Fleet;
-use world_sim::scenario::Scenario;
 
 const SITE: &str = "slow-test";
 const SLOW: u32 = 1;
 
 #[test]
 fn a_slow_agent_and_an_undrained_subscriber_do_not_hold_up_the_fleet() {
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = gapfleet_tests::runtime();
     let endpoint = free_endpoint();
     let keys = Keys::new(SITE).expect("valid");
-    let router = rt
-        .block_on(async {
-            zenoh::open(
-                loopback(Role::Router, std::slice::from_ref(&endpoint), &[]).expect("config"),
-            )
-            .await
-        })
-        .expect("router");
+    let router = gapfleet_tests::router(&rt, &endpoint);
     // The slow robot's observations and commands, in arrival order.
     let (seen_tx, seen) = mpsc::channel::<(bool, u64)>();
     let obs_tx = seen_tx.clone();
@@ -84,10 +72,7 @@ fn a_slow_agent_and_an_undrained_subscriber_do_not_hold_up_the_fleet() {
         })
         .expect("subscriber");
 
-    let mut scenario = Scenario::builtin("warehouse").expect("built in");
-    let w = scenario.warehouse.as_mut().expect("a warehouse");
-    w.robots = 3;
-    w.humans = 10;
+    let scenario = gapfleet_tests::warehouse(3, 10);
     let fleet = Fleet::new(&scenario).expect("a warehouse");
     let mut config = CoordinatorConfig::new(SITE);
     config.seconds = Some(15.0);

@@ -10,11 +10,7 @@ use world_sim::scenario::Scenario;
 fn a_short_soak_loses_nothing() {
     let mut scenario = Scenario::builtin("warehouse-large").expect("built in");
     assert!(scenario.set_fleet_size(Some(10), Some(0)));
-    let rt = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .expect("runtime");
+    let rt = gapfleet_tests::runtime();
     let soak = rt
         .block_on(bench_soak(
             scenario,

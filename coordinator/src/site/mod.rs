@@ -390,6 +390,35 @@ fn path(p: &Path) -> String {
     p.display().to_string()
 }
 
+/// Mutual TLS with `tls`'s certificate, a lease of [`agent::runtime::net::LEASE_MS`], and
+/// `user`'s login; a routing process (`dictionary` given) also listens with the certificate
+/// and checks logins against the dictionary.
+fn transport(tls: &Tls, user: &Credentials, dictionary: Option<&Path>) -> Value {
+    let key = path(&tls.folder.join("key.pem"));
+    let cert = path(&tls.folder.join("cert.pem"));
+    let mut link_tls = json!({
+        "root_ca_certificate": path(&tls.ca),
+        "connect_private_key": key,
+        "connect_certificate": cert,
+        "enable_mtls": true,
+        "verify_name_on_connect": true,
+    });
+    let mut usrpwd = json!({ "user": user.user, "password": user.password });
+    if let Some(dictionary) = dictionary {
+        link_tls["listen_private_key"] = key.into();
+        link_tls["listen_certificate"] = cert.into();
+        usrpwd["dictionary_file"] = path(dictionary).into();
+    }
+    json!({
+        "link": {
+            "protocols": ["tls"],
+            "tx": { "lease": agent::runtime::net::LEASE_MS },
+            "tls": link_tls,
+        },
+        "auth": { "usrpwd": usrpwd },
+    })
+}
+
 /// The routing process (coordinator or zenohd): listens with its certificate, requires a
 /// client certificate (mutual TLS) and a user in the dictionary, and enforces `access`.
 fn routing_config(
@@ -401,28 +430,7 @@ fn routing_config(
 ) -> Value {
     let mut config = common("router");
     config["listen"] = json!({ "endpoints": [listen] });
-    config["transport"] = json!({
-        "link": {
-            "protocols": ["tls"],
-            "tx": { "lease": agent::runtime::net::LEASE_MS },
-            "tls": {
-                "root_ca_certificate": path(&tls.ca),
-                "listen_private_key": path(&tls.folder.join("key.pem")),
-                "listen_certificate": path(&tls.folder.join("cert.pem")),
-                "connect_private_key": path(&tls.folder.join("key.pem")),
-                "connect_certificate": path(&tls.folder.join("cert.pem")),
-                "enable_mtls": true,
-                "verify_name_on_connect": true,
-            },
-        },
-        "auth": {
-            "usrpwd": {
-                "user": user.user,
-                "password": user.password,
-                "dictionary_file": path(dictionary),
-            },
-        },
-    });
+    config["transport"] = transport(tls, user, Some(dictionary));
     config["access_control"] = access.clone();
     config
 }
@@ -432,20 +440,7 @@ fn routing_config(
 fn client_config(tls: &Tls, user: &Credentials, endpoint: &str) -> Value {
     let mut config = common("client");
     config["connect"] = json!({ "endpoints": [endpoint], "timeout_ms": -1 });
-    config["transport"] = json!({
-        "link": {
-            "protocols": ["tls"],
-            "tx": { "lease": agent::runtime::net::LEASE_MS },
-            "tls": {
-                "root_ca_certificate": path(&tls.ca),
-                "connect_private_key": path(&tls.folder.join("key.pem")),
-                "connect_certificate": path(&tls.folder.join("cert.pem")),
-                "enable_mtls": true,
-                "verify_name_on_connect": true,
-            },
-        },
-        "auth": { "usrpwd": { "user": user.user, "password": user.password } },
-    });
+    config["transport"] = transport(tls, user, None);
     config
 }
 
