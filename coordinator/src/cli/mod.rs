@@ -10,7 +10,7 @@ pub mod experiment;
 pub mod replay;
 pub mod site;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use world_sim::scenario::Scenario;
@@ -133,24 +133,9 @@ impl ScenarioRef {
     }
 
     /// The scenario as a fleet site (a warehouse or a fleet hallway) with `overrides` applied
-    /// (and validated again).
+    /// (and validated again), built as a journal builds it again.
     pub fn fleet_site(&self, overrides: Overrides) -> Result<Scenario> {
-        let mut s = Scenario::clone(&self.scenario);
-        if !s.set_fleet_size(overrides.robots, overrides.humans) {
-            bail!(
-                "scenario {:?} is not a fleet site (it needs a [warehouse] table, or a [hallway] \
-                 with robots = N)",
-                self.name
-            );
-        }
-        if let Some(seed) = overrides.seed {
-            s.seed = seed;
-        }
-        if overrides.no_safety {
-            s.robot.safety = false;
-        }
-        s.validate(&self.name)?;
-        Ok(s)
+        Ok(self.source(overrides).scenario()?)
     }
 }
 

@@ -62,7 +62,8 @@ pub struct ScenarioSource {
 }
 
 impl ScenarioSource {
-    /// The scenario as a fleet site, with the overrides applied and validated.
+    /// The scenario as a fleet site, with the overrides applied and validated (the one place
+    /// both the command line and a journal build it).
     pub fn scenario(&self) -> Result<Scenario, JournalError> {
         let bad = |e: String| JournalError::Scenario(format!("{}: {e}", self.name));
         let mut s = Scenario::from_toml(&self.toml, &self.name).map_err(|e| bad(e.to_string()))?;
@@ -181,8 +182,8 @@ pub enum JournalError {
     /// A record would not decode.
     #[error("journal: bad record: {0}")]
     Record(String),
-    /// The recorded scenario cannot be built again.
-    #[error("journal: scenario {0}")]
+    /// The scenario cannot be built (as given, or again from a journal).
+    #[error("scenario {0}")]
     Scenario(String),
     /// The folder could not be made.
     #[error("journal {path}: {source}")]
