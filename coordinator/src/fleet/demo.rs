@@ -193,6 +193,9 @@ pub async fn run_demo(
     let mut observers = (status_line, dashboard);
     let status = run_coordinator(&router, fleet, config, shutdown, &mut observers).await?;
     let dashboard = observers.1.map(DashboardObserver::finish);
+    // The last tick's observations may still be on their way (at high speed a tick is shorter
+    // than a hop): let them land before the agents go, so that none counts as lost.
+    tokio::time::sleep(std::time::Duration::from_millis(200)).await;
     let _ = stop_tx.send(true);
     for agent in agents {
         agent.await??;
