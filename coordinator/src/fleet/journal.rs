@@ -195,11 +195,14 @@ pub enum JournalError {
     },
 }
 
-fn db_err<'a>(path: &'a Path, what: &'static str) -> impl Fn(String) -> JournalError + 'a {
-    move |message| JournalError::Database {
+fn db_err<'a, E: std::fmt::Display>(
+    path: &'a Path,
+    what: &'static str,
+) -> impl Fn(E) -> JournalError + 'a {
+    move |e| JournalError::Database {
         path: path.to_path_buf(),
         what,
-        message,
+        message: e.to_string(),
     }
 }
 
@@ -278,8 +281,7 @@ impl Journal {
         })?;
         let path = database(dir);
         let existed = path.exists();
-        let db =
-            redb::Database::create(&path).map_err(|e| db_err(&path, "create")(e.to_string()))?;
+        let db = redb::Database::create(&path).map_err(db_err(&path, "create"))?;
         let recorded = if existed {
             let recorded = read_db(&db, &path)?;
             if recorded.header != *header {
@@ -298,20 +300,14 @@ impl Journal {
         } else {
             None
         };
-        let txn = db
-            .begin_write()
-            .map_err(|e| db_err(&path, "begin")(e.to_string()))?;
+        let txn = db.begin_write().map_err(db_err(&path, "begin"))?;
         {
-            let mut meta = txn
-                .open_table(META)
-                .map_err(|e| db_err(&path, "open meta")(e.to_string()))?;
+            let mut meta = txn.open_table(META).map_err(db_err(&path, "open meta"))?;
             meta.insert("header", pack(header).as_slice())
-                .map_err(|e| db_err(&path, "write header")(e.to_string()))?;
-            meta.remove("end")
-                .map_err(|e| db_err(&path, "remove end")(e.to_string()))?;
+                .map_err(db_err(&path, "write header"))?;
+            meta.remove("end").map_err(db_err(&path, "remove end"))?;
         }
-        txn.commit()
-            .map_err(|e| db_err(&path, "commit")(e.to_string()))?;
+        txn.commit().map_err(db_err(&path, "commit"))?;
         let first_event = recorded.as_ref().map_or(0, |r| r.events.len() as u64);
         let (tx, rx) = sync_channel(QUEUE);
         let writer = std::thread::Builder::new()
@@ -378,42 +374,35 @@ fn write_loop(
                 Err(_) => break,
             }
         }
-        let txn = db
-            .begin_write()
-            .map_err(|e| db_err(path, "begin")(e.to_string()))?;
+        let txn = db.begin_write().map_err(db_err(path, "begin"))?;
         {
-            let mut tick_table = txn
-                .open_table(TICKS)
-                .map_err(|e| db_err(path, "open ticks")(e.to_string()))?;
+            let mut tick_table = txn.open_table(TICKS).map_err(db_err(path, "open ticks"))?;
             let mut event_table = txn
                 .open_table(EVENTS)
-                .map_err(|e| db_err(path, "open events")(e.to_string()))?;
-            let mut meta = txn
-                .open_table(META)
-                .map_err(|e| db_err(path, "open meta")(e.to_string()))?;
+                .map_err(db_err(path, "open events"))?;
+            let mut meta = txn.open_table(META).map_err(db_err(path, "open meta"))?;
             for record in batch {
                 match record {
                     Record::Tick(input) => {
                         tick_table
                             .insert(input.tick, pack(&input).as_slice())
-                            .map_err(|e| db_err(path, "write tick")(e.to_string()))?;
+                            .map_err(db_err(path, "write tick"))?;
                         ticks += 1;
                     }
                     Record::Event(event) => {
                         event_table
                             .insert(events, pack(&event).as_slice())
-                            .map_err(|e| db_err(path, "write event")(e.to_string()))?;
+                            .map_err(db_err(path, "write event"))?;
                         events += 1;
                     }
                     Record::End(end) => {
                         meta.insert("end", pack(&end).as_slice())
-                            .map_err(|e| db_err(path, "write end")(e.to_string()))?;
+                            .map_err(db_err(path, "write end"))?;
                     }
                 }
             }
         }
-        txn.commit()
-            .map_err(|e| db_err(path, "commit")(e.to_string()))?;
+        txn.commit().map_err(db_err(path, "commit"))?;
     }
     Ok(ticks)
 }
@@ -440,22 +429,15 @@ pub fn read(dir: &Path) -> Result<Recorded, JournalError> {
             path.display()
         )));
     }
-    let db = redb::Database::open(&path).map_err(|e| db_err(&path, "open")(e.to_string()))?;
+    let db = redb::Database::open(&path).map_err(db_err(&path, "open"))?;
     read_db(&db, &path)
 }
 
 fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
     let path = path.to_path_buf();
-    let txn = db
-        .begin_read()
-        .map_err(|e| db_err(&path, "begin")(e.to_string()))?;
-    let meta = txn
-        .open_table(META)
-        .map_err(|e| db_err(&path, "open meta")(e.to_string()))?;
-    let header: Header = match meta
-        .get("header")
-        .map_err(|e| db_err(&path, "read header")(e.to_string()))?
-    {
+    let txn = db.begin_read().map_err(db_err(&path, "begin"))?;
+    let meta = txn.open_table(META).map_err(db_err(&path, "open meta"))?;
+    let header: Header = match meta.get("header").map_err(db_err(&path, "read header"))? {
         Some(bytes) => unpack(bytes.value())?,
         None => {
             return Err(JournalError::State(format!(
@@ -471,39 +453,37 @@ fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
             header.format
         )));
     }
-    let end = match meta
-        .get("end")
-        .map_err(|e| db_err(&path, "read end")(e.to_string()))?
-    {
+    let end = match meta.get("end").map_err(db_err(&path, "read end"))? {
         Some(bytes) => Some(unpack(bytes.value())?),
         None => None,
     };
-    let mut ticks = Vec::new();
-    if let Ok(table) = txn.open_table(TICKS) {
-        for row in table
-            .iter()
-            .map_err(|e| db_err(&path, "read ticks")(e.to_string()))?
-        {
-            let (_, bytes) = row.map_err(|e| db_err(&path, "read tick")(e.to_string()))?;
-            ticks.push(unpack(bytes.value())?);
-        }
-    }
-    let mut events = Vec::new();
-    if let Ok(table) = txn.open_table(EVENTS) {
-        for row in table
-            .iter()
-            .map_err(|e| db_err(&path, "read events")(e.to_string()))?
-        {
-            let (_, bytes) = row.map_err(|e| db_err(&path, "read event")(e.to_string()))?;
-            events.push(unpack(bytes.value())?);
-        }
-    }
+    let ticks = rows(&txn, TICKS, &path)?;
+    let events = rows(&txn, EVENTS, &path)?;
     Ok(Recorded {
         header,
         ticks,
         events,
         end,
     })
+}
+
+/// Every row of `table`, decoded, in key order (none if the table was never written).
+fn rows<T: serde::de::DeserializeOwned>(
+    txn: &redb::ReadTransaction,
+    table: TableDefinition<u64, &[u8]>,
+    path: &Path,
+) -> Result<Vec<T>, JournalError> {
+    let table = match txn.open_table(table) {
+        Ok(table) => table,
+        Err(redb::TableError::TableDoesNotExist(_)) => return Ok(Vec::new()),
+        Err(e) => return Err(db_err(path, "open table")(e)),
+    };
+    let mut out = Vec::new();
+    for row in table.iter().map_err(db_err(path, "read rows"))? {
+        let (_, bytes) = row.map_err(db_err(path, "read row"))?;
+        out.push(unpack(bytes.value())?);
+    }
+    Ok(out)
 }
 
 /// A fingerprint of the world: FNV-1a over the bits of the simulated time, every robot's
