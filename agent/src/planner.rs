@@ -1,8 +1,8 @@
 //! One interface for every planner: [`PlannerStack`] runs an optional long-term planner (PGP)
 //! and a short-term planner (DWA, ORCA, Social Force, one of the foIGP paper's planners,
 //! peek-and-pass or anticipatory Social Force); PGP's subgoal becomes the short-term planner's
-//! goal. Planners are named as on the command line: `dwa`, `orca`, `sf`, `foigp`, `igp-diag`,
-//! `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
+//! goal. Planners are named as on the command line: `dwa`, `orca`, `sf`, `foigp` (GP mixtures),
+//! `foigp-1` (one GP per person), `igp-diag`, `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
 //! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
 use crate::asfm::{Asfm, AsfmParams};
@@ -126,7 +126,7 @@ impl PlannerSpec {
 /// A planner name that is not one of ours.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown planner {0:?}; expected dwa, orca, sf, foigp, igp-diag, igp-lin, mc, pnp, \
+    "unknown planner {0:?}; expected dwa, orca, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
      pnp-nopeek, asfm or asfm-q, each optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -144,7 +144,8 @@ impl FromStr for PlannerSpec {
             "dwa" => LocalKind::Dwa,
             "orca" => LocalKind::Orca,
             "sf" | "social-force" => LocalKind::SocialForce,
-            "foigp" | "igp-full" => LocalKind::Igp(IgpVariant::Full),
+            "foigp" => LocalKind::Igp(IgpVariant::Mixture),
+            "foigp-1" | "igp-full" => LocalKind::Igp(IgpVariant::Full),
             "igp-diag" => LocalKind::Igp(IgpVariant::Diagonal),
             "igp-lin" => LocalKind::Igp(IgpVariant::Linear),
             "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
@@ -168,7 +169,8 @@ impl fmt::Display for PlannerSpec {
             LocalKind::Dwa => "dwa",
             LocalKind::Orca => "orca",
             LocalKind::SocialForce => "sf",
-            LocalKind::Igp(IgpVariant::Full) => "foigp",
+            LocalKind::Igp(IgpVariant::Mixture) => "foigp",
+            LocalKind::Igp(IgpVariant::Full) => "foigp-1",
             LocalKind::Igp(IgpVariant::Diagonal) => "igp-diag",
             LocalKind::Igp(IgpVariant::Linear) => "igp-lin",
             LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
@@ -204,6 +206,9 @@ pub trait LocalPlanner: Send + fmt::Debug {
     fn subgoal_distance(&self) -> Real;
     /// One step towards `target`.
     fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan;
+    /// Where people go in this scene (foIGP's intents); planners that do not model intents
+    /// ignore it.
+    fn set_destinations(&mut self, _destinations: &[Vec2]) {}
 }
 
 impl LocalPlanner for Dwa {
@@ -339,6 +344,10 @@ impl LocalPlanner for IgpPlanner {
             command: d.command,
             trajectory: d.trajectory,
         }
+    }
+
+    fn set_destinations(&mut self, destinations: &[Vec2]) {
+        IgpPlanner::set_destinations(self, destinations);
     }
 }
 
@@ -531,6 +540,12 @@ impl PlannerStack {
         }
     }
 
+    /// Where people go in this scene: the intents of foIGP's mixtures (other planners
+    /// ignore them).
+    pub fn set_destinations(&mut self, destinations: &[Vec2]) {
+        self.local.set_destinations(destinations);
+    }
+
     /// Which planners run.
     pub fn spec(&self) -> PlannerSpec {
         self.spec
@@ -577,6 +592,7 @@ mod tests {
         }
         for name in [
             "foigp",
+            "foigp-1",
             "igp-diag",
             "igp-lin",
             "mc",

@@ -29,7 +29,7 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
         let status = Command::new(binary("gapfleet"))
             .args(["experiment", command, "--dataset"])
             .arg(dataset(set))
-            .args(["--planners", "foigp,igp-diag,igp-lin,dwa,pgp+orca"])
+            .args(["--planners", "foigp,foigp-1,igp-diag,igp-lin,dwa,pgp+orca"])
             .args(["--runs", kind, "--limit", "3", "--jobs", "2", "--out"])
             .arg(&out)
             .output()
@@ -48,7 +48,7 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
         let names: Vec<&str> = rows.iter().filter_map(|r| r["planner"].as_str()).collect();
         assert_eq!(
             names,
-            ["human", "foigp", "igp-diag", "igp-lin", "dwa", "pgp+orca"]
+            ["human", "foigp", "foigp-1", "igp-diag", "igp-lin", "dwa", "pgp+orca"]
         );
         for row in rows {
             for key in [

@@ -116,6 +116,97 @@ pub struct Recording {
     pub tracks: Vec<Track>,
     /// Static obstacle lines from `map.xml` (empty when there is none).
     pub walls: Vec<(Vec2, Vec2)>,
+    /// Where people go: `destinations.txt`, or, for a sequence without one, the tracks' end
+    /// points clustered ([`cluster_destinations`]). foIGP's mixtures have one intent per
+    /// destination.
+    pub destinations: Vec<Vec2>,
+    /// Whether `destinations` came from the file or from clustering.
+    pub destinations_from_file: bool,
+}
+
+/// How many destinations [`cluster_destinations`] finds: as many as each recorded sequence's
+/// `destinations.txt` lists (4).
+pub const CLUSTERED_DESTINATIONS: usize = 4;
+
+/// Destinations for a sequence without `destinations.txt`: the tracks' last positions in
+/// `k` clusters (k-means, Lloyd's iterations to a fixed point, seeded deterministically by
+/// farthest-point selection from the first track's end). Fewer than `k` distinct end points
+/// give one destination each.
+pub fn cluster_destinations(tracks: &[Track], k: usize) -> Vec<Vec2> {
+    let ends: Vec<Vec2> = tracks
+        .iter()
+        .filter_map(|t| t.samples.last().map(|s| s.position))
+        .collect();
+    let Some(&first) = ends.first() else {
+        return Vec::new();
+    };
+    let nearest = |p: &Vec2, centres: &[Vec2]| -> (usize, Real) {
+        centres
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (i, (p - c).norm_squared()))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("at least one centre")
+    };
+    let mut centres = vec![first];
+    while centres.len() < k {
+        let (far, d2) = ends
+            .iter()
+            .map(|p| nearest(p, &centres).1)
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+            .expect("ends is not empty");
+        if d2 <= 0.0 {
+            break;
+        }
+        centres.push(ends[far]);
+    }
+    for _ in 0..1000 {
+        let mut sums = vec![(Vec2::zeros(), 0usize); centres.len()];
+        for p in &ends {
+            let (i, _) = nearest(p, &centres);
+            sums[i].0 += p;
+            sums[i].1 += 1;
+        }
+        let next: Vec<Vec2> = sums
+            .iter()
+            .zip(&centres)
+            .map(|(&(sum, n), &c)| if n > 0 { sum / n as Real } else { c })
+            .collect();
+        if next == centres {
+            break;
+        }
+        centres = next;
+    }
+    centres
+}
+
+/// `destinations.txt`: one `x y` pair per line (blank lines ignored).
+pub fn parse_destinations(text: &str) -> Result<Vec<Vec2>, ObsmatError> {
+    let mut out = Vec::new();
+    for (index, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.is_empty() {
+            continue;
+        }
+        let fail = |message: String| ObsmatError {
+            line: index + 1,
+            message,
+        };
+        if fields.len() != 2 {
+            return Err(fail(format!("expected 2 columns (x y), found {}", fields.len())));
+        }
+        let mut xy = [0.0; 2];
+        for (k, field) in fields.iter().enumerate() {
+            xy[k] = field
+                .parse::<Real>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| fail(format!("column {}: not a finite number: {field:?}", k + 1)))?;
+        }
+        out.push(Vec2::new(xy[0], xy[1]));
+    }
+    Ok(out)
 }
 
 impl Recording {
@@ -135,10 +226,19 @@ impl Recording {
             || dir.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
+        let listed = dir.join("destinations.txt");
+        let (destinations, destinations_from_file) = if listed.exists() {
+            let text = read(&listed)?;
+            (parse_destinations(&text).map_err(|e| e.at(&listed))?, true)
+        } else {
+            (cluster_destinations(&tracks, CLUSTERED_DESTINATIONS), false)
+        };
         Ok(Self {
             name,
             tracks,
             walls,
+            destinations,
+            destinations_from_file,
         })
     }
 
@@ -415,7 +515,44 @@ mod tests {
         std::fs::remove_file(dir.join("map.xml")).expect("remove");
         let ok = Recording::load(&dir).expect("map.xml is optional");
         assert!(ok.walls.is_empty());
+        // Without destinations.txt the one track's end is the one destination.
+        assert_eq!(ok.destinations, vec![Vec2::new(0.0, 0.0)]);
+        assert!(!ok.destinations_from_file);
+        std::fs::write(dir.join("destinations.txt"), "1 2\n3 four\n").expect("write");
+        let bad = Recording::load(&dir).expect_err("bad destination");
+        assert!(bad.to_string().contains("destinations.txt:2:"), "{bad}");
+        std::fs::write(dir.join("destinations.txt"), "1 2\n\n3 4\n").expect("write");
+        let listed = Recording::load(&dir).expect("destinations listed");
+        assert_eq!(listed.destinations, vec![Vec2::new(1.0, 2.0), Vec2::new(3.0, 4.0)]);
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn end_points_cluster_into_destinations() {
+        // Ten tracks ending near (0, 10) and ten near (10, 0), spread ±0.5 m.
+        let tracks: Vec<Track> = (0..20)
+            .map(|i| {
+                let off = (i % 5) as Real * 0.25 - 0.5;
+                let end = if i < 10 { Vec2::new(off, 10.0) } else { Vec2::new(10.0, off) };
+                Track {
+                    id: i,
+                    samples: vec![Sample {
+                        t: 0.0,
+                        position: end,
+                        velocity: Vec2::zeros(),
+                    }],
+                }
+            })
+            .collect();
+        let mut centres = cluster_destinations(&tracks, 2);
+        centres.sort_by(|a, b| a.x.total_cmp(&b.x));
+        assert_eq!(centres.len(), 2);
+        assert!((centres[0] - Vec2::new(0.0, 10.0)).norm() < 1e-9, "{centres:?}");
+        assert!((centres[1] - Vec2::new(10.0, 0.0)).norm() < 1e-9, "{centres:?}");
+        // The recorded sequences list theirs: ETH's four exits.
+        let eth = Recording::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets/ETH/seq_eth"))
+            .expect("seq_eth");
+        assert!(eth.destinations_from_file && eth.destinations.len() == 4);
     }
 
     #[test]

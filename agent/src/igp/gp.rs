@@ -158,6 +158,57 @@ impl TrajectoryGp {
         Self::conditioned(params, |t| position + velocity * t, &[(0.0, position)])
     }
 
+    /// The flexibility of a body seen only at the present: the kernel conditioned on one
+    /// position at t = 0. Every intent component has it ([`TrajectoryGp::towards`]), so a
+    /// planner computes it once.
+    pub fn present_only(params: &GpParams) -> Self {
+        Self::conditioned(params, |_| Vec2::zeros(), &[(0.0, Vec2::zeros())])
+    }
+
+    /// A person at `position` walking with `velocity` who intends to go to `destination`: a
+    /// mean that starts at their velocity and turns towards the destination at their speed,
+    /// relaxing over the kernel's time scale (`lengthscale_s`) and stopping there, with the
+    /// flexibility of [`TrajectoryGp::present_only`] (`flexibility`). Conditioned on the
+    /// present position only (the mean passes through it, so conditioning leaves the mean
+    /// as it is): the history enters the mixture through the intent weights
+    /// (`mixture::intent_weights`); regressed on it, the velocity term of the kernel would fit
+    /// the observed heading and undo the intent.
+    pub fn towards(
+        params: &GpParams,
+        flexibility: &TrajectoryGp,
+        position: Vec2,
+        velocity: Vec2,
+        destination: Vec2,
+    ) -> Self {
+        let speed = velocity.norm();
+        // The mean integrated at 1/10 of a sample step: v̇ = (speed · û(d − p) − v) / τ.
+        let substeps = 10;
+        let h = params.dt / substeps as Real;
+        let tau = params.lengthscale_s;
+        let mut p = position;
+        let mut v = velocity;
+        let mut mean = Vec::with_capacity(params.steps);
+        for _ in 0..params.steps {
+            for _ in 0..substeps {
+                let to = destination - p;
+                let distance = to.norm();
+                if distance <= speed * h || distance < 1e-9 {
+                    p = destination;
+                    v = Vec2::zeros();
+                    continue;
+                }
+                let wanted = to * (speed / distance);
+                v += (wanted - v) * (h / tau).min(1.0);
+                p += v * h;
+            }
+            mean.push(p);
+        }
+        Self {
+            mean,
+            ..flexibility.clone()
+        }
+    }
+
     /// The robot: a straight line from `position` to `goal` at `speed`, stopping there.
     pub fn robot(params: &GpParams, position: Vec2, goal: Vec2, speed: Real) -> Self {
         let to_goal = goal - position;

@@ -6,12 +6,16 @@
 //! decoupling Λ (Def. 5): for every pair of times (t, τ) the robot at t and a person at τ should
 //! not meet, with a width given by the (t, τ) element of the summed covariances. The planner
 //! maximises log λ (Eq. 6.1) over the robot's and the people's trajectories with Newton's
-//! method from the paper's seeds μ ± {0, 1, 2, 3}σ, on the people that the effective sample size
-//! of the first Newton steps singles out (Defs. 10–11), and drives towards the robot's optimised
-//! position one step ahead.
+//! method from the paper's seeds μ ± {0, 1, 2, 3}σ (the robot and the people shifted apart,
+//! [`SeedRule`]), on the people that the effective sample size of the first Newton steps
+//! singles out (Defs. 10–11), and drives towards the robot's optimised position one step
+//! ahead.
 //!
-//! Variants, named as in the paper's Tables 1–2: [`IgpVariant::Full`] (IGP_Full, all (t, τ)
-//! pairs), [`IgpVariant::Diagonal`] (IGP_Diag, t = τ only), [`IgpVariant::Linear`] (IGP_Lin: a
+//! Every person is a GP mixture with one intent per destination of the scene (Eq. 3.1;
+//! [`mixture`]), and the joint is optimised over combinations of intents (Eq. 5.3) in
+//! [`IgpVariant::Mixture`], the paper's foIGP (`foigp`). The other variants model each person
+//! as one GP. Named as in the paper's Tables 1–2: [`IgpVariant::Full`] (IGP_Full with one GP
+//! per person, `foigp-1`; all (t, τ) pairs), [`IgpVariant::Diagonal`] (IGP_Diag, t = τ only), [`IgpVariant::Linear`] (IGP_Lin: a
 //! person's GP is their constant-velocity line instead of a regression on their history) and
 //! [`IgpVariant::MonteCarlo`] (MC_1e5: the best of 10⁵ joint samples instead of Newton).
 //!
@@ -30,10 +34,12 @@ use rand_distr::{Distribution, StandardNormal};
 use std::collections::{BTreeMap, VecDeque};
 
 mod gp;
+pub mod mixture;
 #[cfg(test)]
 mod tests;
 
 pub use gp::{GpParams, TrajectoryGp};
+pub use mixture::Component;
 
 /// Which (t, τ) pairs couple the robot with a person.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,15 +102,33 @@ impl Objective {
         self.bodies.iter().map(|b| b.mean.clone()).collect()
     }
 
-    /// μ + k · σ for every body and both coordinates: the paper's Newton seeds.
-    pub fn seed(&self, k: Real) -> Trajectories {
+    /// A Newton seed k σ from the means (Sec. 6: "(μ^R, μ^f) ± (0, [σ^R, σ^f], 2[…], 3[…])").
+    ///
+    /// [`SeedRule::PerBody`]: the robot at μ^R + k σ^R n and every person at μ^f − k σ^f n,
+    /// n the unit normal to the left of the robot's mean path; seeds with k > 0 pass everyone
+    /// on the robot's left, k < 0 on its right. [`SeedRule::Common`]: every body at μ + k σ
+    /// in x and in y (the notation read literally; robot–person offsets then barely change
+    /// between seeds).
+    pub fn seed(&self, k: Real, rule: SeedRule) -> Trajectories {
+        let robot = &self.bodies[0].mean;
+        let heading = match (robot.first(), robot.last()) {
+            (Some(a), Some(b)) if (b - a).norm() > 1e-9 => (b - a).normalize(),
+            _ => Vec2::new(1.0, 0.0),
+        };
+        let left = Vec2::new(-heading.y, heading.x);
         self.bodies
             .iter()
-            .map(|b| {
+            .enumerate()
+            .map(|(i, b)| {
+                let direction = match (rule, i) {
+                    (SeedRule::Common, _) => Vec2::new(1.0, 1.0),
+                    (SeedRule::PerBody, 0) => left,
+                    (SeedRule::PerBody, _) => -left,
+                };
                 b.mean
                     .iter()
                     .zip(b.sigma())
-                    .map(|(m, s)| m + Vec2::new(k * s, k * s))
+                    .map(|(m, s)| m + direction * (k * s))
                     .collect()
             })
             .collect()
@@ -484,10 +508,24 @@ pub fn ess_selection(steps: &[Real]) -> (Real, Vec<usize>) {
     (ess, order)
 }
 
+/// Where Newton's multi-start seeds lie ([`Objective::seed`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeedRule {
+    /// The robot and the people shifted in opposite directions across the robot's path.
+    PerBody,
+    /// Every body shifted by the same +kσ in x and y.
+    Common,
+}
+
 /// The planners of the foIGP paper's tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum IgpVariant {
-    /// IGP_Full: people's GPs regressed on their history, every (t, τ) pair coupled.
+    /// foIGP as the paper defines it: IGP_Full with every person a GP mixture, one intent per
+    /// destination of the scene ([`mixture`]), the joint optimised over intent combinations.
+    /// Without destinations it is [`IgpVariant::Full`].
+    Mixture,
+    /// IGP_Full with one GP per person (`foigp-1`): regressed on their history, every (t, τ)
+    /// pair coupled.
     Full,
     /// IGP_Diag: as Full, but only t = τ coupled.
     Diagonal,
@@ -516,6 +554,8 @@ pub struct IgpParams {
     pub samples: usize,
     /// Seed of MC_1e5's random stream.
     pub seed: u64,
+    /// Where Newton's multi-start seeds lie.
+    pub seeds: SeedRule,
 }
 
 impl Default for IgpParams {
@@ -529,6 +569,7 @@ impl Default for IgpParams {
             newton: NewtonOptions::default(),
             samples: 100_000,
             seed: 0x1F16_0000,
+            seeds: SeedRule::PerBody,
         }
     }
 }
@@ -542,10 +583,15 @@ pub struct IgpDecision {
     pub trajectory: Vec<TrajectorySample>,
     /// Neighbour ids that entered the optimisation, most significant first.
     pub selected: Vec<u64>,
-    /// The effective sample size.
+    /// The effective sample size (over robot–(person, intent) pairs).
     pub ess: Real,
     /// log λ at the optimum.
     pub log_lambda: Real,
+    /// Per selected person (in `selected`'s order): the index, among that person's kept
+    /// intents, of the one in the winning combination (0 without mixtures).
+    pub intents: Vec<usize>,
+    /// How many intent combinations were optimised.
+    pub combinations: usize,
 }
 
 /// The foIGP planner. It keeps each perceived person's recent positions (keyed by neighbour
@@ -559,6 +605,10 @@ pub struct IgpPlanner {
     clock: Real,
     tracks: BTreeMap<u64, VecDeque<(Real, Vec2)>>,
     rng: ChaCha8Rng,
+    /// Where people go in this scene: one intent each ([`IgpVariant::Mixture`]).
+    destinations: Vec<Vec2>,
+    /// Every intent's flexibility ([`TrajectoryGp::present_only`]).
+    intent_flexibility: TrajectoryGp,
 }
 
 impl IgpPlanner {
@@ -570,7 +620,15 @@ impl IgpPlanner {
             clock: 0.0,
             tracks: BTreeMap::new(),
             rng: ChaCha8Rng::seed_from_u64(params.seed),
+            destinations: Vec::new(),
+            intent_flexibility: TrajectoryGp::present_only(&params.gp),
         }
+    }
+
+    /// Where people go in this scene (a recording's `destinations.txt`, a site's stations):
+    /// the intents of [`IgpVariant::Mixture`]'s mixtures. Other variants ignore them.
+    pub fn set_destinations(&mut self, destinations: &[Vec2]) {
+        self.destinations = destinations.to_vec();
     }
 
     /// Its parameters.
@@ -601,10 +659,13 @@ impl IgpPlanner {
         }
     }
 
-    fn person_gp(&self, n: &Neighbour) -> TrajectoryGp {
+    /// A person's intents: the mixture over the scene's destinations for
+    /// [`IgpVariant::Mixture`], otherwise (or without destinations) one GP of weight 1.
+    fn person_components(&self, n: &Neighbour) -> Vec<Component> {
         let gp = &self.params.gp;
         if self.variant == IgpVariant::Linear {
-            return TrajectoryGp::linear(gp, n.position, n.velocity);
+            let gp = TrajectoryGp::linear(gp, n.position, n.velocity);
+            return vec![Component { weight: 1.0, gp }];
         }
         let past: Vec<(Real, Vec2)> = self
             .tracks
@@ -614,7 +675,36 @@ impl IgpPlanner {
             .filter(|(t, _)| *t < self.clock - 1e-9)
             .map(|&(t, p)| (t - self.clock, p))
             .collect();
-        TrajectoryGp::person(gp, n.position, n.velocity, &past)
+        if self.variant == IgpVariant::Mixture {
+            let mut seen = past.clone();
+            seen.push((0.0, n.position));
+            if let Some(mixture) =
+                mixture::person_mixture(
+                    gp,
+                    &self.intent_flexibility,
+                    &seen,
+                    n.velocity,
+                    &self.destinations,
+                )
+            {
+                return mixture;
+            }
+        }
+        let gp = TrajectoryGp::person(gp, n.position, n.velocity, &past);
+        vec![Component { weight: 1.0, gp }]
+    }
+
+    /// Newton from the paper's seeds; the best local maximum.
+    fn multi_start(&self, objective: &Objective) -> (Trajectories, Real) {
+        let p = &self.params;
+        let mut best = objective.maximise(objective.means(), &p.newton);
+        for k in [1.0, -1.0, 2.0, -2.0, 3.0, -3.0] {
+            let run = objective.maximise(objective.seed(k, p.seeds), &p.newton);
+            if run.1 > best.1 {
+                best = run;
+            }
+        }
+        best
     }
 
     /// One plan towards `goal`; `dt` is the time until the next plan.
@@ -637,33 +727,87 @@ impl IgpPlanner {
             .iter()
             .filter(|n| (n.position - ego.position).norm() <= p.range_m)
             .collect();
-        let people: Vec<TrajectoryGp> = near.iter().map(|n| self.person_gp(n)).collect();
-        // Def. 10: the first Newton step of each robot–person pair, then the ESS.
-        let steps: Vec<Real> = people
+        let people: Vec<Vec<Component>> =
+            near.iter().map(|n| self.person_components(n)).collect();
+        // Def. 10: the first Newton step of each robot–(person, intent) pair, then the ESS;
+        // the people with a pair among the top round(ESS) enter, most significant first.
+        let pairs: Vec<(usize, usize)> = people
             .iter()
-            .map(|person| {
-                Objective::new(robot.clone(), vec![person.clone()], coupling).first_step_length()
+            .enumerate()
+            .flat_map(|(i, c)| (0..c.len()).map(move |k| (i, k)))
+            .collect();
+        let steps: Vec<Real> = pairs
+            .iter()
+            .map(|&(i, k)| {
+                let person = people[i][k].gp.clone();
+                Objective::new(robot.clone(), vec![person], coupling).first_step_length()
             })
             .collect();
-        let (ess, mut order) = ess_selection(&steps);
-        order.truncate(p.max_people);
-        let selected: Vec<u64> = order.iter().map(|&i| near[i].id).collect();
-        let chosen: Vec<TrajectoryGp> = order.iter().map(|&i| people[i].clone()).collect();
-        let objective = Objective::new(robot, chosen, coupling);
-        let (best, log_lambda) = match self.variant {
-            IgpVariant::MonteCarlo => objective.best_sample(p.samples, &mut self.rng),
-            _ => {
-                // Sec. 6: seeds at (μ^R, μ^f) ± {0, 1, 2, 3}σ; the best local maximum wins.
-                let mut best = objective.maximise(objective.means(), &p.newton);
-                for k in [1.0, -1.0, 2.0, -2.0, 3.0, -3.0] {
-                    let run = objective.maximise(objective.seed(k), &p.newton);
-                    if run.1 > best.1 {
-                        best = run;
-                    }
-                }
-                best
+        let (ess, order) = ess_selection(&steps);
+        let mut entering: Vec<usize> = Vec::new();
+        for &j in &order {
+            let i = pairs[j].0;
+            if !entering.contains(&i) && entering.len() < p.max_people {
+                entering.push(i);
             }
+        }
+        let selected: Vec<u64> = entering.iter().map(|&i| near[i].id).collect();
+        let mixtures: Vec<&[Component]> = entering.iter().map(|&i| &people[i][..]).collect();
+        // Eq. 5.3: each combination η of intents scores log λ_η at its optimum plus
+        // Σ log w. Start from every person's most preferred intent.
+        let mut combination: Vec<usize> = mixtures
+            .iter()
+            .map(|c| {
+                (0..c.len())
+                    .max_by(|&a, &b| c[a].weight.total_cmp(&c[b].weight).then(b.cmp(&a)))
+                    .unwrap_or(0)
+            })
+            .collect();
+        let objective_of = |combination: &[usize]| {
+            let chosen = combination
+                .iter()
+                .zip(&mixtures)
+                .map(|(&k, c)| c[k].gp.clone())
+                .collect();
+            Objective::new(robot.clone(), chosen, coupling)
         };
+        let preference = |combination: &[usize]| -> Real {
+            combination
+                .iter()
+                .zip(&mixtures)
+                .map(|(&k, c)| c[k].weight.ln())
+                .sum()
+        };
+        let objective = objective_of(&combination);
+        let (mut best, mut log_lambda) = match self.variant {
+            IgpVariant::MonteCarlo => objective.best_sample(p.samples, &mut self.rng),
+            // Sec. 6: seeds at (μ^R, μ^f) ± {0, 1, 2, 3}σ; the best local maximum wins.
+            _ => self.multi_start(&objective),
+        };
+        // The paper seeks "the N* ≪ N_BIG modes that best capture Eq. 5.3" without saying
+        // how; ours: one pass of coordinate ascent over the people, most significant first,
+        // trying each of their other intents from the current optimum with that person moved
+        // onto the intent's mean, keeping a change that raises the score.
+        let mut score = log_lambda + preference(&combination);
+        let mut combinations = 1;
+        for slot in 0..mixtures.len() {
+            for k in 0..mixtures[slot].len() {
+                if k == combination[slot] {
+                    continue;
+                }
+                let mut trial = combination.clone();
+                trial[slot] = k;
+                let objective = objective_of(&trial);
+                let mut start = best.clone();
+                start[slot + 1] = mixtures[slot][k].gp.mean.clone();
+                let (x, f) = objective.maximise(start, &p.newton);
+                combinations += 1;
+                let trial_score = f + preference(&trial);
+                if trial_score > score {
+                    (best, log_lambda, score, combination) = (x, f, trial_score, trial);
+                }
+            }
+        }
         self.clock += dt;
         // Def. 11: drive to the optimised position one sample ahead.
         let velocity = clamp_norm((best[0][0] - ego.position) / p.gp.dt, p.max_speed);
@@ -679,6 +823,8 @@ impl IgpPlanner {
             selected,
             ess,
             log_lambda,
+            intents: combination,
+            combinations,
         }
     }
 }

@@ -257,7 +257,7 @@ fn planned_separation_shrinks_as_a_head_on_meeting_nears() {
         let o = Objective::new(robot, vec![person], Coupling::Full);
         let mut best = o.maximise(o.means(), &NewtonOptions::default());
         for k in [1.0, -1.0, 2.0, -2.0, 3.0, -3.0] {
-            let run = o.maximise(o.seed(k), &NewtonOptions::default());
+            let run = o.maximise(o.seed(k, SeedRule::PerBody), &NewtonOptions::default());
             if run.1 > best.1 {
                 best = run;
             }
@@ -272,4 +272,143 @@ fn planned_separation_shrinks_as_a_head_on_meeting_nears() {
     // Measured: 1.61, 0.81 and 0.40 m.
     assert!(far > 1.4 && mid < 1.0 && near < 0.5, "{far} {mid} {near}");
     assert!(near > 0.2, "still apart: {near}");
+}
+
+/// A person seen walking for 2.8 s (8 positions 0.4 s apart, ending at the origin) at
+/// 1.2 m/s in x and `drift` m/s in y (> 0: bearing left).
+fn walker_history(drift: Real) -> Vec<(Real, Vec2)> {
+    (0..8)
+        .map(|k| {
+            let t = -((7 - k) as Real) * 0.4;
+            (t, vec2(1.2 * t, drift * t))
+        })
+        .collect()
+}
+
+/// The junction of Fig. 1: a person walking +x towards a fork, one destination up and ahead
+/// (a left turn), one down and ahead (a right turn), one behind them.
+const FORK: [Vec2; 3] = [
+    Vec2::new(4.0, 6.0),
+    Vec2::new(4.0, -6.0),
+    Vec2::new(-10.0, 0.0),
+];
+
+#[test]
+fn intent_preferences_follow_the_track() {
+    let p = params();
+    // Straight at the fork: left and right equally likely (intent ambiguity), behind never.
+    let straight = mixture::intent_weights(&p, &walker_history(0.0), vec2(1.2, 0.0), &FORK);
+    assert!((straight.iter().sum::<Real>() - 1.0).abs() < 1e-12);
+    assert!((straight[0] - straight[1]).abs() < 1e-12, "{straight:?}");
+    assert!(straight[2] < 1e-12, "{straight:?}");
+    // Bearing left by 0.25 m/s (12°): the left turn is preferred.
+    let left = mixture::intent_weights(&p, &walker_history(0.25), vec2(1.2, 0.25), &FORK);
+    assert!(left[0] > 0.99 && left[1] < 0.01, "{left:?}");
+    let right = mixture::intent_weights(&p, &walker_history(-0.25), vec2(1.2, -0.25), &FORK);
+    assert!(right[1] > 0.99, "{right:?}");
+    // The mixture keeps the two turns, drops the destination behind, and renormalises.
+    let seen = walker_history(0.0);
+    let flexibility = TrajectoryGp::present_only(&p);
+    let components = mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &FORK)
+        .expect("mixture");
+    assert_eq!(components.len(), 2);
+    assert!(components.iter().all(|c| (c.weight - 0.5).abs() < 1e-9));
+    // Each intent starts at the person's velocity and turns towards its destination.
+    let (up, down) = (&components[0].gp.mean, &components[1].gp.mean);
+    assert!(up[0].x > 0.4 && up[0].y.abs() < 0.15, "{:?}", up[0]);
+    assert!(up[11].y > 2.0 && down[11].y < -2.0, "{:?} {:?}", up[11], down[11]);
+    assert!((up[11].y + down[11].y).abs() < 1e-9, "mirror images");
+    assert!(mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &[]).is_none());
+    // The shared flexibility is the kernel conditioned on the present position.
+    let linear = TrajectoryGp::linear(&p, vec2(0.0, 0.0), vec2(1.2, 0.0));
+    assert!((&components[0].gp.cov - &linear.cov).amax() < 1e-12);
+}
+
+/// Feeds `planner` the person's `history` (positions 0.4 s apart, the present last) and
+/// returns the plan at the present.
+fn plan_with_history(
+    planner: &mut IgpPlanner,
+    robot: &EgoState,
+    goal: Vec2,
+    history: &[(Real, Vec2)],
+) -> IgpDecision {
+    let velocity = |k: usize| (history[k].1 - history[k - 1].1) / 0.4;
+    for k in 1..history.len() - 1 {
+        let person = Neighbour::new(4, history[k].1, velocity(k), 0.3, AgentKind::Human);
+        planner.plan(robot, &[person], goal, 0.4);
+    }
+    let last = history.len() - 1;
+    let person = Neighbour::new(4, history[last].1, velocity(last), 0.3, AgentKind::Human);
+    planner.plan(robot, &[person], goal, 0.4)
+}
+
+/// The robot waits below the fork's left branch, heading up across it; the person is at the
+/// fork. Whether the person turns left (into the robot's way) or right decides what foIGP
+/// plans, where a single GP sees the same straight walker either way.
+#[test]
+fn a_mixture_plans_for_the_intent_the_track_shows() {
+    let robot = EgoState {
+        position: vec2(2.5, -0.5),
+        heading: std::f64::consts::FRAC_PI_2,
+        velocity: vec2(0.0, 0.0),
+        yaw_rate: 0.0,
+        radius: 0.3,
+    };
+    let goal = vec2(2.5, 6.0);
+    let run = |variant, drift: Real| {
+        let mut planner = IgpPlanner::new(variant, IgpParams::default());
+        planner.set_destinations(&FORK);
+        plan_with_history(&mut planner, &robot, goal, &walker_history(drift))
+    };
+    let left = run(IgpVariant::Mixture, 0.25);
+    let right = run(IgpVariant::Mixture, -0.25);
+    let ambiguous = run(IgpVariant::Mixture, 0.0);
+    let single = run(IgpVariant::Full, 0.25);
+    for d in [&left, &right, &ambiguous, &single] {
+        assert_eq!(d.selected, vec![4]);
+    }
+    // One intent kept when the track decides it; both when it does not, and both optimised.
+    assert_eq!((left.combinations, right.combinations), (1, 1));
+    assert_eq!(ambiguous.combinations, 2);
+    assert_eq!(single.combinations, 1);
+    let Command::Velocity(v_left) = left.command else {
+        panic!("velocity")
+    };
+    let Command::Velocity(v_right) = right.command else {
+        panic!("velocity")
+    };
+    // Turning left the person walks into the robot's way up: it swerves right to pass
+    // ahead of them (measured v = (0.35, 0.94)); turning right they leave it, and it drives
+    // straight up.
+    assert!(v_left.x > 0.2, "left {v_left:?}");
+    assert!(v_right.x.abs() < 0.01, "right {v_right:?}");
+    // Ambiguous, the argmax of the mixture takes the intent that does not conflict (right,
+    // index 1 among the kept [left, right]): foIGP plans optimistically under ambiguity.
+    assert_eq!(ambiguous.intents, vec![1]);
+    let Command::Velocity(v_ambiguous) = ambiguous.command else {
+        panic!("velocity")
+    };
+    assert!(v_ambiguous.x.abs() < 0.01, "ambiguous {v_ambiguous:?}");
+    // One GP regressed on the same left-bearing track predicts a straight walker at 12°,
+    // and the robot edges left (measured −0.10) instead of swerving right.
+    let Command::Velocity(v_single) = single.command else {
+        panic!("velocity")
+    };
+    assert!(v_single.x < 0.0, "single {v_single:?}");
+}
+
+#[test]
+fn per_body_seeds_move_the_robot_and_the_people_apart() {
+    let objective = head_on(Coupling::Full);
+    let means = objective.means();
+    let sigma_r = objective.bodies[0].sigma();
+    let sigma_p = objective.bodies[1].sigma();
+    let seed = objective.seed(2.0, SeedRule::PerBody);
+    for a in 0..means[0].len() {
+        // The robot heads +x: its left is +y. It moves 2σ up, the person 2σ down.
+        assert!((seed[0][a] - means[0][a] - vec2(0.0, 2.0 * sigma_r[a])).norm() < 1e-12);
+        assert!((seed[1][a] - means[1][a] - vec2(0.0, -2.0 * sigma_p[a])).norm() < 1e-12);
+    }
+    let common = objective.seed(2.0, SeedRule::Common);
+    assert!((common[1][0] - means[1][0] - vec2(2.0, 2.0) * sigma_p[0]).norm() < 1e-12);
 }

@@ -30,8 +30,6 @@ pub struct PgpParams {
     pub v_max: Real,
     /// v: speed of the candidate trajectories (m/s).
     pub speed: Real,
-    /// d_goal: distance of PGP's own goal along the line to the map goal (m).
-    pub d_goal: Real,
     /// α: fan-out angles (radians), relative to the line to the goal.
     pub fan_angles: Vec<Real>,
     /// d_turned: length of the first, outward segment (m).
@@ -67,7 +65,6 @@ impl Default for PgpParams {
             steps: 32,
             v_max: 1.0,
             speed: 1.0,
-            d_goal: 8.0,
             fan_angles: (-5..=5).map(|i| (16.0 * i as Real).to_radians()).collect(),
             d_turned: 2.5,
             outside_fraction: 0.9,
@@ -80,6 +77,15 @@ impl Default for PgpParams {
             risk_floor: 1e-9,
             record_fan: true,
         }
+    }
+}
+
+impl PgpParams {
+    /// d_goal = T · v^max (Sec. III-B): how far along the line to the map goal PGP places its
+    /// own goal, T seconds at top speed. The paper's 8 s at 1 m/s give its 8 m (Sec. IV-C); a
+    /// robot with another top speed gets its own (11.8 m at ETH's 1.47 m/s).
+    pub fn d_goal(&self) -> Real {
+        self.steps as Real * self.dt * self.v_max
     }
 }
 
@@ -222,7 +228,7 @@ impl Pgp {
             };
         }
         let dir = to_goal / dist_goal;
-        let pgp_goal = p0 + dir * self.params.d_goal.min(dist_goal);
+        let pgp_goal = p0 + dir * self.params.d_goal().min(dist_goal);
         let geometries = self.candidate_geometries(p0, dir, pgp_goal);
         let expected = pulp::Arch::new().dispatch(PlanPass {
             pgp: self,
@@ -276,7 +282,7 @@ impl Pgp {
     /// the paper's.
     fn candidate_geometries(&self, p0: Vec2, dir: Vec2, pgp_goal: Vec2) -> Vec<Geometry> {
         let p = &self.params;
-        let scale = ((pgp_goal - p0).norm() / p.d_goal).min(1.0);
+        let scale = ((pgp_goal - p0).norm() / p.d_goal()).min(1.0);
         let d_turned = p.d_turned * scale;
         let mut out = Vec::with_capacity(2 * p.fan_angles.len());
         for &alpha in &p.fan_angles {

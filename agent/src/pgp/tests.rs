@@ -277,6 +277,22 @@ fn near_the_goal_the_fan_shrinks_and_pgp_heads_straight_for_it() {
     );
 }
 
+/// d_goal = T · v^max (Sec. III-B): the paper's 8 m at 1 m/s, and a faster robot's PGP goal
+/// one horizon of its own top speed away (11.76 m at the 1.47 m/s of the ETH runs).
+#[test]
+fn d_goal_is_one_horizon_at_top_speed() {
+    assert!((PgpParams::default().d_goal() - 8.0).abs() < 1e-12);
+    let fast = PgpParams {
+        v_max: 1.47,
+        speed: 1.47,
+        ..PgpParams::default()
+    };
+    assert!((fast.d_goal() - 11.76).abs() < 1e-12);
+    let d = Pgp::new(fast).plan(&ego_at_origin(), &[], &StaticMap::empty(), vec2(20.0, 0.0));
+    let fan = d.fan.expect("fan recorded by default");
+    assert!((fan.pgp_goal - vec2(11.76, 0.0)).norm() < 1e-12, "{:?}", fan.pgp_goal);
+}
+
 #[test]
 fn a_goal_beyond_d_goal_keeps_the_papers_fan() {
     let d = plan(&[], &StaticMap::empty());

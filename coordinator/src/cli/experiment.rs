@@ -1,5 +1,6 @@
 //! `gapfleet experiment`: the studies, run in-process on all cores with a progress bar.
 
+use agent::igp::SeedRule;
 use super::{Overrides, ScenarioRef, density, positive};
 use agent::asfm::AsfmParams;
 use agent::planner::PlannerSpec;
@@ -134,7 +135,7 @@ pub struct ReplayArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "foigp,igp-diag,igp-lin,mc,dwa,pgp+orca"
+        default_value = "foigp,foigp-1,igp-diag,igp-lin,mc,dwa,pgp+orca"
     )]
     planners: Vec<PlannerSpec>,
     /// partial (≈ 10 m stretches, start and goal only) or full (whole tracks).
@@ -157,6 +158,19 @@ pub struct ReplayArgs {
     /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
     no_safety: bool,
+    /// Where the foIGP planners' Newton seeds lie: per-body (the robot and the people shifted
+    /// apart across the robot's path) or common (every body +kσ in x and y). Applies to the
+    /// foIGP planners on their own (not behind pgp+).
+    #[arg(long, default_value = "per-body", value_parser = seed_rule)]
+    igp_seeds: SeedRule,
+}
+
+fn seed_rule(s: &str) -> Result<SeedRule, String> {
+    match s {
+        "per-body" => Ok(SeedRule::PerBody),
+        "common" => Ok(SeedRule::Common),
+        other => Err(format!("{other:?}: expected per-body or common")),
+    }
 }
 
 /// `experiment hallway`'s arguments.
@@ -454,6 +468,7 @@ fn replay(args: ReplayArgs) -> Result<()> {
         kind,
         options,
         limit: args.limit,
+        igp_seeds: args.igp_seeds,
     };
     let runs = study.runs().len();
     if runs == 0 {
