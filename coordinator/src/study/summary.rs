@@ -56,6 +56,13 @@ pub struct Comparison {
     pub mean_without: Option<f64>,
     /// Two-sided Wilcoxon signed-rank p-value (`None`: all differences zero).
     pub wilcoxon_p: Option<f64>,
+    /// For metrics of successful runs only (time, path): over *every* successful run rather
+    /// than the pairs where both succeeded, how many PGP+X runs succeeded and their mean.
+    /// The paired mean compares like with like; this one shows what the runs each planner
+    /// alone finishes look like (PGP+X finishes runs that X fails, often slowly).
+    pub successes_with: Option<(usize, f64)>,
+    /// The same for X.
+    pub successes_without: Option<(usize, f64)>,
 }
 
 /// `summary.json`'s content.
@@ -132,6 +139,14 @@ pub fn summarize(algorithms: &[PlannerSpec], densities: &[f64], rows: &[RunRow])
                 pairs.push((get(&r.metrics), get(&b.metrics)));
             }
             let diffs: Vec<f64> = pairs.iter().map(|(w, wo)| w - wo).collect();
+            let successes = |a: PlannerSpec| {
+                let ok: Vec<f64> = rows
+                    .iter()
+                    .filter(|r| r.algorithm == a && r.metrics.success)
+                    .map(|r| get(&r.metrics))
+                    .collect();
+                mean(ok.iter().copied()).map(|m| (ok.len(), m))
+            };
             comparisons.push(Comparison {
                 with_pgp: with.to_string(),
                 baseline: baseline.to_string(),
@@ -140,6 +155,8 @@ pub fn summarize(algorithms: &[PlannerSpec], densities: &[f64], rows: &[RunRow])
                 mean_with: mean(pairs.iter().map(|p| p.0)),
                 mean_without: mean(pairs.iter().map(|p| p.1)),
                 wilcoxon_p: wilcoxon_signed_rank(&diffs),
+                successes_with: successes_only.then(|| successes(with)).flatten(),
+                successes_without: successes_only.then(|| successes(baseline)).flatten(),
             });
         }
     }
