@@ -208,6 +208,10 @@ pub struct Body<T> {
     pub velocity: V<T>,
     /// Radius.
     pub radius: T,
+    /// The ego's share of avoiding this body: RVO2's ½ when both follow ORCA (the default
+    /// everywhere, and what the cross-check with RVO2 uses); 1 for a body that does not
+    /// avoid at all.
+    pub responsibility: T,
 }
 
 /// A half-plane constraint: velocities to the left of the directed line are allowed.
@@ -610,7 +614,7 @@ impl<T: Float> Orca<T> {
                 direction = V::new(unit_w.y, -unit_w.x);
                 u = unit_w.scale(combined_radius * inv_time_step - w_length);
             }
-            let point = ego.velocity + u.scale(T::of(0.5));
+            let point = ego.velocity + u.scale(other.responsibility);
             self.lines.push(Line { point, direction });
         }
     }

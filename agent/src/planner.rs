@@ -1,7 +1,8 @@
 //! One interface for every planner: [`PlannerStack`] runs an optional long-term planner (PGP)
 //! and a short-term planner (DWA, ORCA, Social Force, one of the foIGP paper's planners,
 //! peek-and-pass or anticipatory Social Force); PGP's subgoal becomes the short-term planner's
-//! goal. Planners are named as on the command line: `dwa`, `orca`, `sf`, `foigp` (GP mixtures),
+//! goal. Planners are named as on the command line: `dwa`, `orca`, `orca-nr` (ORCA taking all of
+//! the avoidance of people), `sf`, `foigp` (GP mixtures),
 //! `foigp-1` (one GP per person), `igp-diag`, `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
 //! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
@@ -10,7 +11,7 @@ use crate::dwa::{Dwa, DwaParams};
 use crate::igp::{IgpParams, IgpPlanner, IgpVariant};
 use crate::map::StaticMap;
 use crate::math::{Real, Vec2, clamp_norm};
-use crate::model::{Command, EgoState, Intent, Neighbour, TrajectorySample};
+use crate::model::{AgentKind, Command, EgoState, Intent, Neighbour, TrajectorySample};
 use crate::orca::{Body, Orca, OrcaParams, V};
 use crate::pgp::{Pgp, PgpParams};
 use crate::pnp::{Pnp, PnpParams};
@@ -57,6 +58,11 @@ pub enum LocalKind {
     Dwa,
     /// Optimal Reciprocal Collision Avoidance.
     Orca,
+    /// ORCA that does not count on people to avoid it (`orca-nr`): it takes the whole of the
+    /// avoidance of a person instead of RVO2's reciprocal half, and half of the avoidance of
+    /// another robot, as `orca` does. Ours, not in a paper: recorded people (and many real
+    /// ones) do not give way to a robot.
+    OrcaNonReciprocal,
     /// Social Force agent.
     SocialForce,
     /// First-order interacting Gaussian processes (the foIGP paper's planners).
@@ -126,7 +132,7 @@ impl PlannerSpec {
 /// A planner name that is not one of ours.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown planner {0:?}; expected dwa, orca, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
+    "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
      pnp-nopeek, asfm or asfm-q, each optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -143,6 +149,7 @@ impl FromStr for PlannerSpec {
         let local = match local {
             "dwa" => LocalKind::Dwa,
             "orca" => LocalKind::Orca,
+            "orca-nr" => LocalKind::OrcaNonReciprocal,
             "sf" | "social-force" => LocalKind::SocialForce,
             "foigp" => LocalKind::Igp(IgpVariant::Mixture),
             "foigp-1" | "igp-full" => LocalKind::Igp(IgpVariant::Full),
@@ -168,6 +175,7 @@ impl fmt::Display for PlannerSpec {
         let local = match self.local {
             LocalKind::Dwa => "dwa",
             LocalKind::Orca => "orca",
+            LocalKind::OrcaNonReciprocal => "orca-nr",
             LocalKind::SocialForce => "sf",
             LocalKind::Igp(IgpVariant::Mixture) => "foigp",
             LocalKind::Igp(IgpVariant::Full) => "foigp-1",
@@ -245,6 +253,8 @@ pub struct OrcaPlanner {
     /// Added to the ego's radius (m). ORCA leaves exactly the combined radius between agents
     /// that both follow it; people do not, so a robot needs some room. Not in the paper; ours.
     pub safety_margin: Real,
+    /// The robot's share of avoiding a person (RVO2's ½, reciprocal, for `orca`).
+    pub human_responsibility: Real,
 }
 
 impl OrcaPlanner {
@@ -255,6 +265,7 @@ impl OrcaPlanner {
             others: Vec::new(),
             sigma: SigmaModel::default(),
             safety_margin: 0.1,
+            human_responsibility: 0.5,
         }
     }
 }
@@ -266,23 +277,24 @@ impl LocalPlanner for OrcaPlanner {
 
     fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
         let p = *self.orca.params();
-        let body = |position: &Vec2, velocity: &Vec2, radius: Real| Body {
+        let body = |position: &Vec2, velocity: &Vec2, radius: Real, responsibility| Body {
             position: V::from_vec2(position),
             velocity: V::from_vec2(velocity),
             radius,
+            responsibility,
         };
         let ego = body(
             &input.ego.position,
             &input.ego.velocity,
             input.ego.radius + self.safety_margin,
+            0.5,
         );
         self.others.clear();
-        self.others.extend(
-            input
-                .neighbours
-                .iter()
-                .map(|n| body(&n.position, &n.velocity, n.radius)),
-        );
+        let human = self.human_responsibility;
+        self.others.extend(input.neighbours.iter().map(|n| {
+            let share = if n.kind == AgentKind::Human { human } else { 0.5 };
+            body(&n.position, &n.velocity, n.radius, share)
+        }));
         let pref = clamp_norm(target - input.ego.position, p.max_speed);
         let v = self
             .orca
@@ -446,10 +458,14 @@ impl PlannerStack {
                 let v_max = max_speed.unwrap_or(d.v_max);
                 Box::new(Dwa::new(DwaParams { v_max, ..d }))
             }
-            LocalKind::Orca => {
+            LocalKind::Orca | LocalKind::OrcaNonReciprocal => {
                 let d = OrcaParams::default();
                 let max_speed = max_speed.unwrap_or(d.max_speed);
-                Box::new(OrcaPlanner::new(OrcaParams { max_speed, ..d }))
+                let mut orca = OrcaPlanner::new(OrcaParams { max_speed, ..d });
+                if spec.local == LocalKind::OrcaNonReciprocal {
+                    orca.human_responsibility = 1.0;
+                }
+                Box::new(orca)
             }
             LocalKind::SocialForce => {
                 let d = SfAgentParams::default();
@@ -591,6 +607,8 @@ mod tests {
             assert_eq!(spec.to_string().parse::<PlannerSpec>(), Ok(spec));
         }
         for name in [
+            "orca-nr",
+            "pgp+orca-nr",
             "foigp",
             "foigp-1",
             "igp-diag",
@@ -612,6 +630,56 @@ mod tests {
         );
         let err = "pgp+rrt".parse::<PlannerSpec>().unwrap_err();
         assert!(err.to_string().contains("pgp+rrt") && err.to_string().contains("foigp"));
+    }
+
+    /// A person walking head-on at the robot: `orca` counts on them taking half of the
+    /// avoidance, `orca-nr` takes all of it, so its first plan turns aside twice as hard (the
+    /// projection onto the velocity obstacle's edge is u, and the new velocity v + u instead
+    /// of v + u/2). Toward another robot both share it reciprocally.
+    #[test]
+    fn orca_nr_takes_all_of_the_avoidance_of_a_person() {
+        let first_plan = |name: &str, kind: AgentKind| {
+            let spec: PlannerSpec = name.parse().expect("known");
+            let ego = EgoState {
+                position: Vec2::new(0.0, 0.0),
+                heading: 0.0,
+                velocity: Vec2::new(1.0, 0.0),
+                yaw_rate: 0.0,
+                radius: 0.3,
+            };
+            let n = [Neighbour::new(
+                1,
+                Vec2::new(3.0, 0.2),
+                Vec2::new(-1.0, 0.0),
+                0.3,
+                kind,
+            )];
+            let map = StaticMap::empty();
+            let input = PlanningInput {
+                ego: &ego,
+                neighbours: &n,
+                map: &map,
+                goal: Vec2::new(10.0, 0.0),
+                dt: 0.4,
+                visibility: None,
+            };
+            match PlannerStack::new(spec).plan(&input).command {
+                Command::Velocity(v) => v,
+                other => panic!("ORCA commands velocities, not {other:?}"),
+            }
+        };
+        let half = first_plan("orca", AgentKind::Human);
+        let whole = first_plan("orca-nr", AgentKind::Human);
+        // Both turn away from the person (who is at +y): down.
+        assert!(half.y < -0.05, "orca {half:?}");
+        assert!(
+            (whole - Vec2::new(1.0, 0.0) - (half - Vec2::new(1.0, 0.0)) * 2.0).norm() < 1e-9,
+            "orca {half:?} orca-nr {whole:?}"
+        );
+        assert_eq!(
+            first_plan("orca", AgentKind::Robot),
+            first_plan("orca-nr", AgentKind::Robot)
+        );
     }
 
     #[test]

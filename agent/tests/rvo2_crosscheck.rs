@@ -250,6 +250,7 @@ fn replay<T: Float>(f: &Fixture) -> Vec<FrameStats> {
             position: V::new(T::of(s[0]), T::of(s[1])),
             velocity: V::new(T::of(0.0), T::of(0.0)),
             radius,
+            responsibility: T::of(0.5),
         })
         .collect();
     let mut others = Vec::with_capacity(bodies.len());

@@ -8,6 +8,7 @@ fn body(p: (f64, f64), v: (f64, f64), r: f64) -> Body<f64> {
         position: V::new(p.0, p.1),
         velocity: V::new(v.0, v.1),
         radius: r,
+        responsibility: 0.5,
     }
 }
 

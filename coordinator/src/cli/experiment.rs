@@ -11,7 +11,7 @@ use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
 use coordinator::study::intent_sharing::{IntentSharingStudy, report};
 use coordinator::study::laned::{LanedStudy, laned_hallway};
 use coordinator::study::open_space::{StudyPlan, write_outputs, write_summary};
-use coordinator::study::replay::{ReplayStudy, table_markdown};
+use coordinator::study::replay::{Half, ReplayStudy, table_markdown};
 use coordinator::study::runs::parse_runs_csv;
 use coordinator::study::traffic::{self as traffic_study, TrafficStudy};
 use coordinator::study::{with_progress, write_json};
@@ -163,6 +163,10 @@ pub struct ReplayArgs {
     /// foIGP planners on their own (not behind pgp+).
     #[arg(long, default_value = "per-body", value_parser = seed_rule)]
     igp_seeds: SeedRule,
+    /// Only the runs starting in the first or the second half of the recording's time (to
+    /// tune on one and hold out the other).
+    #[arg(long)]
+    half: Option<Half>,
 }
 
 fn seed_rule(s: &str) -> Result<SeedRule, String> {
@@ -469,6 +473,7 @@ fn replay(args: ReplayArgs) -> Result<()> {
         options,
         limit: args.limit,
         igp_seeds: args.igp_seeds,
+        half: args.half,
     };
     let runs = study.runs().len();
     if runs == 0 {

@@ -37,6 +37,30 @@ pub struct ReplayStudy {
     pub limit: Option<usize>,
     /// Where foIGP's Newton seeds lie.
     pub igp_seeds: SeedRule,
+    /// Only the runs that start in this half of the recording's time (a tuning set and a
+    /// held-out set).
+    pub half: Option<Half>,
+}
+
+/// A half of a recording's time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Half {
+    /// Runs starting before the recording's midpoint.
+    First,
+    /// Runs starting at or after it.
+    Second,
+}
+
+impl std::str::FromStr for Half {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "first" => Ok(Self::First),
+            "second" => Ok(Self::Second),
+            other => Err(format!("{other:?}: expected first or second")),
+        }
+    }
 }
 
 /// One planner (or the human) on one run.
@@ -56,6 +80,10 @@ impl ReplayStudy {
     /// The runs, in order.
     pub fn runs(&self) -> Vec<ReplayRun> {
         let mut runs = replay::runs(&self.recording, self.kind, &self.options);
+        if let Some(half) = self.half {
+            let middle = self.recording.end() / 2.0;
+            runs.retain(|r| (r.t_start < middle) == (half == Half::First));
+        }
         if let Some(limit) = self.limit {
             runs.truncate(limit);
         }
@@ -475,6 +503,7 @@ mod tests {
             options: ReplayOptions::default(),
             limit: Some(4),
             igp_seeds: SeedRule::PerBody,
+            half: None,
         };
         let rows = study.execute(&|| {});
         assert_eq!(rows.len(), study.jobs());
