@@ -158,21 +158,16 @@ impl TrajectoryGp {
         Self::conditioned(params, |t| position + velocity * t, &[(0.0, position)])
     }
 
-    /// The flexibility of a body seen only at the present: the kernel conditioned on one
-    /// position at t = 0. Every intent component has it ([`TrajectoryGp::towards`]), so a
-    /// planner computes it once.
-    pub fn present_only(params: &GpParams) -> Self {
-        Self::conditioned(params, |_| Vec2::zeros(), &[(0.0, Vec2::zeros())])
-    }
-
     /// A person at `position` walking with `velocity` who intends to go to `destination`: a
     /// mean that starts at their velocity and turns towards the destination at their speed,
     /// relaxing over the kernel's time scale (`lengthscale_s`) and stopping there, with the
-    /// flexibility of [`TrajectoryGp::present_only`] (`flexibility`). Conditioned on the
-    /// present position only (the mean passes through it, so conditioning leaves the mean
-    /// as it is): the history enters the mixture through the intent weights
-    /// (`mixture::intent_weights`); regressed on it, the velocity term of the kernel would fit
-    /// the observed heading and undo the intent.
+    /// covariance of `flexibility`, the person's GP regressed on their history
+    /// ([`TrajectoryGp::person`]; a GP's posterior covariance depends on when it was observed,
+    /// not on its mean). The intent's prior mean is taken to pass through the observed track,
+    /// so conditioning on it leaves the mean as it is: the track tells *which* intent through
+    /// the preferences (`mixture::intent_weights`), and how flexible the person is through
+    /// the covariance. (Regressing an intent line on the track instead would let the kernel's
+    /// velocity term fit the observed heading and undo the intent.)
     pub fn towards(
         params: &GpParams,
         flexibility: &TrajectoryGp,

@@ -65,8 +65,9 @@ pub fn intent_weights(
 
 /// A person's mixture: one component per destination, preferences from the track, the ones
 /// below [`MIN_RELATIVE_WEIGHT`] of the best dropped and the rest renormalised; every
-/// component's flexibility is `flexibility` ([`TrajectoryGp::present_only`]). `None` if there
-/// are no destinations (the caller falls back on the single GP).
+/// component has the covariance of `flexibility`, the person's single GP regressed on the
+/// track ([`TrajectoryGp::towards`]). `None` if there are no destinations (the caller falls
+/// back on the single GP).
 pub fn person_mixture(
     params: &GpParams,
     flexibility: &TrajectoryGp,

@@ -607,8 +607,6 @@ pub struct IgpPlanner {
     rng: ChaCha8Rng,
     /// Where people go in this scene: one intent each ([`IgpVariant::Mixture`]).
     destinations: Vec<Vec2>,
-    /// Every intent's flexibility ([`TrajectoryGp::present_only`]).
-    intent_flexibility: TrajectoryGp,
 }
 
 impl IgpPlanner {
@@ -621,7 +619,6 @@ impl IgpPlanner {
             tracks: BTreeMap::new(),
             rng: ChaCha8Rng::seed_from_u64(params.seed),
             destinations: Vec::new(),
-            intent_flexibility: TrajectoryGp::present_only(&params.gp),
         }
     }
 
@@ -675,23 +672,20 @@ impl IgpPlanner {
             .filter(|(t, _)| *t < self.clock - 1e-9)
             .map(|&(t, p)| (t - self.clock, p))
             .collect();
+        let single = TrajectoryGp::person(gp, n.position, n.velocity, &past);
         if self.variant == IgpVariant::Mixture {
-            let mut seen = past.clone();
+            let mut seen = past;
             seen.push((0.0, n.position));
             if let Some(mixture) =
-                mixture::person_mixture(
-                    gp,
-                    &self.intent_flexibility,
-                    &seen,
-                    n.velocity,
-                    &self.destinations,
-                )
+                mixture::person_mixture(gp, &single, &seen, n.velocity, &self.destinations)
             {
                 return mixture;
             }
         }
-        let gp = TrajectoryGp::person(gp, n.position, n.velocity, &past);
-        vec![Component { weight: 1.0, gp }]
+        vec![Component {
+            weight: 1.0,
+            gp: single,
+        }]
     }
 
     /// Newton from the paper's seeds; the best local maximum.

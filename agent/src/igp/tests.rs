@@ -308,7 +308,8 @@ fn intent_preferences_follow_the_track() {
     assert!(right[1] > 0.99, "{right:?}");
     // The mixture keeps the two turns, drops the destination behind, and renormalises.
     let seen = walker_history(0.0);
-    let flexibility = TrajectoryGp::present_only(&p);
+    let past: Vec<(Real, Vec2)> = seen[..seen.len() - 1].to_vec();
+    let flexibility = TrajectoryGp::person(&p, vec2(0.0, 0.0), vec2(1.2, 0.0), &past);
     let components = mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &FORK)
         .expect("mixture");
     assert_eq!(components.len(), 2);
@@ -319,9 +320,8 @@ fn intent_preferences_follow_the_track() {
     assert!(up[11].y > 2.0 && down[11].y < -2.0, "{:?} {:?}", up[11], down[11]);
     assert!((up[11].y + down[11].y).abs() < 1e-9, "mirror images");
     assert!(mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &[]).is_none());
-    // The shared flexibility is the kernel conditioned on the present position.
-    let linear = TrajectoryGp::linear(&p, vec2(0.0, 0.0), vec2(1.2, 0.0));
-    assert!((&components[0].gp.cov - &linear.cov).amax() < 1e-12);
+    // Every intent has the flexibility the track gives the person's single GP.
+    assert!(components.iter().all(|c| c.gp.cov == flexibility.cov));
 }
 
 /// Feeds `planner` the person's `history` (positions 0.4 s apart, the present last) and
