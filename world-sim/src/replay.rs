@@ -658,6 +658,8 @@ mod tests {
             walls: vec![],
             destinations: vec![],
             destinations_from_file: false,
+            destinations_fit: 0.0,
+            rejected_destinations_fit: None,
         }
     }
 

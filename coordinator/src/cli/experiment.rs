@@ -475,6 +475,30 @@ fn replay(args: ReplayArgs) -> Result<()> {
         igp_seeds: args.igp_seeds,
         half: args.half,
     };
+    let r = &study.recording;
+    match r.rejected_destinations_fit {
+        Some(fit) => eprintln!(
+            "{}: destinations.txt set aside: only {:.0} % of steps head towards the destination \
+             their track ends nearest to (at least {:.0} % needed); using {} clusters of the \
+             tracks' end points instead ({:.0} %)",
+            r.name,
+            100.0 * fit,
+            100.0 * world_sim::dataset::MIN_DESTINATION_FIT,
+            r.destinations.len(),
+            100.0 * r.destinations_fit
+        ),
+        None => eprintln!(
+            "{}: {} destinations {} ({:.0} % of steps head towards them)",
+            r.name,
+            r.destinations.len(),
+            if r.destinations_from_file {
+                "from destinations.txt"
+            } else {
+                "clustered from the tracks' end points"
+            },
+            100.0 * r.destinations_fit
+        ),
+    }
     let runs = study.runs().len();
     if runs == 0 {
         bail!(
