@@ -292,7 +292,11 @@ impl LocalPlanner for OrcaPlanner {
         self.others.clear();
         let human = self.human_responsibility;
         self.others.extend(input.neighbours.iter().map(|n| {
-            let share = if n.kind == AgentKind::Human { human } else { 0.5 };
+            let share = if n.kind == AgentKind::Human {
+                human
+            } else {
+                0.5
+            };
             body(&n.position, &n.velocity, n.radius, share)
         }));
         let pref = clamp_norm(target - input.ego.position, p.max_speed);

@@ -48,7 +48,9 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
         let names: Vec<&str> = rows.iter().filter_map(|r| r["planner"].as_str()).collect();
         assert_eq!(
             names,
-            ["human", "foigp", "foigp-1", "igp-diag", "igp-lin", "dwa", "pgp+orca"]
+            [
+                "human", "foigp", "foigp-1", "igp-diag", "igp-lin", "dwa", "pgp+orca"
+            ]
         );
         for row in rows {
             for key in [

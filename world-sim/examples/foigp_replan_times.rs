@@ -89,7 +89,10 @@ fn main() {
         let [mix, one] = [median(times[0].clone()), median(times[1].clone())];
         medians[0].push(mix);
         medians[1].push(one);
-        let (m, o) = (last[0].as_ref().expect("timed"), last[1].as_ref().expect("timed"));
+        let (m, o) = (
+            last[0].as_ref().expect("timed"),
+            last[1].as_ref().expect("timed"),
+        );
         println!(
             "{scene:5} | {:6} | {mix:6.2} ({}, {}) | {one:6.2} ({})",
             seen.len(),

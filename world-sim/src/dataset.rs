@@ -145,10 +145,11 @@ pub fn destination_fit(tracks: &[Track], destinations: &[Vec2]) -> Real {
         let Some(end) = track.samples.last().map(|s| s.position) else {
             continue;
         };
-        let Some(goal) = destinations
-            .iter()
-            .min_by(|a, b| (*a - end).norm_squared().total_cmp(&(*b - end).norm_squared()))
-        else {
+        let Some(goal) = destinations.iter().min_by(|a, b| {
+            (*a - end)
+                .norm_squared()
+                .total_cmp(&(*b - end).norm_squared())
+        }) else {
             return 0.0;
         };
         for w in track.samples.windows(2) {
@@ -240,7 +241,10 @@ pub fn parse_destinations(text: &str) -> Result<Vec<Vec2>, ObsmatError> {
             message,
         };
         if fields.len() != 2 {
-            return Err(fail(format!("expected 2 columns (x y), found {}", fields.len())));
+            return Err(fail(format!(
+                "expected 2 columns (x y), found {}",
+                fields.len()
+            )));
         }
         let mut xy = [0.0; 2];
         for (k, field) in fields.iter().enumerate() {
@@ -608,7 +612,11 @@ mod tests {
         let tracks: Vec<Track> = (0..20)
             .map(|i| {
                 let off = (i % 5) as Real * 0.25 - 0.5;
-                let end = if i < 10 { Vec2::new(off, 10.0) } else { Vec2::new(10.0, off) };
+                let end = if i < 10 {
+                    Vec2::new(off, 10.0)
+                } else {
+                    Vec2::new(10.0, off)
+                };
                 Track {
                     id: i,
                     samples: vec![Sample {
@@ -622,8 +630,14 @@ mod tests {
         let mut centres = cluster_destinations(&tracks, 2);
         centres.sort_by(|a, b| a.x.total_cmp(&b.x));
         assert_eq!(centres.len(), 2);
-        assert!((centres[0] - Vec2::new(0.0, 10.0)).norm() < 1e-9, "{centres:?}");
-        assert!((centres[1] - Vec2::new(10.0, 0.0)).norm() < 1e-9, "{centres:?}");
+        assert!(
+            (centres[0] - Vec2::new(0.0, 10.0)).norm() < 1e-9,
+            "{centres:?}"
+        );
+        assert!(
+            (centres[1] - Vec2::new(10.0, 0.0)).norm() < 1e-9,
+            "{centres:?}"
+        );
         // seq_eth's file fits its tracks (ETH's four exits); zara01's is in another frame and
         // is set aside for its end points clustered.
         let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets");
@@ -633,7 +647,11 @@ mod tests {
         let zara = Recording::load(&data.join("UCY/zara01")).expect("zara01");
         assert!(!zara.destinations_from_file && zara.destinations.len() == 4);
         let rejected = zara.rejected_destinations_fit.expect("file set aside");
-        assert!(rejected < 0.45 && zara.destinations_fit > 0.9, "{rejected} {}", zara.destinations_fit);
+        assert!(
+            rejected < 0.45 && zara.destinations_fit > 0.9,
+            "{rejected} {}",
+            zara.destinations_fit
+        );
     }
 
     #[test]

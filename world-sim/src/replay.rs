@@ -692,10 +692,7 @@ mod tests {
         // The stander is within 3 m only at x = 6 exactly: one of the 96 samples to 9.5 s.
         let one = 1.0 / (std::f64::consts::PI * 9.0);
         assert!((human.max_density - one).abs() < 1e-12);
-        assert!(
-            (human.mean_density - one / 96.0).abs() < 1e-12,
-            "{human:?}"
-        );
+        assert!((human.mean_density - one / 96.0).abs() < 1e-12, "{human:?}");
     }
 
     #[test]
@@ -739,11 +736,20 @@ mod tests {
                 .collect(),
         };
         let (t, walked) = arrival(&track, 0, 3, vec2(10.0, 0.0), 0.5);
-        assert!((walked - 9.5).abs() < 1e-12 && (t - 0.95).abs() < 1e-12, "{t} {walked}");
+        assert!(
+            (walked - 9.5).abs() < 1e-12 && (t - 0.95).abs() < 1e-12,
+            "{t} {walked}"
+        );
         // A stretch that starts inside the disc counts from where it re-enters it.
         let (t, walked) = arrival(&track, 1, 3, vec2(10.0, 0.0), 0.5);
-        assert!((walked - 3.5).abs() < 1e-12 && (t - 2.75).abs() < 1e-12, "{t} {walked}");
-        assert_eq!(entry_fraction(vec2(0.0, 1.0), vec2(4.0, 1.0), vec2(2.0, 0.0), 0.5), None);
+        assert!(
+            (walked - 3.5).abs() < 1e-12 && (t - 2.75).abs() < 1e-12,
+            "{t} {walked}"
+        );
+        assert_eq!(
+            entry_fraction(vec2(0.0, 1.0), vec2(4.0, 1.0), vec2(2.0, 0.0), 0.5),
+            None
+        );
     }
 
     /// Someone standing at `at` from `from` to `to` seconds.

@@ -721,8 +721,7 @@ impl IgpPlanner {
             .iter()
             .filter(|n| (n.position - ego.position).norm() <= p.range_m)
             .collect();
-        let people: Vec<Vec<Component>> =
-            near.iter().map(|n| self.person_components(n)).collect();
+        let people: Vec<Vec<Component>> = near.iter().map(|n| self.person_components(n)).collect();
         // Def. 10: the first Newton step of each robot–(person, intent) pair, then the ESS;
         // the people with a pair among the top round(ESS) enter, most significant first.
         let pairs: Vec<(usize, usize)> = people
@@ -784,8 +783,8 @@ impl IgpPlanner {
         // onto the intent's mean, keeping a change that raises the score.
         let mut score = log_lambda + preference(&combination);
         let mut combinations = 1;
-        for slot in 0..mixtures.len() {
-            for k in 0..mixtures[slot].len() {
+        for (slot, intents) in mixtures.iter().enumerate() {
+            for (k, intent) in intents.iter().enumerate() {
                 if k == combination[slot] {
                     continue;
                 }
@@ -793,7 +792,7 @@ impl IgpPlanner {
                 trial[slot] = k;
                 let objective = objective_of(&trial);
                 let mut start = best.clone();
-                start[slot + 1] = mixtures[slot][k].gp.mean.clone();
+                start[slot + 1] = intent.gp.mean.clone();
                 let (x, f) = objective.maximise(start, &p.newton);
                 combinations += 1;
                 let trial_score = f + preference(&trial);

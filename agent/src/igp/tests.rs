@@ -310,14 +310,19 @@ fn intent_preferences_follow_the_track() {
     let seen = walker_history(0.0);
     let past: Vec<(Real, Vec2)> = seen[..seen.len() - 1].to_vec();
     let flexibility = TrajectoryGp::person(&p, vec2(0.0, 0.0), vec2(1.2, 0.0), &past);
-    let components = mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &FORK)
-        .expect("mixture");
+    let components =
+        mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &FORK).expect("mixture");
     assert_eq!(components.len(), 2);
     assert!(components.iter().all(|c| (c.weight - 0.5).abs() < 1e-9));
     // Each intent starts at the person's velocity and turns towards its destination.
     let (up, down) = (&components[0].gp.mean, &components[1].gp.mean);
     assert!(up[0].x > 0.4 && up[0].y.abs() < 0.15, "{:?}", up[0]);
-    assert!(up[11].y > 2.0 && down[11].y < -2.0, "{:?} {:?}", up[11], down[11]);
+    assert!(
+        up[11].y > 2.0 && down[11].y < -2.0,
+        "{:?} {:?}",
+        up[11],
+        down[11]
+    );
     assert!((up[11].y + down[11].y).abs() < 1e-9, "mirror images");
     assert!(mixture::person_mixture(&p, &flexibility, &seen, vec2(1.2, 0.0), &[]).is_none());
     // Every intent has the flexibility the track gives the person's single GP.
@@ -332,14 +337,15 @@ fn plan_with_history(
     goal: Vec2,
     history: &[(Real, Vec2)],
 ) -> IgpDecision {
-    let velocity = |k: usize| (history[k].1 - history[k - 1].1) / 0.4;
-    for k in 1..history.len() - 1 {
-        let person = Neighbour::new(4, history[k].1, velocity(k), 0.3, AgentKind::Human);
-        planner.plan(robot, &[person], goal, 0.4);
+    let seen: Vec<Neighbour> = history
+        .windows(2)
+        .map(|w| Neighbour::new(4, w[1].1, (w[1].1 - w[0].1) / 0.4, 0.3, AgentKind::Human))
+        .collect();
+    let (now, before) = seen.split_last().expect("a history");
+    for person in before {
+        planner.plan(robot, std::slice::from_ref(person), goal, 0.4);
     }
-    let last = history.len() - 1;
-    let person = Neighbour::new(4, history[last].1, velocity(last), 0.3, AgentKind::Human);
-    planner.plan(robot, &[person], goal, 0.4)
+    planner.plan(robot, std::slice::from_ref(now), goal, 0.4)
 }
 
 /// The robot waits below the fork's left branch, heading up across it; the person is at the

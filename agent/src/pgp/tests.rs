@@ -290,7 +290,11 @@ fn d_goal_is_one_horizon_at_top_speed() {
     assert!((fast.d_goal() - 11.76).abs() < 1e-12);
     let d = Pgp::new(fast).plan(&ego_at_origin(), &[], &StaticMap::empty(), vec2(20.0, 0.0));
     let fan = d.fan.expect("fan recorded by default");
-    assert!((fan.pgp_goal - vec2(11.76, 0.0)).norm() < 1e-12, "{:?}", fan.pgp_goal);
+    assert!(
+        (fan.pgp_goal - vec2(11.76, 0.0)).norm() < 1e-12,
+        "{:?}",
+        fan.pgp_goal
+    );
 }
 
 #[test]

@@ -1,8 +1,8 @@
 //! `gapfleet experiment`: the studies, run in-process on all cores with a progress bar.
 
-use agent::igp::SeedRule;
 use super::{Overrides, ScenarioRef, density, positive};
 use agent::asfm::AsfmParams;
+use agent::igp::SeedRule;
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;

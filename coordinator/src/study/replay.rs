@@ -5,8 +5,8 @@
 
 use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
 use super::output::{StudyError, write_json};
-use agent::map::StaticMap;
 use agent::igp::{IgpParams, IgpPlanner, SeedRule};
+use agent::map::StaticMap;
 use agent::planner::{LocalKind, PlannerSpec, PlannerStack};
 use agent::safety::Guard;
 use rayon::prelude::*;
