@@ -34,11 +34,16 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
             .arg(&out)
             .output()
             .expect("gapfleet runs");
-        assert!(
-            status.status.success(),
-            "{set}: {}",
-            String::from_utf8_lossy(&status.stderr)
-        );
+        let stderr = String::from_utf8_lossy(&status.stderr);
+        assert!(status.status.success(), "{set}: {stderr}");
+        // It says where foIGP's intents come from: seq_eth's destinations.txt fits its tracks,
+        // zara01's is in another frame and is set aside for clustered end points.
+        let destinations = if set == "ETH/seq_eth" {
+            "4 destinations from destinations.txt"
+        } else {
+            "destinations.txt set aside"
+        };
+        assert!(stderr.contains(destinations), "{set}: {stderr}");
         let table: serde_json::Value = serde_json::from_str(
             &std::fs::read_to_string(out.join("table.json")).expect("table.json"),
         )
@@ -71,7 +76,7 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
         assert!(rows[0]["mean_replan_s"].is_null() && rows[0]["max_ratio"].is_null());
         assert!(rows[1]["mean_replan_s"].as_f64().is_some_and(|t| t > 0.0));
         let csv = std::fs::read_to_string(out.join("runs.csv")).expect("runs.csv");
-        assert_eq!(csv.lines().count(), 1 + 6 * 3, "{csv}");
+        assert_eq!(csv.lines().count(), 1 + 7 * 3, "{csv}");
         let md = std::fs::read_to_string(out.join("table.md")).expect("table.md");
         assert!(md.contains("| foigp | 3 | 0 |"), "{md}");
         let png = std::fs::read(out.join("safety_vs_path.png")).expect("figure");

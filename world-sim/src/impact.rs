@@ -43,6 +43,11 @@ pub const PATH_CHANGE_MPS: Real = 0.25;
 /// [`PATH_CHANGE_MPS`] of their shadow self's for this long (s): one avoidance, one change.
 pub const PATH_CHANGE_SETTLE_S: Real = 1.0;
 
+/// How many finished windows a [`HumanImpact`] keeps (one hour of 5 s windows); older ones are
+/// dropped in batches (it holds between this many and twice as many), their per-robot sums kept
+/// in running totals, so a run of any length holds bounded memory.
+pub const KEPT_WINDOWS: usize = 720;
+
 /// One finished window.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImpactWindow {
@@ -112,7 +117,16 @@ pub struct HumanImpact {
     settle_steps: u64,
     path_changes: u64,
     robot_path_changes: Vec<u64>,
+    /// The newest finished windows, oldest first.
     windows: Vec<ImpactWindow>,
+    /// How many windows of `windows` to keep (at least; [`KEPT_WINDOWS`]).
+    kept: usize,
+    /// Windows finished since the start, kept or not.
+    closed: u64,
+    /// Per robot, over every finished window: delay (person-s), extra path (m), path changes.
+    robot_delay_total: Vec<Real>,
+    robot_extra_total: Vec<Real>,
+    robot_changes_total: Vec<u64>,
 }
 
 fn shadow_of(world: &World) -> World {
@@ -141,6 +155,11 @@ impl HumanImpact {
             path_changes: 0,
             robot_path_changes: vec![0; world.robots.len()],
             windows: Vec::new(),
+            kept: KEPT_WINDOWS,
+            closed: 0,
+            robot_delay_total: Vec::new(),
+            robot_extra_total: Vec::new(),
+            robot_changes_total: Vec::new(),
         };
         impact.restart(world);
         impact
@@ -226,22 +245,51 @@ impl HumanImpact {
     }
 
     /// The delay and extra path attributed to robot `i` over every finished window
-    /// (person-seconds, metres).
+    /// (person-seconds, metres), summed window by window in order.
     pub fn robot_totals(&self, i: usize) -> (Real, Real) {
-        self.windows.iter().fold((0.0, 0.0), |(d, x), w| {
-            (
-                d + w.robot_delay_s.get(i).copied().unwrap_or(0.0),
-                x + w.robot_extra_path_m.get(i).copied().unwrap_or(0.0),
-            )
-        })
+        (
+            self.robot_delay_total.get(i).copied().unwrap_or(0.0),
+            self.robot_extra_total.get(i).copied().unwrap_or(0.0),
+        )
     }
 
     /// The path changes attributed to robot `i` over every finished window.
     pub fn robot_path_changes(&self, i: usize) -> u64 {
-        self.windows
-            .iter()
-            .map(|w| w.robot_path_changes.get(i).copied().unwrap_or(0))
-            .sum()
+        self.robot_changes_total.get(i).copied().unwrap_or(0)
+    }
+
+    /// Adds a finished window to the running totals and keeps it, dropping the oldest ones
+    /// once twice [`KEPT_WINDOWS`] are held.
+    fn keep(&mut self, window: ImpactWindow) {
+        let robots = window.robot_delay_s.len();
+        if self.robot_delay_total.len() < robots {
+            self.robot_delay_total.resize(robots, 0.0);
+            self.robot_extra_total.resize(robots, 0.0);
+            self.robot_changes_total.resize(robots, 0);
+        }
+        for (total, v) in self.robot_delay_total.iter_mut().zip(&window.robot_delay_s) {
+            *total += v;
+        }
+        for (total, v) in self
+            .robot_extra_total
+            .iter_mut()
+            .zip(&window.robot_extra_path_m)
+        {
+            *total += v;
+        }
+        for (total, v) in self
+            .robot_changes_total
+            .iter_mut()
+            .zip(&window.robot_path_changes)
+        {
+            *total += v;
+        }
+        self.windows.push(window);
+        self.closed += 1;
+        if self.windows.len() >= 2 * self.kept {
+            let drop = self.windows.len() - self.kept;
+            self.windows.drain(..drop);
+        }
     }
 
     fn close_window(&mut self, world: &World) {
@@ -284,7 +332,7 @@ impl HumanImpact {
                 window.robot_extra_path_m[r] += extra * share;
             }
         }
-        self.windows.push(window);
+        self.keep(window);
         self.restart(world);
     }
 
@@ -293,9 +341,25 @@ impl HumanImpact {
         self.windows.last()
     }
 
-    /// Every finished window, oldest first.
+    /// The newest finished windows, oldest first: every one for the first hour, then between
+    /// [`KEPT_WINDOWS`] and twice as many.
     pub fn windows(&self) -> &[ImpactWindow] {
         &self.windows
+    }
+
+    /// How many windows have finished since the start (kept or not).
+    pub fn windows_closed(&self) -> u64 {
+        self.closed
+    }
+
+    /// The kept windows among those finished after the first `seen` (counting from the start),
+    /// oldest first: for a reader that polls, such as a dashboard.
+    pub fn windows_since(&self, seen: u64) -> &[ImpactWindow] {
+        let first_kept = self.closed - self.windows.len() as u64;
+        let from = seen
+            .saturating_sub(first_kept)
+            .min(self.windows.len() as u64);
+        &self.windows[from as usize..]
     }
 }
 
@@ -390,6 +454,51 @@ mod tests {
         // A robot off their way, or people who ignore robots: none.
         assert_eq!(walk_past(&[-100.0], true), (0, vec![0]));
         assert_eq!(walk_past(&[8.0], false), (0, vec![0]));
+    }
+
+    /// A long run holds a bounded number of windows, and the per-robot totals and a poller's
+    /// view are the same as if it held every window.
+    #[test]
+    fn old_windows_are_dropped_but_counted() {
+        let mut s = Scenario::builtin("hallway").expect("builtin");
+        s.seed = 3;
+        let mut world = World::from_scenario(&s);
+        let mid = world
+            .humans
+            .crowd
+            .positions
+            .iter()
+            .fold(Vec2::zeros(), |a, p| a + p)
+            / world.humans.crowd.positions.len() as Real;
+        world.robots[0].state.position = mid;
+        // One window per step, at most 4 to 8 kept.
+        let mut impact = HumanImpact::new(&world, world.dt);
+        impact.kept = 4;
+        let stop = vec![Command::STOP; world.robots.len()];
+        let (mut all, mut seen, mut polled) = (Vec::new(), 0, Vec::new());
+        for _ in 0..50 {
+            world.step(&stop);
+            impact.record(&world);
+            all.push(impact.latest().expect("a window per step").clone());
+            polled.extend(impact.windows_since(seen).iter().cloned());
+            seen = impact.windows_closed();
+            assert!(impact.windows().len() < 8);
+        }
+        assert_eq!(impact.windows_closed(), 50);
+        assert_eq!(polled, all);
+        let delay: Real = all
+            .iter()
+            .map(|w| w.robot_delay_s[0])
+            .fold(0.0, |a, d| a + d);
+        let changes: u64 = all.iter().map(|w| w.robot_path_changes[0]).sum();
+        assert_eq!(impact.robot_totals(0).0, delay);
+        assert_eq!(impact.robot_path_changes(0), changes);
+        assert!(
+            delay > 0.0 || changes > 0,
+            "the parked robot is in people's way"
+        );
+        // A poller that fell behind gets what is still kept.
+        assert_eq!(impact.windows_since(0), impact.windows());
     }
 
     #[test]

@@ -63,7 +63,7 @@ pub struct DashboardObserver {
     /// Per robot: when (simulated s) it last touched a person.
     last_contact: Vec<f64>,
     /// Human-impact windows already put on the delay heatmap.
-    seen_windows: usize,
+    seen_windows: u64,
 }
 
 /// A robot counts as near people when its body comes this close to a person's (m).
@@ -571,16 +571,16 @@ impl Observer for DashboardObserver {
         if min_human.is_finite() {
             fleet_metrics.push(("min_human_distance", min_human));
         }
-        if let Some(all) = fleet.human_impact().map(|i| i.windows()) {
+        if let Some(impact) = fleet.human_impact() {
             // Where people lost time to robots, once per finished window.
-            for w in all.get(self.seen_windows..).unwrap_or_default() {
+            for w in impact.windows_since(self.seen_windows) {
                 heat.extend(w.delay_at.iter().map(|&(at, delay)| HeatEvent {
                     kind: HeatKind::PeopleDelay,
                     at: p(at),
                     weight: delay as f32,
                 }));
             }
-            self.seen_windows = all.len();
+            self.seen_windows = impact.windows_closed();
         }
         let impact = fleet.human_impact().and_then(|i| i.latest());
         if let Some(w) = impact {
