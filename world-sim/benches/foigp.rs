@@ -6,72 +6,13 @@
 //!
 //!     cargo bench -p world-sim --bench foigp
 
-use agent::igp::{IgpParams, IgpPlanner, IgpVariant};
-use agent::model::{EgoState, Neighbour};
+use agent::igp::IgpVariant;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use std::path::Path;
-use world_sim::dataset::Recording;
-use world_sim::replay::{ReplayOptions, RunKind, median_speed, perceived, runs};
 
-/// A planner warmed up on a scene's history, and the scene.
-struct Scene {
-    planner: IgpPlanner,
-    ego: EgoState,
-    neighbours: Vec<Neighbour>,
-    goal: agent::math::Vec2,
-}
-
-fn scenes(variant: IgpVariant, count: usize) -> Vec<Scene> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets/ETH/seq_eth");
-    let rec = Recording::load(&dir).expect("seq_eth loads");
-    let speed = median_speed(&rec);
-    let params = IgpParams {
-        preferred_speed: speed,
-        max_speed: speed,
-        ..IgpParams::default()
-    };
-    let options = ReplayOptions::default();
-    let all = runs(&rec, RunKind::Partial, &options);
-    let step = (all.len() / count).max(1);
-    all.iter()
-        .step_by(step)
-        .take(count)
-        .map(|run| {
-            let track = rec.track(run.pedestrian).expect("run's track");
-            let at = |t: f64| {
-                let (position, velocity) = track.state_at(t).expect("inside the run");
-                let seen: Vec<Neighbour> =
-                    perceived(&rec, t, run.pedestrian, position, &options).collect();
-                let ego = EgoState {
-                    position,
-                    heading: velocity.y.atan2(velocity.x),
-                    velocity,
-                    yaw_rate: 0.0,
-                    radius: 0.3,
-                };
-                (ego, seen)
-            };
-            let now = (run.t_start + 3.2).min(run.t_end);
-            let mut planner = IgpPlanner::new(variant, params);
-            planner.set_destinations(&rec.destinations);
-            for k in (1..=8).rev() {
-                let t = now - k as f64 * 0.4;
-                if t >= track.start() {
-                    let (ego, seen) = at(t);
-                    planner.plan(&ego, &seen, run.goal, 0.4);
-                }
-            }
-            let (ego, neighbours) = at(now);
-            Scene {
-                planner,
-                ego,
-                neighbours,
-                goal: run.goal,
-            }
-        })
-        .collect()
-}
+#[path = "../examples/foigp_scenes/mod.rs"]
+mod foigp_scenes;
+use foigp_scenes::{Scene, scenes};
 
 fn replan(c: &mut Criterion) {
     let mut group = c.benchmark_group("foigp_replan_eth");

@@ -7,12 +7,10 @@
 //!
 //!     cargo run --release -p world-sim --example foigp_replan_times [repeats]
 
-use agent::igp::{IgpDecision, IgpParams, IgpPlanner, IgpVariant};
-use agent::model::{EgoState, Neighbour};
-use std::path::Path;
+use agent::igp::{IgpDecision, IgpVariant};
 use std::time::Instant;
-use world_sim::dataset::Recording;
-use world_sim::replay::{ReplayOptions, RunKind, median_speed, perceived, runs};
+
+mod foigp_scenes;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -29,59 +27,20 @@ fn main() {
         .nth(1)
         .map(|a| a.parse().expect("repeats: a whole number"))
         .unwrap_or(15);
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("datasets/ETH/seq_eth");
-    let rec = Recording::load(&dir).expect("seq_eth loads");
-    let speed = median_speed(&rec);
-    let params = IgpParams {
-        preferred_speed: speed,
-        max_speed: speed,
-        ..IgpParams::default()
-    };
-    let options = ReplayOptions::default();
-    let all = runs(&rec, RunKind::Partial, &options);
-    let step = (all.len() / 24).max(1);
-    let variants = [IgpVariant::Mixture, IgpVariant::Full];
+    let mixture = foigp_scenes::scenes(IgpVariant::Mixture, 24);
+    let single = foigp_scenes::scenes(IgpVariant::Full, 24);
     let mut medians = [Vec::new(), Vec::new()];
     println!("scene | people | foigp ms (entered, combinations) | foigp-1 ms (entered)");
-    for (scene, run) in all.iter().step_by(step).take(24).enumerate() {
-        let track = rec.track(run.pedestrian).expect("the run's track");
-        let at = |t: f64| {
-            let (position, velocity) = track.state_at(t).expect("inside the run");
-            let seen: Vec<Neighbour> =
-                perceived(&rec, t, run.pedestrian, position, &options).collect();
-            let ego = EgoState {
-                position,
-                heading: velocity.y.atan2(velocity.x),
-                velocity,
-                yaw_rate: 0.0,
-                radius: 0.3,
-            };
-            (ego, seen)
-        };
-        let now = (run.t_start + 3.2).min(run.t_end);
-        let warmed: Vec<IgpPlanner> = variants
-            .iter()
-            .map(|&variant| {
-                let mut planner = IgpPlanner::new(variant, params);
-                planner.set_destinations(&rec.destinations);
-                for k in (1..=8).rev() {
-                    let t = now - k as f64 * 0.4;
-                    if t >= track.start() {
-                        let (ego, seen) = at(t);
-                        planner.plan(&ego, &seen, run.goal, 0.4);
-                    }
-                }
-                planner
-            })
-            .collect();
-        let (ego, seen) = at(now);
+    for (scene, (m, o)) in mixture.iter().zip(&single).enumerate() {
+        let warmed = [&m.planner, &o.planner];
+        let (ego, seen, goal) = (&m.ego, &m.neighbours, m.goal);
         let mut times = [Vec::new(), Vec::new()];
         let mut last: [Option<IgpDecision>; 2] = [None, None];
         for _ in 0..repeats {
             for (i, planner) in warmed.iter().enumerate() {
-                let mut p = planner.clone();
+                let mut p = (*planner).clone();
                 let started = Instant::now();
-                let d = p.plan(&ego, &seen, run.goal, 0.4);
+                let d = p.plan(ego, seen, goal, 0.4);
                 times[i].push(started.elapsed().as_secs_f64() * 1e3);
                 last[i] = Some(d);
             }

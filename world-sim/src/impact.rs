@@ -369,24 +369,24 @@ mod tests {
     use crate::scenario::Scenario;
     use agent::model::Command;
 
-    fn run(react: bool, park_at_crowd: bool) -> Vec<ImpactWindow> {
+    /// The built-in hallway (seed 3), its people reacting to robots or not, its robot parked in
+    /// the middle of the corridor, where people walk both ways, or far away.
+    fn hallway(react: bool, park_at_crowd: bool) -> World {
         let mut s = Scenario::builtin("hallway").expect("builtin");
         s.seed = 3;
         s.humans.react_to_robots = react;
         let mut world = World::from_scenario(&s);
-        if park_at_crowd {
-            // Park the robot in the middle of the corridor, where people walk both ways.
-            let mid = world
-                .humans
-                .crowd
-                .positions
-                .iter()
-                .fold(Vec2::zeros(), |a, p| a + p)
-                / world.humans.crowd.positions.len() as Real;
-            world.robots[0].state.position = mid;
+        let crowd = &world.humans.crowd;
+        world.robots[0].state.position = if park_at_crowd {
+            crowd.positions.iter().fold(Vec2::zeros(), |a, p| a + p) / crowd.positions.len() as Real
         } else {
-            world.robots[0].state.position = Vec2::new(-1e4, -1e4);
-        }
+            Vec2::new(-1e4, -1e4)
+        };
+        world
+    }
+
+    fn run(react: bool, park_at_crowd: bool) -> Vec<ImpactWindow> {
+        let mut world = hallway(react, park_at_crowd);
         let mut impact = HumanImpact::new(&world, 5.0);
         let stop = vec![Command::STOP; world.robots.len()];
         for _ in 0..300 {
@@ -398,14 +398,7 @@ mod tests {
 
     /// Where [`run`] parks its robot.
     fn run_robot_position(park_at_crowd: bool) -> Vec2 {
-        let mut s = Scenario::builtin("hallway").expect("builtin");
-        s.seed = 3;
-        let world = World::from_scenario(&s);
-        if !park_at_crowd {
-            return Vec2::new(-1e4, -1e4);
-        }
-        let crowd = &world.humans.crowd;
-        crowd.positions.iter().fold(Vec2::zeros(), |a, p| a + p) / crowd.positions.len() as Real
+        hallway(true, park_at_crowd).robots[0].state.position
     }
 
     /// One person walking +x along the middle of the hallway from x = 3 m, robots parked on
@@ -460,17 +453,7 @@ mod tests {
     /// view are the same as if it held every window.
     #[test]
     fn old_windows_are_dropped_but_counted() {
-        let mut s = Scenario::builtin("hallway").expect("builtin");
-        s.seed = 3;
-        let mut world = World::from_scenario(&s);
-        let mid = world
-            .humans
-            .crowd
-            .positions
-            .iter()
-            .fold(Vec2::zeros(), |a, p| a + p)
-            / world.humans.crowd.positions.len() as Real;
-        world.robots[0].state.position = mid;
+        let mut world = hallway(true, true);
         // One window per step, at most 4 to 8 kept.
         let mut impact = HumanImpact::new(&world, world.dt);
         impact.kept = 4;

@@ -500,6 +500,27 @@ pub fn perceived<'a>(
         .map(|(id, p, v)| Neighbour::new(id, p, v, options.person_radius_m, AgentKind::Human))
 }
 
+/// The robot in the removed person's recorded place at `t` (their position and velocity, the
+/// options' body radius) and the people it perceives there: a recorded scene for benchmarks.
+/// `None` outside the person's track.
+pub fn scene_at(
+    recording: &Recording,
+    run: &ReplayRun,
+    t: Real,
+    options: &ReplayOptions,
+) -> Option<(EgoState, Vec<Neighbour>)> {
+    let (position, velocity) = recording.track(run.pedestrian)?.state_at(t)?;
+    let seen = perceived(recording, t, run.pedestrian, position, options).collect();
+    let ego = EgoState {
+        position,
+        heading: angle_of(&velocity),
+        velocity,
+        yaw_rate: 0.0,
+        radius: options.robot.radius_m,
+    };
+    Some((ego, seen))
+}
+
 /// The largest fraction of `velocity` (on the safety layer's ladder, down to 0) at which a
 /// robot entering at `ego`'s place and holding it passes the layer's protective check among
 /// the people it perceives there.
