@@ -15,9 +15,11 @@
 //! [`mixture`]), and the joint is optimised over combinations of intents (Eq. 5.3) in
 //! [`IgpVariant::Mixture`], the paper's foIGP (`foigp`). The other variants model each person
 //! as one GP. Named as in the paper's Tables 1–2: [`IgpVariant::Full`] (IGP_Full with one GP
-//! per person, `foigp-1`; all (t, τ) pairs), [`IgpVariant::Diagonal`] (IGP_Diag, t = τ only), [`IgpVariant::Linear`] (IGP_Lin: a
-//! person's GP is their constant-velocity line instead of a regression on their history) and
-//! [`IgpVariant::MonteCarlo`] (MC_1e5: the best of 10⁵ joint samples instead of Newton).
+//! per person, `foigp-1`; all (t, τ) pairs), [`IgpVariant::Diagonal`] (IGP_Diag, t = τ only),
+//! [`IgpVariant::Linear`] (IGP_Lin: a person's GP is their constant-velocity line instead of a
+//! regression on their history) and [`IgpVariant::MonteCarlo`] (MC_1e5: the best of 10⁵ joint
+//! samples instead of Newton). The objective log λ and its maximisation are in `objective`,
+//! the agent GPs in `gp`; this module selects the people and intents and plans.
 //!
 //! What the paper leaves open, and what we chose (all in [`GpParams`] / [`IgpParams`]):
 //! the GP kernel (a constant-velocity prior mean with a linear-in-time and a squared-exponential
@@ -41,8 +43,8 @@ pub use gp::{GpParams, TrajectoryGp};
 pub use mixture::Component;
 pub use objective::{Coupling, NewtonOptions, Objective, SeedRule, Trajectories};
 
-/// The effective sample size of the people's first Newton steps (Def. 10) and the people it
-/// keeps: the round(ESS) with the longest steps, longest first.
+/// The effective sample size of the first Newton steps of the robot–(person, intent) pairs
+/// (Def. 10) and the pairs it keeps: the round(ESS) with the longest steps, longest first.
 pub fn ess_selection(steps: &[Real]) -> (Real, Vec<usize>) {
     let total: Real = steps.iter().sum();
     if total <= 0.0 || !total.is_finite() {
