@@ -747,10 +747,12 @@ pub fn run_fleet_with(
     if let Some(window) = options.human_impact_window_s {
         fleet.measure_human_impact(window);
     }
+    let destinations = fleet.world.people_destinations();
     let mut stacks: Vec<PlannerStack> = (0..fleet.robots())
         .map(|_| {
             let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
             stack.set_record_fan(false);
+            stack.set_destinations(&destinations);
             stack
         })
         .collect();

@@ -357,6 +357,17 @@ impl World {
         self.site.as_ref()
     }
 
+    /// Where people go, when the world knows: the site's stations if people walk between
+    /// them (foIGP's intents), else none.
+    pub fn people_destinations(&self) -> Vec<Vec2> {
+        match &self.site {
+            Some(site) if self.people_to_stations => {
+                site.stations.iter().map(|s| s.position).collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
     /// The Social Force parameters people walk with.
     pub fn sf_params(&self) -> &SfParams {
         &self.sf
@@ -594,6 +605,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// People's destinations are known where they walk between a site's stations, and only
+    /// there: what foIGP's mixtures take as intents in the simulator.
+    #[test]
+    fn people_destinations_are_the_stations_people_walk_to() {
+        let warehouse = World::from_scenario(&Scenario::builtin("warehouse").expect("valid"));
+        let site = warehouse.site().expect("a warehouse");
+        let stations: Vec<Vec2> = site.stations.iter().map(|s| s.position).collect();
+        assert!(!stations.is_empty());
+        assert_eq!(warehouse.people_destinations(), stations);
+        assert!(
+            World::open_space(&scenario(0.1, 1))
+                .people_destinations()
+                .is_empty()
+        );
     }
 
     #[test]

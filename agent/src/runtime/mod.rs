@@ -14,6 +14,7 @@ pub mod net;
 pub mod wire;
 
 use crate::map::StaticMap;
+use crate::math::Vec2;
 use crate::model::Command;
 use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use crate::safety::{Guard, SafetyLimits, Zone};
@@ -205,8 +206,10 @@ pub async fn run_agent(
                         )
                         .await;
                         match fetched {
-                            Ok(Ok((version, m))) => {
+                            Ok(Ok((version, m, stations))) => {
                                 counters.maps.fetch_add(1, Ordering::Relaxed);
+                                // The site's stations are where its people go: foIGP's intents.
+                                stack.set_destinations(&stations);
                                 map = Some((version, m));
                             }
                             Ok(Err(e)) => tracing::warn!(robot = id, "no map yet: {e}"),
@@ -454,13 +457,13 @@ async fn safe_stop(
     }
 }
 
-/// The map of version `want` (the one the coordinator's observations name): a reply with
-/// another version is skipped, whoever sent it.
+/// The map of version `want` (the one the coordinator's observations name) and the site's
+/// stations: a reply with another version is skipped, whoever sent it.
 async fn fetch_map(
     session: &zenoh::Session,
     keys: &Keys,
     want: u32,
-) -> Result<(u32, StaticMap), MapFetchError> {
+) -> Result<(u32, StaticMap, Vec<Vec2>), MapFetchError> {
     let replies = session
         .get(keys.map())
         .timeout(MAP_QUERY_TIMEOUT)
@@ -478,7 +481,8 @@ async fn fetch_map(
                 }
                 Ok(msg) => {
                     let map = wire::map_from_wire(&msg)?;
-                    return Ok((msg.map_version, map));
+                    let stations = msg.stations.iter().map(|s| wire::vec(s.p)).collect();
+                    return Ok((msg.map_version, map, stations));
                 }
                 Err(e) => last_error = e.into(),
             },
