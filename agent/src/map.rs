@@ -16,6 +16,7 @@ use parry2d_f64::shape::Polyline;
 
 /// A static obstacle as a user describes it.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Obstacle {
     /// A closed simple polygon (a shelf, a pillar). Any orientation; stored counter-clockwise.
     Polygon(Vec<Vec2>),

@@ -17,6 +17,7 @@ pub enum AgentKind {
 
 /// One sample of a planned or predicted trajectory: where, when and how uncertain.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TrajectorySample {
     /// Seconds after the intent's stamp.
     pub t: Real,
@@ -70,6 +71,7 @@ impl Neighbour {
 
 /// The robot doing the planning.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EgoState {
     /// Position (world frame, metres).
     pub position: Vec2,

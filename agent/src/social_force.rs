@@ -21,6 +21,7 @@ use crate::obstacle_points::ObstaclePoints;
 
 /// `[desired_force]`
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DesiredForceParams {
     /// Weight.
     pub factor: Real,
@@ -32,6 +33,7 @@ pub struct DesiredForceParams {
 
 /// `[social_force]`: Moussaïd et al. 2009.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SocialForceParams {
     /// A: weight.
     pub factor: Real,
@@ -47,6 +49,7 @@ pub struct SocialForceParams {
 
 /// `[obstacle_force]`
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ObstacleForceParams {
     /// Weight.
     pub factor: Real,
@@ -58,6 +61,7 @@ pub struct ObstacleForceParams {
 
 /// `[group_repulsive_force]`
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GroupRepulsiveParams {
     /// Weight.
     pub factor: Real,
@@ -71,6 +75,7 @@ pub struct GroupRepulsiveParams {
 /// under `[scene]`, so its effective step is the code default of 0.4 s; ours is the
 /// simulation step, 0.1 s by default.)
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SfParams {
     /// Integration step (s).
     pub step_width: Real,

@@ -1,11 +1,14 @@
 //! A live run's journal (`--state DIR`) replays bit for bit: a demo over Zenoh (a coordinator
 //! and its agents, each with its own session, planning on whatever observations arrived when)
 //! writes its inputs; `journal::replay` re-runs them in-process and meets every recorded
-//! fingerprint and the final one. A journal with one command changed leaves the recorded run,
-//! and the replay says at which tick.
+//! fingerprint, the snapshot the coordinator took at 30 s (byte for byte: every robot, person,
+//! random stream, metrics accumulator, intent and the traffic policy's state) and the final
+//! fingerprint; a restart's `journal::resume` restores that snapshot and re-runs only the 100
+//! ticks after it, to the same end state. A journal with one command or one intent changed
+//! leaves the recorded run, and the replay says at which tick.
 
 use coordinator::fleet::demo::{DemoOptions, Transport, run_demo};
-use coordinator::fleet::journal::{Header, Journal, ScenarioSource, read, replay};
+use coordinator::fleet::journal::{Header, Journal, ScenarioSource, read, replay, resume};
 use world_sim::scenario::BUILTIN;
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
@@ -80,6 +83,34 @@ fn a_recorded_demo_replays_bit_for_bit() {
     assert_eq!(replayed.tasks_done, end.tasks_done);
     assert_eq!(replayed.tasks_done, report.status.tasks_done);
     assert!(replayed.checked >= end.ticks / 100);
+    // The live fleet's snapshot at 30 s is the replayed fleet's then, byte for byte.
+    let taken: Vec<u64> = recorded.snapshots.iter().map(|(at, _)| *at).collect();
+    println!(
+        "snapshots at ticks {taken:?} ({} bytes); {} intents journaled",
+        recorded
+            .snapshots
+            .iter()
+            .map(|(_, b)| b.len())
+            .sum::<usize>(),
+        recorded
+            .ticks
+            .iter()
+            .map(|t| t.intents.len())
+            .sum::<usize>()
+    );
+    assert_eq!(taken, [300]);
+    assert_eq!(replayed.snapshots_checked, 1);
+    assert!(recorded.ticks.iter().any(|t| !t.intents.is_empty()));
+    // A restart resumes from it: 100 ticks re-run, not 400, to the same end.
+    let resumed = resume(&recorded).expect("resumes from the snapshot");
+    assert_eq!(resumed.from, 300);
+    assert_eq!(resumed.ticks, end.ticks);
+    assert_eq!(resumed.fingerprint, end.fingerprint);
+    assert_eq!(resumed.tasks_done, end.tasks_done);
+    assert!(
+        resumed.fleet.snapshot() == replayed.fleet.snapshot(),
+        "the resumed fleet ends in the replayed fleet's state"
+    );
     for (i, m) in report.fleet_metrics.iter().enumerate() {
         let r = replayed.fleet.metrics(i);
         assert_eq!(
@@ -103,5 +134,26 @@ fn a_recorded_demo_replays_bit_for_bit() {
     assert!(
         err.to_string().contains("left the recorded run") || err.to_string().contains("ended on")
     );
+
+    // The last intent before the snapshot changed (it is still in the fleet's table then):
+    // the snapshot check shows it.
+    let mut tampered = recorded.clone();
+    let (k, j) = tampered
+        .ticks
+        .iter()
+        .take(300)
+        .enumerate()
+        .rev()
+        .find_map(|(k, t)| {
+            t.intents
+                .iter()
+                .rposition(|i| i.trajectory.len() > 1)
+                .map(|j| (k, j))
+        })
+        .expect("an intent before the snapshot");
+    tampered.ticks[k].intents[j].trajectory[1].p.0 += 0.01;
+    let err = replay(&tampered, |_, _| {}).expect_err("a changed intent shows");
+    println!("intent tampered at tick {k}: {err}");
+    assert!(err.to_string().contains("snapshot taken then"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -38,7 +38,7 @@ pub const INTENT_MAX_AGE_S: Real = 1.0;
 const TASK_STREAM: u64 = 4;
 
 /// A pick/drop job.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Task {
     /// Unique within the run, from 0.
     pub id: u64,
@@ -49,7 +49,7 @@ pub struct Task {
 }
 
 /// Which leg of its task a robot is on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Stage {
     /// Driving to the pick station.
     ToPick,
@@ -84,7 +84,7 @@ pub enum FleetEvent {
 }
 
 /// A robot's current job: the task, its stage, and the waypoints left on this leg.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Job {
     /// The task.
     pub task: Task,
@@ -119,7 +119,7 @@ impl Job {
 }
 
 /// The fleet world.
-#[derive(Debug)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Fleet {
     /// People, robots, map.
     pub world: World,
@@ -603,6 +603,11 @@ impl Fleet {
         self.impact = Some(HumanImpact::new(&self.world, window_s));
     }
 
+    /// Stops measuring what the robots cost people (drops the measurement).
+    pub fn stop_measuring_human_impact(&mut self) {
+        self.impact = None;
+    }
+
     /// What the robots cost people, if measured.
     pub fn human_impact(&self) -> Option<&HumanImpact> {
         self.impact.as_ref()
@@ -780,6 +785,9 @@ pub fn run_fleet_with(
         stuck_where: fleet.stuck_where,
     })
 }
+
+mod snapshot;
+pub use snapshot::{SNAPSHOT_FORMAT, SnapshotError};
 
 #[cfg(test)]
 mod tests;

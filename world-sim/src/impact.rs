@@ -49,7 +49,7 @@ pub const PATH_CHANGE_SETTLE_S: Real = 1.0;
 pub const KEPT_WINDOWS: usize = 720;
 
 /// One finished window.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ImpactWindow {
     /// Simulation time at the window's end (s).
     pub end_time: Real,
@@ -97,7 +97,7 @@ impl ImpactWindow {
 }
 
 /// Measures robots' impact on people window by window.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct HumanImpact {
     shadow: World,
     window_steps: u64,
@@ -163,6 +163,11 @@ impl HumanImpact {
         };
         impact.restart(world);
         impact
+    }
+
+    /// Takes the parts a snapshot leaves out of its shadow world from `built`.
+    pub(crate) fn adopt_static(&mut self, built: &World) {
+        self.shadow.adopt_static(built);
     }
 
     fn restart(&mut self, world: &World) {

@@ -130,7 +130,7 @@ pub struct RobotMetrics {
 }
 
 /// Accumulates one robot's metrics step by step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct MetricsRecorder {
     index: usize,
     steps: u64,
@@ -335,7 +335,7 @@ impl MetricsRecorder {
 }
 
 /// Contact onsets by cause.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 struct ContactCounts {
     robot_caused: u64,
     person_caused: u64,

@@ -7,7 +7,7 @@ use agent::math::{Real, Vec2, angle_of, clamp_norm, unit};
 use agent::model::{Command, EgoState};
 
 /// A simulated robot.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RobotBody {
     /// Position, heading, velocity, yaw rate, radius.
     pub state: EgoState,

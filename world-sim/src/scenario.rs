@@ -229,7 +229,7 @@ fn default_wall_field_spacing() -> Real {
 }
 
 /// A robot's body, limits and sensor.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSpec {
     /// Body radius (m).

@@ -76,7 +76,7 @@ impl StuckBreakdown {
 }
 
 /// Tells places apart on one site.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Places {
     aisles: Vec<Segment>,
     site: Site,

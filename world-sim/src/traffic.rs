@@ -25,7 +25,7 @@ use agent::map::StaticMap;
 use agent::math::{Real, Vec2};
 
 /// What the monitor counts as stuck, waiting and deadlocked. None of it is from a paper.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TrafficParams {
     /// A robot with a task is stuck after this long without progress (s). 30 s, the issue's
     /// example: longer than any wait for a person or an oncoming robot to clear an aisle.
@@ -90,7 +90,7 @@ pub struct TaskView {
 }
 
 /// Something the monitor saw begin or end.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum TrafficEvent {
     /// A robot became stuck.
     Stuck {
@@ -110,7 +110,7 @@ pub enum TrafficEvent {
 }
 
 /// Totals over a run.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct TrafficTotals {
     /// Deadlocks that began.
     pub deadlocks: u64,
@@ -124,7 +124,7 @@ pub struct TrafficTotals {
     pub max_stuck: usize,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Progress {
     leg: u64,
     best_m: Real,
@@ -132,7 +132,7 @@ struct Progress {
 }
 
 /// Watches a fleet step by step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct TrafficMonitor {
     /// The thresholds.
     pub params: TrafficParams,

@@ -123,7 +123,7 @@ use agent::math::{Real, Vec2, vec2};
 use segments::Want;
 
 /// The policy's knobs. None of them is from a paper.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PolicyParams {
     /// An aisle is one-way at a time when narrower than two robot diameters plus this (m).
     /// 0.2 m: two robots side by side need room between them and to the shelves.
@@ -221,7 +221,7 @@ pub struct PolicyRobot<'a> {
 }
 
 /// What the policy asks of one robot now.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Constraint {
     /// Drive to the route's waypoint.
     Free,
@@ -263,7 +263,7 @@ impl Constraint {
 }
 
 /// Something the policy did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum PolicyEvent {
     /// A robot was granted a segment in a direction (+1 along x, −1 against).
     Granted {
@@ -323,7 +323,7 @@ pub enum PolicyEvent {
 }
 
 /// A segment's reservation.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Reservation {
     /// The direction it is travelled now (+1 along x, −1 against), `None` when empty.
     pub dir: Option<i8>,
@@ -336,7 +336,7 @@ pub struct Reservation {
 }
 
 /// Counts over a run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub struct PolicyTotals {
     /// Segments granted.
     pub grants: u64,
@@ -361,7 +361,7 @@ pub struct PolicyTotals {
 }
 
 /// A station's line: who holds it and who waits, oldest first.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StationLine {
     /// The robot granted it.
     pub holder: Option<usize>,
@@ -374,7 +374,7 @@ pub struct StationLine {
 }
 
 /// The policy's state.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct TrafficPolicy {
     /// Its knobs.
     pub params: PolicyParams,
@@ -398,14 +398,17 @@ pub struct TrafficPolicy {
     /// Until when each robot is left to the retreat rule, its last knot given up unpassed.
     knot_given_up: Vec<Real>,
     lanes: LaneGeometry,
-    /// The site's shelves and walls, for room to back off into.
+    /// The site's shelves and walls, for room to back off into (not in a snapshot:
+    /// [`Fleet::restore`](crate::fleet::Fleet::restore) takes them from the
+    /// scenario).
+    #[serde(skip)]
     map: StaticMap,
     robot_radius: Real,
     totals: PolicyTotals,
 }
 
 /// What keep-right needs of the site: wide corridors' axes.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 struct LaneGeometry {
     site: Site,
     min_width: Real,
@@ -446,6 +449,11 @@ impl TrafficPolicy {
             robot_radius,
             totals: PolicyTotals::default(),
         }
+    }
+
+    /// Takes the shelves and walls a snapshot leaves out from the site.
+    pub(crate) fn adopt_static(&mut self, site: &Site) {
+        self.map = site.map();
     }
 
     /// The one-way segments.

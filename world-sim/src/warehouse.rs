@@ -21,7 +21,7 @@ use agent::map::{Obstacle, StaticMap};
 use agent::math::{Real, Vec2, vec2};
 
 /// What a station is for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum StationKind {
     /// A shelf face in an aisle or the top corridor, where goods are picked.
     Pick,
@@ -30,7 +30,7 @@ pub enum StationKind {
 }
 
 /// A pick or drop location.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Station {
     /// Index in [`Site::stations`].
     pub id: usize,
@@ -42,7 +42,7 @@ pub struct Station {
 
 /// A stretch of aisle between two cross-aisles too narrow for two robots to pass: the unit
 /// the traffic policy reserves one direction at a time.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Segment {
     /// Index in [`Site::narrow_segments`]' answer.
     pub id: usize,
@@ -66,7 +66,7 @@ impl Segment {
 }
 
 /// A generated warehouse: geometry, stations and the corridor grid used for routing.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Site {
     /// Outer size (width along x, height along y), metres.
     pub size: Vec2,

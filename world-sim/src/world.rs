@@ -33,7 +33,7 @@ pub const ROBOT_ID_BIT: u64 = 1 << 32;
 const WAYPOINT_REACHED_M: Real = 1.0;
 
 /// The people of a world.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Humans {
     /// Their state, stepped by PySocialForce's model.
     pub crowd: Crowd,
@@ -46,7 +46,7 @@ pub struct Humans {
 }
 
 /// A world: map, people, robots, time.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct World {
     /// Seconds since the start.
     pub time: Real,
@@ -54,13 +54,16 @@ pub struct World {
     pub step: u64,
     /// Step length (s).
     pub dt: Real,
-    /// Walls and shelves.
+    /// Walls and shelves (not in a snapshot: [`Fleet::restore`](crate::fleet::Fleet::restore) takes them
+    /// from the scenario).
+    #[serde(skip)]
     pub map: StaticMap,
     /// People.
     pub humans: Humans,
     /// Robots.
     pub robots: Vec<RobotBody>,
     sf: SfParams,
+    #[serde(skip)]
     walls: Walls,
     stage_min: Vec2,
     stage_max: Vec2,
@@ -76,9 +79,32 @@ pub struct World {
     lanes: Vec<Real>,
     lanes_end: Real,
     goal_rng: ChaCha8Rng,
-    noise_rng: ChaCha8Rng,
+    /// The scenario's seed: sensor noise is drawn from a stream of its own per (step,
+    /// robot), so what a robot perceives does not depend on who else was observed, or how
+    /// often ([`World::observe`]).
+    seed: u64,
     scratch: Vec<Vec2>,
     externals: Vec<(Vec2, Vec2)>,
+}
+
+impl World {
+    /// Takes the parts a snapshot leaves out (walls and shelves, and the crowd's wall
+    /// points) from `built`, the same scenario's world built afresh.
+    pub(crate) fn adopt_static(&mut self, built: &World) {
+        self.map = built.map.clone();
+        self.walls = built.walls.clone();
+    }
+}
+
+/// The sensor-noise stream of robot `robot`'s observation at step `step`.
+fn noise_stream(seed: u64, step: u64, robot: usize) -> ChaCha8Rng {
+    let mut key = [0; 32];
+    key[..8].copy_from_slice(&seed.to_le_bytes());
+    key[8..16].copy_from_slice(&step.to_le_bytes());
+    key[16..24].copy_from_slice(&(robot as u64).to_le_bytes());
+    let mut rng = ChaCha8Rng::from_seed(key);
+    rng.set_stream(NOISE_STREAM);
+    rng
 }
 
 fn stream(seed: u64, stream: u64) -> ChaCha8Rng {
@@ -307,7 +333,7 @@ impl World {
             lanes: Vec::new(),
             lanes_end: 0.0,
             goal_rng,
-            noise_rng: stream(scenario.seed, NOISE_STREAM),
+            seed: scenario.seed,
             scratch: Vec::new(),
             externals: Vec::new(),
         }
@@ -479,7 +505,7 @@ struct Layout {
 }
 
 /// Where a group goes when one of its members arrives.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 enum GoalRule {
     /// Anywhere on the stage (the PGP paper's open space).
     Anywhere,

@@ -5,7 +5,7 @@ use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
 use coordinator::fleet::demo::status_line;
-use coordinator::fleet::journal::{Header, Journal, replay};
+use coordinator::fleet::journal::{self, Header, Journal};
 use coordinator::fleet::{CoordinatorConfig, Event, Resume, Status, run_coordinator};
 use world_sim::fleet::Fleet;
 
@@ -62,7 +62,8 @@ impl CoordinatorArgs {
             ..Overrides::default()
         };
         let scenario = self.scenario.fleet_site(overrides)?;
-        // A folder with a journal: the run goes on from it, its world rebuilt by replaying it.
+        // A folder with a journal: the run goes on from it, from its newest snapshot and the
+        // ticks after it.
         let (journal, recorded) = match &self.state {
             Some(dir) => {
                 let header = Header::new(
@@ -84,12 +85,14 @@ impl CoordinatorArgs {
         let mut fleet = match &recorded {
             Some(recorded) => {
                 let started = std::time::Instant::now();
-                let replayed = replay(recorded, |_, _| {})?;
+                let replayed = journal::resume(recorded)?;
                 eprintln!(
-                    "resuming: {} ticks and {} tasks replayed from the journal in {:.2} s \
-                     ({} fingerprints checked)",
+                    "resuming at tick {}, {} tasks done: snapshot of tick {} restored, {} ticks \
+                     replayed from the journal in {:.2} s ({} fingerprints checked)",
                     replayed.ticks,
                     replayed.tasks_done,
+                    replayed.from,
+                    replayed.ticks - replayed.from,
                     started.elapsed().as_secs_f64(),
                     replayed.checked
                 );

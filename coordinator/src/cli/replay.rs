@@ -84,9 +84,13 @@ impl ReplayArgs {
             );
         }
         println!(
-            "replayed {} ticks: {} tasks done, fingerprint {:016x}; {} fingerprints on the way \
-             and the final one match the recorded run",
-            replayed.ticks, replayed.tasks_done, replayed.fingerprint, replayed.checked
+            "replayed {} ticks: {} tasks done, fingerprint {:016x}; {} fingerprints and {} \
+             snapshots on the way and the final fingerprint match the recorded run",
+            replayed.ticks,
+            replayed.tasks_done,
+            replayed.fingerprint,
+            replayed.checked,
+            replayed.snapshots_checked
         );
         if let Some(end) = &recorded.end {
             println!(

@@ -2,10 +2,18 @@
 //! bit, in a redb database, `DIR/state.redb`.
 //!
 //! The simulator is deterministic: given the scenario, a run is decided by which command each
-//! robot drove on at each tick and which robots were held (no agent, or agent gone). Those are
-//! the only inputs the journal keeps, one record per tick, with a fingerprint of the world
-//! every 100 ticks and at the end (event sourcing, as databases keep a write-ahead log). The
-//! event log (joins, leaves, crashes, tasks done) is kept beside them for people to read.
+//! robot drove on at each tick, which robots were held (no agent, or agent gone) and the
+//! intents agents shared (the traffic monitor reads them, and the traffic policy reads the
+//! monitor). Those are the only inputs the journal keeps, one record per tick, with a
+//! fingerprint of the world every 100 ticks and at the end (event sourcing, as databases keep
+//! a write-ahead log). The event log (joins, leaves, crashes, tasks done) is kept beside them
+//! for people to read.
+//!
+//! Every [`SNAPSHOT_EVERY_S`] simulated seconds the coordinator also hands the writer a copy
+//! of the fleet, which it stores as a snapshot ([`Fleet::snapshot`]; the newest
+//! [`KEPT_SNAPSHOTS`] are kept): a restart restores the newest and replays only the ticks
+//! after it ([`resume`]); `gapfleet replay` re-runs from tick 0 and checks every snapshot it
+//! passes, byte for byte.
 //!
 //! Writes leave the tick through a bounded queue to a thread of their own, which commits every
 //! 200 ms: the tick never waits for the disk. What a crash can lose is what was not yet
@@ -17,8 +25,8 @@
 //! crash-safe ACID transactions, and the data is plain key → bytes, which needs no SQL.
 
 use agent::runtime::wire;
-use redb::{ReadableDatabase, ReadableTable, TableDefinition};
-use schemas::Motion;
+use redb::{ReadableDatabase, ReadableTable, ReadableTableMetadata, TableDefinition};
+use schemas::{Motion, Sample};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -31,9 +39,17 @@ use world_sim::scenario::Scenario;
 const META: TableDefinition<&str, &[u8]> = TableDefinition::new("meta");
 const TICKS: TableDefinition<u64, &[u8]> = TableDefinition::new("ticks");
 const EVENTS: TableDefinition<u64, &[u8]> = TableDefinition::new("events");
+/// Snapshots by the number of ticks run when they were taken.
+const SNAPSHOTS: TableDefinition<u64, &[u8]> = TableDefinition::new("snapshots");
 
-/// The journal's format.
-const FORMAT: u32 = 1;
+/// The journal's format (2: intents among the inputs, snapshots).
+const FORMAT: u32 = 2;
+
+/// The coordinator snapshots the fleet this often (simulated s).
+pub const SNAPSHOT_EVERY_S: f64 = 30.0;
+
+/// Snapshots kept; older ones are deleted as new ones are written.
+pub const KEPT_SNAPSHOTS: usize = 4;
 
 /// Records queued before new ones are dropped (and counted).
 const QUEUE: usize = 8192;
@@ -127,8 +143,34 @@ pub struct TickInput {
     pub held: Vec<(u32, bool)>,
     /// The command each moving robot drove on (robots not listed stood still).
     pub commands: Vec<(u32, Motion)>,
+    /// Intents taken from agents since the previous tick's step, in the order they were set.
+    pub intents: Vec<IntentInput>,
     /// The world's fingerprint after this tick's step, every [`FINGERPRINT_EVERY`] ticks.
     pub fingerprint: Option<u64>,
+}
+
+/// An intent as the coordinator set it in the fleet.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IntentInput {
+    /// The robot.
+    pub robot: u32,
+    /// The intent's stamp (s).
+    pub stamp: f64,
+    /// Its trajectory, as it came over the wire.
+    pub trajectory: Vec<Sample>,
+}
+
+impl IntentInput {
+    /// Sets the intent in `fleet` as the coordinator did.
+    fn apply(&self, fleet: &mut Fleet) -> Result<(), JournalError> {
+        let n = fleet.robots();
+        if self.robot as usize >= n {
+            return Err(JournalError::Record(format!("robot {} of {n}", self.robot)));
+        }
+        let samples = wire::samples_from_wire(&self.trajectory);
+        fleet.set_intent(self.robot as usize, self.stamp, samples);
+        Ok(())
+    }
 }
 
 /// How a run ended.
@@ -159,6 +201,8 @@ pub struct EventRecord {
 enum Record {
     Tick(TickInput),
     Event(EventRecord),
+    /// The fleet after this many ticks, encoded by the writer.
+    Snapshot(u64, Box<Fleet>),
     End(End),
 }
 
@@ -243,6 +287,11 @@ impl JournalSink {
     /// Records one tick's inputs.
     pub fn tick(&self, input: TickInput) {
         self.send(Record::Tick(input));
+    }
+
+    /// Records the fleet after `ticks` ticks (a copy: the writer encodes it).
+    pub fn snapshot(&self, ticks: u64, fleet: Fleet) {
+        self.send(Record::Snapshot(ticks, Box::new(fleet)));
     }
 
     /// Records an event.
@@ -381,6 +430,9 @@ fn write_loop(
                 .open_table(EVENTS)
                 .map_err(db_err(path, "open events"))?;
             let mut meta = txn.open_table(META).map_err(db_err(path, "open meta"))?;
+            let mut snapshots = txn
+                .open_table(SNAPSHOTS)
+                .map_err(db_err(path, "open snapshots"))?;
             for record in batch {
                 match record {
                     Record::Tick(input) => {
@@ -394,6 +446,18 @@ fn write_loop(
                             .insert(events, pack(&event).as_slice())
                             .map_err(db_err(path, "write event"))?;
                         events += 1;
+                    }
+                    Record::Snapshot(at, fleet) => {
+                        snapshots
+                            .insert(at, fleet.snapshot().as_slice())
+                            .map_err(db_err(path, "write snapshot"))?;
+                        while snapshots.len().map_err(db_err(path, "count snapshots"))?
+                            > KEPT_SNAPSHOTS as u64
+                        {
+                            snapshots
+                                .pop_first()
+                                .map_err(db_err(path, "drop snapshot"))?;
+                        }
                     }
                     Record::End(end) => {
                         meta.insert("end", pack(&end).as_slice())
@@ -418,6 +482,8 @@ pub struct Recorded {
     pub events: Vec<EventRecord>,
     /// How it ended (None: it did not end cleanly, e.g. the coordinator was killed).
     pub end: Option<End>,
+    /// The snapshots kept, oldest first: ticks run when taken, and the bytes.
+    pub snapshots: Vec<(u64, Vec<u8>)>,
 }
 
 /// Reads the journal in `dir`.
@@ -459,11 +525,24 @@ fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
     };
     let ticks = rows(&txn, TICKS, &path)?;
     let events = rows(&txn, EVENTS, &path)?;
+    let snapshots = match txn.open_table(SNAPSHOTS) {
+        Ok(table) => table
+            .iter()
+            .map_err(db_err(&path, "read snapshots"))?
+            .map(|row| {
+                let (at, bytes) = row.map_err(db_err(&path, "read snapshot"))?;
+                Ok((at.value(), bytes.value().to_vec()))
+            })
+            .collect::<Result<_, JournalError>>()?,
+        Err(redb::TableError::TableDoesNotExist(_)) => Vec::new(),
+        Err(e) => return Err(db_err(&path, "open snapshots")(e)),
+    };
     Ok(Recorded {
         header,
         ticks,
         events,
         end,
+        snapshots,
     })
 }
 
@@ -534,37 +613,78 @@ fn tasks_done(fleet: &Fleet) -> u64 {
 /// What a replay found.
 #[derive(Debug)]
 pub struct Replayed {
+    /// The tick it started from: 0, or the restored snapshot's.
+    pub from: u64,
     /// Ticks re-run.
     pub ticks: u64,
     /// The world's fingerprint after them.
     pub fingerprint: u64,
     /// Fingerprints checked on the way (every [`FINGERPRINT_EVERY`] ticks), all equal.
     pub checked: u64,
+    /// Snapshots passed on the way and found equal to the replayed fleet, byte for byte.
+    pub snapshots_checked: u64,
     /// Tasks done.
     pub tasks_done: u64,
     /// The fleet at the end.
     pub fleet: Fleet,
 }
 
-/// Re-runs a recorded run in-process: builds its scenario, applies each tick's held flags and
-/// commands, steps and dispatches as the coordinator did. A fingerprint that differs from
-/// the recorded one is an error naming the tick.
+/// Re-runs a recorded run in-process from tick 0: builds its scenario, applies each tick's
+/// held flags, intents and commands, steps and dispatches as the coordinator did. A
+/// fingerprint or snapshot that differs from the recorded one is an error naming the tick.
 pub fn replay(
     recorded: &Recorded,
-    mut on_tick: impl FnMut(&Fleet, &[world_sim::fleet::FleetEvent]),
+    on_tick: impl FnMut(&Fleet, &[world_sim::fleet::FleetEvent]),
 ) -> Result<Replayed, JournalError> {
+    let fleet = new_fleet(recorded)?;
+    run_inputs(fleet, 0, recorded, true, on_tick)
+}
+
+/// The run's state at the end of its journal, for a restart: the newest snapshot restored,
+/// then the ticks after it re-run (all of them if there is no snapshot, or none restores).
+pub fn resume(recorded: &Recorded) -> Result<Replayed, JournalError> {
+    let scenario = recorded.header.scenario.scenario()?;
+    let ticks = recorded.ticks.len() as u64;
+    for (at, bytes) in recorded.snapshots.iter().rev() {
+        if *at > ticks {
+            tracing::warn!(at, ticks, "snapshot past the journal's ticks: not used");
+            continue;
+        }
+        match Fleet::restore(&scenario, bytes) {
+            Ok(fleet) => return run_inputs(fleet, *at, recorded, false, |_, _| {}),
+            Err(e) => tracing::warn!(at, "snapshot not used: {e}"),
+        }
+    }
+    replay(recorded, |_, _| {})
+}
+
+/// A new fleet as the run began.
+fn new_fleet(recorded: &Recorded) -> Result<Fleet, JournalError> {
     let scenario = recorded.header.scenario.scenario()?;
     let mut fleet = Fleet::new(&scenario).map_err(|e| JournalError::Scenario(e.to_string()))?;
     fleet.share_intents = recorded.header.share_intents;
     if recorded.header.traffic_policy {
         fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
     }
-    // Held flags start as a new fleet's (none held); the first tick's record holds the
-    // coordinator's holding every robot without an agent.
+    Ok(fleet)
+}
+
+/// `fleet` after `from` ticks, on through the rest of the journal.
+fn run_inputs(
+    mut fleet: Fleet,
+    from: u64,
+    recorded: &Recorded,
+    check_snapshots: bool,
+    mut on_tick: impl FnMut(&Fleet, &[world_sim::fleet::FleetEvent]),
+) -> Result<Replayed, JournalError> {
+    // Held flags start as a new fleet's (none held) or the snapshot's; the first tick's record
+    // holds the coordinator's holding every robot without an agent.
     let n = fleet.robots();
-    let mut checked = 0;
+    let scenario = recorded.header.scenario.scenario()?;
+    let mut snapshots = recorded.snapshots.iter().peekable();
+    let (mut checked, mut snapshots_checked) = (0, 0);
     let mut commands = vec![agent::model::Command::STOP; n];
-    for (k, input) in recorded.ticks.iter().enumerate() {
+    for (k, input) in recorded.ticks.iter().enumerate().skip(from as usize) {
         if input.tick != k as u64 {
             return Err(JournalError::State(format!(
                 "tick {} is missing (the record after it is tick {})",
@@ -576,6 +696,9 @@ pub fn replay(
                 return Err(JournalError::Record(format!("robot {robot} of {n}")));
             }
             fleet.set_held(robot as usize, held);
+        }
+        for intent in &input.intents {
+            intent.apply(&mut fleet)?;
         }
         commands.fill(agent::model::Command::STOP);
         for &(robot, motion) in &input.commands {
@@ -597,6 +720,12 @@ pub fn replay(
             }
             checked += 1;
         }
+        let ran = k as u64 + 1;
+        while snapshots.next_if(|(at, _)| *at < ran).is_some() {}
+        if check_snapshots && let Some((_, bytes)) = snapshots.next_if(|(at, _)| *at == ran) {
+            same_as_snapshot(&fleet, &scenario, bytes, ran)?;
+            snapshots_checked += 1;
+        }
     }
     let print = fingerprint(&fleet);
     if let Some(end) = &recorded.end
@@ -609,10 +738,40 @@ pub fn replay(
         )));
     }
     Ok(Replayed {
+        from,
         ticks: recorded.ticks.len() as u64,
         fingerprint: print,
         checked,
+        snapshots_checked,
         tasks_done: tasks_done(&fleet),
         fleet,
     })
+}
+
+/// Whether `fleet`, `ran` ticks into the replay, is the snapshot taken then, byte for byte.
+/// The human-impact measurement a dashboard attaches is left out of both: it measures the
+/// run (a shadow crowd) without changing it, and a replay attaches none.
+fn same_as_snapshot(
+    fleet: &Fleet,
+    scenario: &world_sim::scenario::Scenario,
+    bytes: &[u8],
+    ran: u64,
+) -> Result<(), JournalError> {
+    let mut stored = Fleet::restore(scenario, bytes)
+        .map_err(|e| JournalError::Record(format!("snapshot at tick {ran}: {e}")))?;
+    stored.stop_measuring_human_impact();
+    let mut replayed = fleet.clone();
+    replayed.stop_measuring_human_impact();
+    let (a, b) = (stored.snapshot(), replayed.snapshot());
+    if a != b {
+        let at = a.iter().zip(&b).position(|(x, y)| x != y);
+        return Err(JournalError::State(format!(
+            "the replay left the recorded run by tick {ran}: its state differs from the \
+             snapshot taken then ({} and {} bytes, first difference at byte {})",
+            b.len(),
+            a.len(),
+            at.map_or("(the end of the shorter)".to_owned(), |i| i.to_string())
+        )));
+    }
+    Ok(())
 }

@@ -207,8 +207,12 @@ struct Coordinator<'s> {
     planner_p99: Vec<f64>,
     /// Wall time of one tick.
     tick_wall: Duration,
+    /// The journal gets a snapshot of the fleet every this many ticks.
+    snapshot_every: u64,
     /// Each robot's held flag as the journal last recorded it.
     journal_held: Vec<bool>,
+    /// Intents set since the last tick's step, for the journal.
+    journal_intents: Vec<journal::IntentInput>,
 }
 
 /// How a tick's observations went out.
@@ -301,6 +305,13 @@ impl Coordinator<'_> {
                     let samples = wire::samples_from_wire(&intent.trajectory);
                     self.fleet
                         .set_intent(intent.robot_id as usize, intent.stamp, samples);
+                    if self.config.journal.is_some() {
+                        self.journal_intents.push(journal::IntentInput {
+                            robot: intent.robot_id,
+                            stamp: intent.stamp,
+                            trajectory: intent.trajectory,
+                        });
+                    }
                 }
                 other => {
                     let why = why(&sample, other.map(|m| m.robot_id));
@@ -337,6 +348,10 @@ impl Coordinator<'_> {
                 input.fingerprint = Some(journal::fingerprint(&self.fleet));
             }
             journal.tick(input);
+            let ran = self.status.tick + 1;
+            if ran.is_multiple_of(self.snapshot_every) {
+                journal.snapshot(ran, self.fleet.clone());
+            }
         }
         self.status.tick += 1;
         self.status.sim_time = self.fleet.world.time;
@@ -365,6 +380,7 @@ impl Coordinator<'_> {
             tick: self.status.tick,
             held,
             commands,
+            intents: std::mem::take(&mut self.journal_intents),
             fingerprint: None,
         }
     }
@@ -529,6 +545,8 @@ pub async fn run_coordinator(
         planner_p99: vec![0.0; n],
         tick_wall,
         journal_held,
+        journal_intents: Vec::new(),
+        snapshot_every: ((journal::SNAPSHOT_EVERY_S / dt).round() as u64).max(1),
         config,
     };
     let mut ticker = tokio::time::interval(tick_wall);

@@ -134,7 +134,7 @@ impl pulp::WithSimd for IndividualForces<'_> {
 }
 
 /// A crowd simulated exactly as PySocialForce's `Simulator` does.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Crowd {
     /// Positions (m).
     pub positions: Vec<Vec2>,

@@ -6,7 +6,7 @@ use crate::traffic::TrafficMonitor;
 use agent::math::{Real, Vec2};
 
 /// A two-way knot being untangled: one direction stops where it stands, the other passes.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(super) struct Knot {
     /// The way along x that passes (+1, −1).
     pass_dir: Real,

@@ -98,9 +98,10 @@ impl World {
             seen.retain(|n| !hidden_by(ego.position, n.position, &blockers));
         }
         if pos_noise > 0.0 || vel_noise > 0.0 {
+            let mut rng = super::noise_stream(self.seed, self.step, index);
             for n in &mut seen {
-                n.position += gaussian2(&mut self.noise_rng) * pos_noise;
-                n.velocity += gaussian2(&mut self.noise_rng) * vel_noise;
+                n.position += gaussian2(&mut rng) * pos_noise;
+                n.velocity += gaussian2(&mut rng) * vel_noise;
             }
         }
         (ego, seen)
@@ -213,6 +214,11 @@ mod tests {
         );
         s.robot.position_noise_m = 0.1;
         let (mut a, mut b) = (World::open_space(&s), World::open_space(&s));
-        assert_eq!(a.observe(0).1, b.observe(0).1);
+        let noisy = a.observe(0).1;
+        assert_eq!(noisy, b.observe(0).1);
+        assert_ne!(noisy, seen, "noise is drawn");
+        // The noise of an observation depends on the step and the robot only: observing
+        // again (or other robots first) draws the same.
+        assert_eq!(a.observe(0).1, noisy);
     }
 }
