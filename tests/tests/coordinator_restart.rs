@@ -2,11 +2,13 @@
 //! 1.10.2 router (tests/run.sh installs it), `gapfleet coordinator --state DIR` as its client,
 //! three `gapfleet-agent` processes, and the test's own session watching the commands.
 //!
-//! 1. SIGKILL the coordinator: every agent safe-stops within 0.5 s (its token is gone).
-//! 2. Restart it with the same `--state`: it replays its journal, goes on from the tick where
-//!    the journal ends, and every agent rejoins within 2 s.
-//! 3. The whole run, before and after the crash, replays bit for bit (`gapfleet replay`), and
-//!    no task is done twice.
+//! 1. SIGKILL the coordinator, 36 simulated s in: every agent safe-stops within 0.5 s (its
+//!    token is gone).
+//! 2. Restart it with the same `--state`: it restores the snapshot of 30 s (tick 300), replays
+//!    the journal's ticks after it, goes on from the tick where the journal ends, and every
+//!    agent rejoins within 2 s.
+//! 3. The whole run, before and after the crash, replays bit for bit (`gapfleet replay`: every
+//!    fingerprint, and the snapshots of 30 and 60 s byte for byte), and no task is done twice.
 //! 4. A coordinator on another scenario: the same agents fetch its map (another version).
 
 use gapfleet_tests::{AgentProcess, binary, free_endpoint};
@@ -121,7 +123,8 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
         &format!("agents {ROBOTS}/{ROBOTS}"),
         Duration::from_secs(30),
     );
-    std::thread::sleep(Duration::from_secs(5));
+    // Past the first snapshot (30 simulated s, 7.5 s here) before the kill.
+    std::thread::sleep(Duration::from_secs(9));
 
     let infos = rt
         .block_on(async {
@@ -187,14 +190,20 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
     // 2. Restart on the same journal: it resumes, and every agent is back within 2 s.
     let restarted_at = Instant::now();
     let (second, lines) = coordinator(&endpoint, &run);
-    let resumed = wait_line(&lines, "resuming:", Duration::from_secs(10));
+    let resumed = wait_line(&lines, "resuming at tick", Duration::from_secs(10));
     println!("{resumed}");
-    let ticks: u64 = resumed
-        .split_whitespace()
-        .nth(1)
-        .and_then(|t| t.parse().ok())
-        .expect("resuming: N ticks ...");
-    assert!(ticks >= 100, "the journal held the run so far: {resumed}");
+    let number_after = |words: &str| -> u64 {
+        resumed
+            .split(words)
+            .nth(1)
+            .and_then(|rest| rest.split(|c: char| !c.is_ascii_digit()).next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("{words:?} N in {resumed:?}"))
+    };
+    let ticks = number_after("resuming at tick ");
+    assert!(ticks > 300, "the journal held the run so far: {resumed}");
+    // From the snapshot of tick 300, not from tick 0.
+    assert_eq!(number_after("snapshot of tick "), 300, "{resumed}");
     let mut joined = 0;
     while joined < ROBOTS {
         let line = wait_line(&lines, "event: Joined", Duration::from_secs(10));
@@ -231,6 +240,8 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
         "{stdout}"
     );
     assert!(stdout.contains("match the recorded run"), "{stdout}");
+    // The snapshots at 30 s (before the kill) and 60 s (after it) are the replay's state then.
+    assert!(stdout.contains(" and 2 snapshots on the way"), "{stdout}");
     let mut done: Vec<&str> = stdout
         .lines()
         .filter_map(|l| l.split("task: ").nth(1))
