@@ -51,7 +51,7 @@ fn a_recorded_demo_replays_bit_for_bit() {
     };
     let rt = gapfleet_tests::runtime();
     let report = rt
-        .block_on(run_demo(options, std::future::pending(), |_| {}, |_| {}))
+        .block_on(run_demo(options, std::future::pending(), |_, _| {}, |_| {}))
         .expect("the demo runs");
     let written = journal.finish().expect("the journal is written");
     let recorded = read(&dir).expect("the journal reads back");

@@ -34,6 +34,6 @@ fn a_short_soak_loses_nothing() {
     assert!(
         soak.windows
             .iter()
-            .all(|w| w.rss_mib > 0.0 && w.p99_ms.is_finite())
+            .all(|w| w.rss_mib > 0.0 && w.state_kib > 0.0 && w.p99_ms.is_finite())
     );
 }

@@ -121,7 +121,7 @@ pub async fn bench_fleet(
     // CPU time counters from the first status to the last (the part of the run timed).
     let cpu = std::sync::Arc::new(std::sync::Mutex::new((None, None)));
     let cpu_seen = cpu.clone();
-    let on_status = move |s: &crate::fleet::Status| {
+    let on_status = move |s: &crate::fleet::Status, _: &world_sim::fleet::Fleet| {
         first_tick_seen.get_or_init(|| Instant::now() - Duration::from_secs_f64(s.sim_time));
         if s.tick > 0 {
             ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));

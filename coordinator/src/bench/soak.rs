@@ -21,6 +21,9 @@ pub struct SoakWindow {
     pub ticks: u64,
     /// Resident memory at the window's end (MiB; Linux `/proc`, 0 elsewhere).
     pub rss_mib: f64,
+    /// What the simulation holds at the window's end: the size of the fleet's snapshot (KiB).
+    /// Steady while the world's state does not grow, whatever the process's memory does.
+    pub state_kib: f64,
     /// Round trips timed in the window.
     pub round_trips: usize,
     /// Their median (ms).
@@ -122,12 +125,18 @@ pub async fn bench_soak(
     let windows_in = windows.clone();
     let last_rss = Arc::new(Mutex::new(0.0f64));
     let last_rss_in = last_rss.clone();
-    let on_status = move |s: &crate::fleet::Status| {
+    let last_state = Arc::new(Mutex::new(0.0f64));
+    let last_state_in = last_state.clone();
+    let on_status = move |s: &crate::fleet::Status, fleet: &world_sim::fleet::Fleet| {
         if let Ok(mut r) = last_rss_in.lock() {
             *r = rss_mib();
         }
         if Instant::now() < next_cut {
             return;
+        }
+        let state_kib = fleet.snapshot().len() as f64 / 1024.0;
+        if let Ok(mut k) = last_state_in.lock() {
+            *k = state_kib;
         }
         next_cut += window;
         let mut trips = pending
@@ -138,6 +147,7 @@ pub async fn bench_soak(
             wall_s: started.elapsed().as_secs_f64(),
             ticks: s.tick,
             rss_mib: rss_mib(),
+            state_kib,
             round_trips: trips.len(),
             p50_ms: percentile(&mut trips, 0.5) / 1000.0,
             p99_ms: percentile(&mut trips, 0.99) / 1000.0,
@@ -161,6 +171,7 @@ pub async fn bench_soak(
             wall_s: started.elapsed().as_secs_f64(),
             ticks: report.status.tick,
             rss_mib: last_rss.lock().map_or(0.0, |r| *r),
+            state_kib: last_state.lock().map_or(0.0, |k| *k),
             round_trips: trips.len(),
             p50_ms: percentile(&mut trips, 0.5) / 1000.0,
             p99_ms: percentile(&mut trips, 0.99) / 1000.0,

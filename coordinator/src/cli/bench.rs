@@ -229,12 +229,20 @@ impl Bench {
                 init_logging("warn");
                 let scenario = warehouse_large(agents, humans)?;
                 if !json {
-                    println!("  wall s     ticks   RSS MiB   round trips   p50 ms   p99 ms");
+                    println!(
+                        "  wall s     ticks   RSS MiB  state KiB   round trips   p50 ms   p99 ms"
+                    );
                 }
                 let row = |w: &coordinator::bench::soak::SoakWindow| {
                     println!(
-                        "{:8.0} {:9} {:9.1} {:13} {:8.2} {:8.2}",
-                        w.wall_s, w.ticks, w.rss_mib, w.round_trips, w.p50_ms, w.p99_ms
+                        "{:8.0} {:9} {:9.1} {:10.1} {:13} {:8.2} {:8.2}",
+                        w.wall_s,
+                        w.ticks,
+                        w.rss_mib,
+                        w.state_kib,
+                        w.round_trips,
+                        w.p50_ms,
+                        w.p99_ms
                     );
                 };
                 let soak = runtime()?.block_on(coordinator::bench::soak::bench_soak(

@@ -143,7 +143,7 @@ impl DemoArgs {
         let report = runtime()?.block_on(run_demo(
             options,
             agent::runtime::shutdown_signal(),
-            |status| {
+            |status, _| {
                 printed += 1;
                 if tty {
                     eprint!("\r{}", status_line(status));

@@ -107,12 +107,13 @@ pub enum DemoError {
     Close(zenoh::Error),
 }
 
-/// Runs the demo; `on_status` sees the coordinator's status about once per wall second;
+/// Runs the demo; `on_status` sees the coordinator's status and the fleet about once per wall
+/// second;
 /// `on_web_url` gets the served web viewer's address (with `--web`) before the fleet starts.
 pub async fn run_demo(
     options: DemoOptions,
     shutdown: impl Future<Output = ()>,
-    mut on_status: impl FnMut(&Status),
+    mut on_status: impl FnMut(&Status, &Fleet),
     on_web_url: impl FnOnce(&str),
 ) -> Result<DemoReport, DemoError> {
     let mut fleet = Fleet::new(&options.scenario)?;
@@ -182,7 +183,7 @@ pub async fn run_demo(
     let presence = declare_presence(&router, &options.site).await?;
     let mut final_fleet = None;
     let status_line = |status: &Status, fleet: &Fleet| {
-        on_status(status);
+        on_status(status, fleet);
         final_fleet = Some((
             (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
             (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),

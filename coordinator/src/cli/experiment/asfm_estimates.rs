@@ -1,0 +1,115 @@
+//! `gapfleet experiment asfm-estimates`: asfm's estimate Â_o per tracked person.
+
+use super::non_negative;
+use crate::cli::density;
+use agent::asfm::AsfmParams;
+use anyhow::{Context, Result};
+use coordinator::study::with_progress;
+use std::path::PathBuf;
+use std::time::Instant;
+use world_sim::dataset::Recording;
+use world_sim::replay::{ReplayOptions, map_of, median_speed};
+use world_sim::scenario::Scenario;
+
+/// `experiment asfm-estimates`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct AsfmEstimatesArgs {
+    /// Recorded sequences (OpenTraj obsmat.txt folders), comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "world-sim/datasets/ETH/seq_eth,world-sim/datasets/UCY/zara01"
+    )]
+    datasets: Vec<PathBuf>,
+    /// Only the first N partial runs of each recording.
+    #[arg(long, default_value_t = 60)]
+    limit: usize,
+    /// Open-space seeds per crowd (reacting to robots, and not).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Open-space density (people per m²).
+    #[arg(long, default_value_t = 0.1, value_parser = density)]
+    density: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Added to the Kalman filter's P after each update (m²; Eq. 9 has none: 0).
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    process_noise: f64,
+    /// Output folder.
+    #[arg(long, default_value = "results/anticipatory/estimates")]
+    out: PathBuf,
+}
+
+/// Runs the study and writes its outputs.
+pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
+    use coordinator::study::estimates::{recorded, simulated, write_outputs};
+    let recordings = args
+        .datasets
+        .iter()
+        .map(|d| {
+            let recording = Recording::load(d)?;
+            let map = map_of(&recording)
+                .with_context(|| format!("{}: map.xml obstacles", d.display()))?;
+            Ok((recording, map))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let base = Scenario::builtin("open-space")?;
+    let params = AsfmParams {
+        process_noise: args.process_noise,
+        ..AsfmParams::default()
+    };
+    let total = recordings.len() * args.limit + 2 * args.seeds as usize;
+    let started = Instant::now();
+    let (rows, threads) = with_progress(args.jobs, total as u64, |progress| {
+        let mut rows = Vec::new();
+        for (recording, map) in &recordings {
+            let mut options = ReplayOptions::default();
+            options.robot.max_speed = (median_speed(recording) * 100.0).round() / 100.0;
+            rows.extend(recorded(
+                recording,
+                map,
+                &options,
+                &params,
+                Some(args.limit),
+                progress,
+            ));
+        }
+        for react in [true, false] {
+            rows.extend(simulated(
+                &base,
+                &params,
+                args.density,
+                args.seeds,
+                react,
+                progress,
+            ));
+        }
+        rows
+    })?;
+    let summary = write_outputs(&args.out, &rows)?;
+    eprintln!(
+        "{} people on {threads} threads in {:.1} s; wrote {}/estimates.csv, summary.json, estimates.png",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    println!("| source | people | Â_o: min / q1 / median / q3 / max | mean | \\|Â_o\\| < 2 |");
+    println!("|---|---|---|---|---|");
+    for s in &summary {
+        let q = s.quartiles;
+        println!(
+            "| {} | {} | {:.1} / {:.1} / {:.1} / {:.1} / {:.1} | {:.2} | {:.0}% |",
+            s.source,
+            s.people,
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            q[4],
+            s.mean,
+            100.0 * s.near_zero
+        );
+    }
+    Ok(())
+}

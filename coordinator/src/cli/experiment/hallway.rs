@@ -1,0 +1,118 @@
+//! `gapfleet experiment hallway`: the peek-and-pass paper's hallway study (Fig. 6).
+
+use super::walking_speed;
+use crate::cli::positive;
+use agent::planner::PlannerSpec;
+use anyhow::{Context, Result};
+use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
+use coordinator::study::with_progress;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `experiment hallway`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct HallwayArgs {
+    /// Planners, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "pnp,pnp-nopeek,pgp+orca,pgp+dwa,orca,sf"
+    )]
+    planners: Vec<PlannerSpec>,
+    /// Hallway lengths (m), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "25,50,100", value_parser = positive)]
+    lengths: Vec<f64>,
+    /// Hallway width (m). The paper gives none; at the built-in hallway's 3 m, people
+    /// standing still (speed 0) block the way in most trials.
+    #[arg(long, default_value_t = 4.0, value_parser = positive)]
+    width: f64,
+    /// People's walking speeds (m/s), comma-separated, each in [0, 3.5]; one per trial.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0,0.25,0.5,0.75,1,1.25,1.5,1.75,2,2.25,2.5,2.75,3,3.25,3.5",
+        value_parser = walking_speed
+    )]
+    speeds: Vec<f64>,
+    /// Seeds per (planner, length, speed): 1..=N, the same for every planner.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// The robot's top speed (m/s; the paper's: 3).
+    #[arg(long, default_value_t = 3.0, value_parser = positive)]
+    robot_speed: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder.
+    #[arg(long, default_value = "results/hallway")]
+    out: PathBuf,
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
+    #[arg(long)]
+    no_safety: bool,
+}
+
+/// Runs the study and writes its outputs.
+pub(super) fn run(args: HallwayArgs) -> Result<()> {
+    let scenario = hallway_scenario(args.robot_speed, !args.no_safety)?;
+    let study = HallwayStudy {
+        scenario,
+        planners: args.planners,
+        lengths: args.lengths,
+        width_m: args.width,
+        speeds: args.speeds,
+        seeds: args.seeds,
+    };
+    // Every run's scenario must be valid before hours of work start.
+    for &l in &study.lengths {
+        for &v in &study.speeds {
+            study
+                .scenario_for(l, v, 1)
+                .validate("experiment hallway")
+                .with_context(|| format!("hallway {l} m, people at {v} m/s"))?;
+        }
+    }
+    let started = Instant::now();
+    let (rows, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
+        study.execute(progress)
+    })?;
+    let summary = coordinator::study::hallway::write_outputs(&args.out, &study, &rows)?;
+    eprintln!(
+        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json and figures",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    println!(
+        "| planner | length (m) | runs | reached | time to goal (s) | path changes | personal-space entries | robot-caused |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    let planners: Vec<String> = study.planners.iter().map(|p| p.to_string()).collect();
+    for p in &planners {
+        for &l in &study.lengths {
+            let cells: Vec<_> = summary
+                .cells
+                .iter()
+                .filter(|c| &c.planner == p && c.length_m == l)
+                .collect();
+            let runs: usize = cells.iter().map(|c| c.runs).sum();
+            let w = |f: &dyn Fn(&coordinator::study::hallway::HallwayCell) -> f64| {
+                cells.iter().map(|c| f(c) * c.runs as f64).sum::<f64>() / runs.max(1) as f64
+            };
+            let timed: Vec<f64> = cells.iter().filter_map(|c| c.time_to_goal_s).collect();
+            println!(
+                "| {p} | {l} | {runs} | {:.0}% | {} | {:.2} | {:.2} | {} |",
+                100.0 * w(&|c| c.reached),
+                if timed.is_empty() {
+                    "–".to_string()
+                } else {
+                    format!("{:.1}", timed.iter().sum::<f64>() / timed.len() as f64)
+                },
+                w(&|c| c.path_changes),
+                w(&|c| c.personal_space_entries),
+                cells.iter().map(|c| c.robot_caused_contacts).sum::<u64>(),
+            );
+        }
+    }
+    Ok(())
+}

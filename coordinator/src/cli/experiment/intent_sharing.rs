@@ -1,0 +1,67 @@
+//! `gapfleet experiment intent-sharing`: the same warehouse seeds with and without shared intents.
+
+use crate::cli::{Overrides, ScenarioRef, positive};
+use agent::planner::PlannerSpec;
+use anyhow::Result;
+use coordinator::study::intent_sharing::{IntentSharingStudy, report};
+use coordinator::study::{with_progress, write_json};
+use std::path::PathBuf;
+
+/// `experiment intent-sharing`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct IntentSharingArgs {
+    /// Seeds 1..=N.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Simulated seconds per run.
+    #[arg(long, default_value_t = 300.0, value_parser = positive)]
+    seconds: f64,
+    /// Robots [default: the scenario's].
+    #[arg(long)]
+    robots: Option<usize>,
+    /// People [default: the scenario's].
+    #[arg(long)]
+    humans: Option<usize>,
+    /// Planner stack of every robot.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: PlannerSpec,
+    /// Built-in warehouse scenario or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    scenario: ScenarioRef,
+    /// Write the per-run table here as JSON.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
+    #[arg(long)]
+    no_safety: bool,
+}
+
+/// Runs the study and writes its outputs.
+pub(super) fn run(args: IntentSharingArgs) -> Result<()> {
+    let scenario = args.scenario.fleet_site(Overrides {
+        robots: args.robots,
+        humans: args.humans,
+        seed: None,
+        no_safety: args.no_safety,
+    })?;
+    let (robots, humans) = scenario.fleet_size().unwrap_or((0, 0));
+    let study = IntentSharingStudy {
+        scenario,
+        planner: args.planner,
+        seeds: args.seeds,
+        seconds: args.seconds,
+    };
+    let (runs, _) = with_progress(None, 2 * args.seeds, |progress| study.execute(progress))?;
+    let runs = runs?;
+    println!(
+        "{} seeds x {} s, {robots} robots ({}), {humans} people; means per run:",
+        args.seeds, args.seconds, args.planner
+    );
+    print!("{}", report(&runs));
+    if let Some(path) = args.out {
+        // Through a JSON value, whose keys are in alphabetical order.
+        write_json(&path, &serde_json::to_value(&runs)?)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,96 @@
+//! `gapfleet experiment`: the studies, run in-process on all cores with a progress bar.
+
+mod anticipatory;
+mod asfm_estimates;
+mod hallway;
+mod intent_sharing;
+mod laned;
+mod open_space;
+mod replay;
+mod traffic;
+
+use anticipatory::AnticipatoryArgs;
+use asfm_estimates::AsfmEstimatesArgs;
+use hallway::HallwayArgs;
+use intent_sharing::IntentSharingArgs;
+use laned::LanedArgs;
+use open_space::OpenSpaceArgs;
+use replay::ReplayArgs;
+use traffic::TrafficArgs;
+
+use anyhow::Result;
+use clap::Subcommand;
+use std::path::PathBuf;
+
+/// The studies.
+#[derive(Debug, Subcommand)]
+pub enum Experiment {
+    /// The PGP paper's open-space study: algorithms × densities × seeds.
+    OpenSpace(OpenSpaceArgs),
+    /// The same warehouse seeds with robots sharing intents and without: robot–robot near
+    /// misses and collisions, in-process.
+    IntentSharing(IntentSharingArgs),
+    /// The foIGP paper's protocol on a recorded crowd (OpenTraj obsmat.txt format: ETH, UCY,
+    /// …): each planner in turn takes a pedestrian's place among the others as recorded.
+    #[command(alias = "eth")]
+    Replay(ReplayArgs),
+    /// The peek-and-pass paper's hallway study (Fig. 6): planners × hallway lengths × human
+    /// speeds × seeds, a 3 m/s robot driving end to end through two-way foot traffic.
+    Hallway(HallwayArgs),
+    /// The peek-and-pass paper's laned study (Fig. 4): people in lanes walking one way at
+    /// varied speeds, the robot's average speed against 1/(c1·c3).
+    Laned(LanedArgs),
+    /// The anticipatory Social Force paper's experiment (Sec. IV): a robot and one Social
+    /// Force obstacle swapping places on a 3 × 3 m floor; Â_o estimated or fixed at 0 or 20.
+    Anticipatory(AnticipatoryArgs),
+    /// asfm's estimate Â_o per tracked person on a recorded crowd (people who never react to
+    /// the robot) and in the simulator's open space with people who react and who do not.
+    AsfmEstimates(AsfmEstimatesArgs),
+    /// Fleet traffic: fleets of several sizes in the narrow-aisle warehouse and the fleet
+    /// hallway, the traffic policy off and on, the same seeds; deadlocks, stuck robots, tasks
+    /// per minute, contacts and people's delay, and throughput against fleet size.
+    Traffic(TrafficArgs),
+    /// Rebuild summary.json and the figures from a study's runs.csv, without re-running.
+    Summarize {
+        /// The study's output folder.
+        #[arg(long, default_value = "results/open-space")]
+        dir: PathBuf,
+    },
+}
+
+/// A finite number ≥ 0.
+fn non_negative(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not a finite number ≥ 0"))
+    }
+}
+
+/// A walking speed in [0, 3.5] m/s.
+fn walking_speed(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if v.is_finite() && (0.0..=3.5).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not in [0, 3.5] m/s"))
+    }
+}
+
+impl Experiment {
+    /// Runs the study and writes its outputs.
+    pub fn run(self) -> Result<()> {
+        match self {
+            Experiment::OpenSpace(args) => open_space::run(args),
+            Experiment::IntentSharing(args) => intent_sharing::run(args),
+            Experiment::Replay(args) => replay::run(args),
+            Experiment::Hallway(args) => hallway::run(args),
+            Experiment::Laned(args) => laned::run(args),
+            Experiment::Anticipatory(args) => anticipatory::run(args),
+            Experiment::AsfmEstimates(args) => asfm_estimates::run(args),
+            Experiment::Traffic(args) => traffic::run(args),
+            Experiment::Summarize { dir } => open_space::summarize(&dir),
+        }
+    }
+}

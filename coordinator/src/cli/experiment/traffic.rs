@@ -1,0 +1,185 @@
+//! `gapfleet experiment traffic`: fleets of several sizes, the traffic policy off and on.
+
+use crate::cli::positive;
+use agent::planner::PlannerSpec;
+use anyhow::{Context, Result, bail};
+use coordinator::study::traffic::{self as traffic_study, TrafficStudy};
+use coordinator::study::with_progress;
+use std::path::PathBuf;
+use std::sync::{Mutex, PoisonError};
+use std::time::Instant;
+use world_sim::scenario::Scenario;
+
+/// `experiment traffic`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct TrafficArgs {
+    /// Seeds per (site, fleet size, policy).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
+    /// seeds held out from the default study's 1–100).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..1 << 62))]
+    first_seed: u64,
+    /// Simulated seconds per run.
+    #[arg(long, default_value_t = 300.0, value_parser = positive)]
+    seconds: f64,
+    /// Fleet sizes in the narrow-aisle warehouse (`warehouse-narrow`), comma-separated; empty
+    /// (`''`) for none.
+    #[arg(long, default_value = "10,20,40", value_parser = fleet_sizes)]
+    narrow_fleets: FleetSizes,
+    /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated; empty for none.
+    #[arg(long, default_value = "10,20", value_parser = fleet_sizes)]
+    hallway_fleets: FleetSizes,
+    /// The traffic policy off, on, or both (`off,on`), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "off,on", value_parser = on_off)]
+    policy: Vec<bool>,
+    /// Take runs from this earlier `runs.csv` instead of running them again, for the policy
+    /// settings given here (`off`, `on`): only for settings whose code has not changed.
+    #[arg(long, requires = "reuse_policy")]
+    reuse: Option<PathBuf>,
+    /// The policy settings to take from `--reuse`, comma-separated.
+    #[arg(long, value_delimiter = ',', value_parser = on_off, requires = "reuse")]
+    reuse_policy: Vec<bool>,
+    /// Planner stack of every robot.
+    #[arg(long, default_value = "pgp+orca")]
+    planner: PlannerSpec,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder.
+    #[arg(long, default_value = "results/traffic")]
+    out: PathBuf,
+}
+
+/// Fleet sizes, comma-separated; the empty list is allowed (a site left out).
+#[derive(Debug, Clone)]
+struct FleetSizes(Vec<usize>);
+
+fn fleet_sizes(s: &str) -> Result<FleetSizes, String> {
+    if s.trim().is_empty() {
+        return Ok(FleetSizes(Vec::new()));
+    }
+    s.split(',')
+        .map(|n| {
+            n.trim()
+                .parse()
+                .map_err(|e| format!("fleet size `{n}`: {e}"))
+        })
+        .collect::<Result<_, _>>()
+        .map(FleetSizes)
+}
+
+/// `on` or `off`.
+fn on_off(s: &str) -> Result<bool, String> {
+    match s {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("`{s}` is neither `on` nor `off`")),
+    }
+}
+
+/// Runs the study and writes its outputs.
+pub(super) fn run(args: TrafficArgs) -> Result<()> {
+    let mut sites = Vec::new();
+    for (name, fleets) in [
+        ("warehouse-narrow", args.narrow_fleets.0),
+        ("hallway-fleet", args.hallway_fleets.0),
+    ] {
+        if fleets.is_empty() {
+            continue;
+        }
+        let most = world_sim::scenario::MAX_ROBOTS;
+        if let Some(&bad) = fleets.iter().find(|&&n| !(1..=most).contains(&n)) {
+            bail!("fleet size {bad} for {name} is not in [1, {most}]");
+        }
+        let scenario = Scenario::builtin(name)?;
+        sites.push(traffic_study::Site { scenario, fleets });
+    }
+    if sites.is_empty() {
+        bail!("no fleet sizes given: --narrow-fleets and --hallway-fleets are both empty");
+    }
+    if args.first_seed.checked_add(args.seeds).is_none() {
+        bail!(
+            "--first-seed {} with --seeds {} runs past the last seed",
+            args.first_seed,
+            args.seeds
+        );
+    }
+    let mut policies = args.policy;
+    policies.sort_unstable();
+    policies.dedup();
+    let study = TrafficStudy {
+        sites,
+        planner: args.planner,
+        first_seed: args.first_seed,
+        seeds: args.seeds,
+        policies,
+        seconds: args.seconds,
+    };
+    let earlier = match &args.reuse {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let mut runs = traffic_study::parse_runs(&text).with_context(|| {
+                format!("reading {} as a traffic study's runs.csv", path.display())
+            })?;
+            runs.retain(|r| args.reuse_policy.contains(&r.policy));
+            eprintln!("reusing {} runs from {}", runs.len(), path.display());
+            runs
+        }
+        None => Vec::new(),
+    };
+    // Each run is saved as it ends, so an interrupted study loses nothing finished.
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let partial_path = args.out.join("runs.partial.csv");
+    let partial = Mutex::new(
+        csv::Writer::from_path(&partial_path)
+            .with_context(|| format!("creating {}", partial_path.display()))?,
+    );
+    let save_error: Mutex<Option<String>> = Mutex::new(None);
+    eprintln!(
+        "saving runs to {} as they end; if interrupted, go on with `--reuse {} --reuse-policy off,on`",
+        partial_path.display(),
+        partial_path.display()
+    );
+    let started = Instant::now();
+    let (runs, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
+        study.execute_reusing(&earlier, &|run| {
+            progress();
+            let mut writer = partial.lock().unwrap_or_else(PoisonError::into_inner);
+            let saved = writer
+                .serialize(run)
+                .map_err(|e| e.to_string())
+                .and_then(|()| writer.flush().map_err(|e| e.to_string()));
+            if let Err(e) = saved {
+                let mut first = save_error.lock().unwrap_or_else(PoisonError::into_inner);
+                first.get_or_insert(e);
+            }
+        })
+    })?;
+    let runs = runs?;
+    if let Some(e) = save_error
+        .into_inner()
+        .unwrap_or_else(PoisonError::into_inner)
+    {
+        eprintln!(
+            "warning: saving runs to {} failed: {e}",
+            partial_path.display()
+        );
+    }
+    let cells = traffic_study::write_outputs(&args.out, &study, &runs)?;
+    drop(partial);
+    std::fs::remove_file(&partial_path)
+        .with_context(|| format!("removing {}", partial_path.display()))?;
+    eprintln!(
+        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, summary.md and throughput.png",
+        runs.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display(),
+    );
+    print!("{}", traffic_study::table(&cells));
+    println!("\nWhere the stuck robot-seconds went:");
+    print!("{}", traffic_study::stuck_table(&cells));
+    Ok(())
+}
