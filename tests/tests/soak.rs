@@ -14,10 +14,12 @@ fn a_short_soak_loses_nothing() {
     let soak = rt
         .block_on(bench_soak(
             scenario,
+            "pgp+orca".parse().expect("a planner"),
             10,
             4000,
             1000.0,
             Duration::from_secs(2),
+            std::future::pending(),
             |_| {},
         ))
         .expect("the soak runs");

@@ -5,7 +5,7 @@
 use super::BenchError;
 use crate::fleet::RoundTrip;
 use crate::fleet::demo::{DemoOptions, Transport, run_demo};
-use agent::planner::{LocalKind, PlannerSpec};
+use agent::planner::PlannerSpec;
 use agent::runtime::percentile;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -72,24 +72,26 @@ pub fn rss_mib() -> f64 {
     pages * 4096.0 / (1024.0 * 1024.0)
 }
 
-/// Runs `agents` agents in `scenario` for `ticks` ticks at `speed`, one window every
-/// `window` of wall time, each shown to `on_window` as it closes.
+/// Runs `agents` agents planning with `planner` in `scenario` for `ticks` ticks at `speed`,
+/// one window every `window` of wall time, each shown to `on_window` as it closes. When
+/// `shutdown` completes first (SIGINT, say), the soak stops there and reports the ticks it ran
+/// (the last tick's observations may then still be in flight, and count as lost).
+#[allow(clippy::too_many_arguments)]
 pub async fn bench_soak(
     scenario: world_sim::scenario::Scenario,
+    planner: PlannerSpec,
     agents: usize,
     ticks: u64,
     speed: f64,
     window: Duration,
+    shutdown: impl Future<Output = ()>,
     mut on_window: impl FnMut(&SoakWindow),
 ) -> Result<Soak> {
     let (round_trips_tx, round_trips_rx) = std::sync::mpsc::channel::<RoundTrip>();
     let dt = scenario.dt_s;
     let options = DemoOptions {
         scenario,
-        planner: PlannerSpec {
-            pgp: true,
-            local: LocalKind::Orca,
-        },
+        planner,
         seconds: ticks as f64 * dt,
         speed,
         site: "soak".to_owned(),
@@ -157,7 +159,7 @@ pub async fn bench_soak(
             ws.push(w);
         }
     };
-    let report = run_demo(options, std::future::pending(), on_status, |_| {}).await?;
+    let report = run_demo(options, shutdown, on_status, |_| {}).await?;
     let _ = gather.join();
     let mut windows = windows.lock().map(|w| w.clone()).unwrap_or_default();
     // The last (partial) window, with the memory the run held at its last status (by now

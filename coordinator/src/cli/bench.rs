@@ -101,6 +101,10 @@ pub enum Bench {
         /// Wall seconds per window.
         #[arg(long, default_value_t = 60.0, value_parser = positive)]
         window_s: f64,
+        /// Every agent's planner stack. The soak watches the fleet's plumbing (transport,
+        /// coordinator, memory); a lighter planner runs more ticks in the same time.
+        #[arg(long, default_value = "pgp+orca")]
+        planner: agent::planner::PlannerSpec,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -224,6 +228,7 @@ impl Bench {
                 ticks,
                 speed,
                 window_s,
+                planner,
                 json,
             } => {
                 init_logging("warn");
@@ -247,10 +252,12 @@ impl Bench {
                 };
                 let soak = runtime()?.block_on(coordinator::bench::soak::bench_soak(
                     scenario,
+                    planner,
                     agents,
                     ticks,
                     speed,
                     std::time::Duration::from_secs_f64(window_s),
+                    agent::runtime::shutdown_signal(),
                     |w| {
                         if !json {
                             row(w);
