@@ -226,6 +226,7 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
         .arg("replay")
         .arg(&state)
         .arg("--events")
+        .arg("--tasks")
         .output()
         .expect("gapfleet replay runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -250,6 +251,23 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
     done.sort_unstable();
     done.dedup();
     assert_eq!(done.len(), all, "a task done twice: {stdout}");
+    // The ledger, across the crash: ids 0, 1, … with no gap or repeat, two tasks done.
+    let ledger: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("ledger task "))
+        .collect();
+    for (k, line) in ledger.iter().enumerate() {
+        assert!(
+            line.starts_with(&format!("ledger task {k}: ")),
+            "task ids count on: {stdout}"
+        );
+    }
+    assert!(ledger.len() >= ROBOTS as usize, "{stdout}");
+    assert_eq!(
+        ledger.iter().filter(|l| !l.ends_with("done at -")).count(),
+        2,
+        "{stdout}"
+    );
     let _ = std::fs::remove_dir_all(&state);
 
     // 4. Another scenario, another map: the same agents fetch it.

@@ -99,6 +99,19 @@ fn a_recorded_demo_replays_bit_for_bit() {
             .sum::<usize>()
     );
     assert_eq!(taken, [300]);
+    // The task ledger: ids 0, 1, … in order of assignment, each line rebuilt by the replay.
+    println!("ledger: {:?}", recorded.tasks);
+    assert!(recorded.tasks.len() >= 4, "every robot got a task");
+    for (k, line) in recorded.tasks.iter().enumerate() {
+        assert_eq!(line.task, k as u64);
+    }
+    let done_in_ledger = recorded
+        .tasks
+        .iter()
+        .filter(|t| t.done_tick.is_some())
+        .count();
+    assert_eq!(done_in_ledger as u64, end.tasks_done);
+    assert_eq!(replayed.tasks_checked, recorded.tasks.len() as u64);
     assert_eq!(replayed.snapshots_checked, 1);
     assert!(recorded.ticks.iter().any(|t| !t.intents.is_empty()));
     // A restart resumes from it: 100 ticks re-run, not 400, to the same end.

@@ -15,6 +15,9 @@ pub struct ReplayArgs {
     /// Print the event log too.
     #[arg(long)]
     events: bool,
+    /// Print the task ledger too.
+    #[arg(long)]
+    tasks: bool,
     #[command(flatten)]
     rerun: RerunArgs,
 }
@@ -54,6 +57,22 @@ impl ReplayArgs {
                 println!("tick {:6}  t {:7.1} s  {}", e.tick, e.sim_time, e.event);
             }
         }
+        if self.tasks {
+            let tick = |t: Option<u64>| t.map_or("-".to_owned(), |t| t.to_string());
+            for t in &recorded.tasks {
+                println!(
+                    "ledger task {}: robot {}, station {} to dock {}, assigned at tick {}, \
+                     picked at {}, done at {}",
+                    t.task,
+                    t.robot,
+                    t.pick_station,
+                    t.drop_station,
+                    t.assigned_tick,
+                    tick(t.picked_tick),
+                    tick(t.done_tick)
+                );
+            }
+        }
         let sinks = self.rerun.sinks();
         let mut dashboard = None;
         let mut status = Status::default();
@@ -85,12 +104,14 @@ impl ReplayArgs {
         }
         println!(
             "replayed {} ticks: {} tasks done, fingerprint {:016x}; {} fingerprints and {} \
-             snapshots on the way and the final fingerprint match the recorded run",
+             snapshots on the way, the final fingerprint and the ledger's {} tasks match the \
+             recorded run",
             replayed.ticks,
             replayed.tasks_done,
             replayed.fingerprint,
             replayed.checked,
-            replayed.snapshots_checked
+            replayed.snapshots_checked,
+            replayed.tasks_checked
         );
         if let Some(end) = &recorded.end {
             println!(

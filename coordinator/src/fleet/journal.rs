@@ -15,6 +15,10 @@
 //! after it ([`resume`]); `gapfleet replay` re-runs from tick 0 and checks every snapshot it
 //! passes, byte for byte.
 //!
+//! The task ledger keeps a line per task, by its id (unique on the site: ids count on from
+//! the snapshot across restarts): the robot, the stations, and the ticks it was assigned,
+//! picked and done. A replay from tick 0 rebuilds it from the fleet's events and checks it.
+//!
 //! Writes leave the tick through a bounded queue to a thread of their own, which commits every
 //! 200 ms: the tick never waits for the disk. What a crash can lose is what was not yet
 //! committed: at most the last 200 ms of inputs, plus the queue if the disk fell behind. If
@@ -33,12 +37,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, SyncSender, TrySendError, sync_channel};
 use std::time::Duration;
-use world_sim::fleet::Fleet;
+use world_sim::fleet::{Fleet, FleetEvent};
 use world_sim::scenario::Scenario;
 
 const META: TableDefinition<&str, &[u8]> = TableDefinition::new("meta");
 const TICKS: TableDefinition<u64, &[u8]> = TableDefinition::new("ticks");
 const EVENTS: TableDefinition<u64, &[u8]> = TableDefinition::new("events");
+/// The task ledger, by task id.
+const TASKS: TableDefinition<u64, &[u8]> = TableDefinition::new("tasks");
 /// Snapshots by the number of ticks run when they were taken.
 const SNAPSHOTS: TableDefinition<u64, &[u8]> = TableDefinition::new("snapshots");
 
@@ -173,6 +179,57 @@ impl IntentInput {
     }
 }
 
+/// A task's line in the ledger.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TaskRecord {
+    /// The task's id, unique on the site.
+    pub task: u64,
+    /// The robot it was given to.
+    pub robot: u32,
+    /// The station to pick at.
+    pub pick_station: u32,
+    /// The dock to drop at.
+    pub drop_station: u32,
+    /// The tick it was assigned at.
+    pub assigned_tick: u64,
+    /// The tick the robot reached the pick station, if it has.
+    pub picked_tick: Option<u64>,
+    /// The tick the robot dropped the load (the task done), if it has.
+    pub done_tick: Option<u64>,
+}
+
+/// The task a fleet event is about.
+fn task_of(event: &FleetEvent) -> u64 {
+    match *event {
+        FleetEvent::Assigned { task, .. } => task.id,
+        FleetEvent::Picked { task, .. } | FleetEvent::Done { task, .. } => task,
+    }
+}
+
+/// A task's ledger line after `event` at `tick`, from its line so far (`None` for a task
+/// not yet in the ledger; a stage of a task never assigned gives `None`).
+pub fn ledger_step(line: Option<TaskRecord>, tick: u64, event: &FleetEvent) -> Option<TaskRecord> {
+    match *event {
+        FleetEvent::Assigned { robot, task } => Some(TaskRecord {
+            task: task.id,
+            robot: robot as u32,
+            pick_station: task.pick as u32,
+            drop_station: task.drop as u32,
+            assigned_tick: tick,
+            picked_tick: None,
+            done_tick: None,
+        }),
+        FleetEvent::Picked { .. } => line.map(|l| TaskRecord {
+            picked_tick: Some(tick),
+            ..l
+        }),
+        FleetEvent::Done { .. } => line.map(|l| TaskRecord {
+            done_tick: Some(tick),
+            ..l
+        }),
+    }
+}
+
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct End {
@@ -201,6 +258,8 @@ pub struct EventRecord {
 enum Record {
     Tick(TickInput),
     Event(EventRecord),
+    /// A task's step at a tick, for the ledger.
+    Task(u64, FleetEvent),
     /// The fleet after this many ticks, encoded by the writer.
     Snapshot(u64, Box<Fleet>),
     End(End),
@@ -287,6 +346,11 @@ impl JournalSink {
     /// Records one tick's inputs.
     pub fn tick(&self, input: TickInput) {
         self.send(Record::Tick(input));
+    }
+
+    /// Records a task's step (assigned, picked, done) at `tick` in the ledger.
+    pub fn task(&self, tick: u64, event: FleetEvent) {
+        self.send(Record::Task(tick, event));
     }
 
     /// Records the fleet after `ticks` ticks (a copy: the writer encodes it).
@@ -433,6 +497,7 @@ fn write_loop(
             let mut snapshots = txn
                 .open_table(SNAPSHOTS)
                 .map_err(db_err(path, "open snapshots"))?;
+            let mut tasks = txn.open_table(TASKS).map_err(db_err(path, "open tasks"))?;
             for record in batch {
                 match record {
                     Record::Tick(input) => {
@@ -449,6 +514,18 @@ fn write_loop(
                             .insert(events, pack(&event).as_slice())
                             .map_err(db_err(path, "write event"))?;
                         events += 1;
+                    }
+                    Record::Task(tick, event) => {
+                        let id = task_of(&event);
+                        let line = match tasks.get(id).map_err(db_err(path, "read task"))? {
+                            Some(bytes) => Some(unpack::<TaskRecord>(bytes.value())?),
+                            None => None,
+                        };
+                        if let Some(line) = ledger_step(line, tick, &event) {
+                            tasks
+                                .insert(id, pack(&line).as_slice())
+                                .map_err(db_err(path, "write task"))?;
+                        }
                     }
                     Record::Snapshot(at, fleet) => {
                         snapshots
@@ -487,6 +564,8 @@ pub struct Recorded {
     pub end: Option<End>,
     /// The snapshots kept, oldest first: ticks run when taken, and the bytes.
     pub snapshots: Vec<(u64, Vec<u8>)>,
+    /// The task ledger, by id.
+    pub tasks: Vec<TaskRecord>,
 }
 
 /// Reads the journal in `dir`.
@@ -528,6 +607,7 @@ fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
     };
     let ticks = rows(&txn, TICKS, &path)?;
     let events = rows(&txn, EVENTS, &path)?;
+    let tasks = rows(&txn, TASKS, &path)?;
     let snapshots = match txn.open_table(SNAPSHOTS) {
         Ok(table) => table
             .iter()
@@ -546,6 +626,7 @@ fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
         events,
         end,
         snapshots,
+        tasks,
     })
 }
 
@@ -626,6 +707,8 @@ pub struct Replayed {
     pub checked: u64,
     /// Snapshots passed on the way and found equal to the replayed fleet, byte for byte.
     pub snapshots_checked: u64,
+    /// Ledger lines found equal to the replay's (a replay from tick 0 checks them all).
+    pub tasks_checked: u64,
     /// Tasks done.
     pub tasks_done: u64,
     /// The fleet at the end.
@@ -637,7 +720,7 @@ pub struct Replayed {
 /// fingerprint or snapshot that differs from the recorded one is an error naming the tick.
 pub fn replay(
     recorded: &Recorded,
-    on_tick: impl FnMut(&Fleet, &[world_sim::fleet::FleetEvent]),
+    on_tick: impl FnMut(&Fleet, &[FleetEvent]),
 ) -> Result<Replayed, JournalError> {
     let fleet = new_fleet(recorded)?;
     run_inputs(fleet, 0, recorded, true, on_tick)
@@ -678,7 +761,7 @@ fn run_inputs(
     from: u64,
     recorded: &Recorded,
     check_snapshots: bool,
-    mut on_tick: impl FnMut(&Fleet, &[world_sim::fleet::FleetEvent]),
+    mut on_tick: impl FnMut(&Fleet, &[FleetEvent]),
 ) -> Result<Replayed, JournalError> {
     // Held flags start as a new fleet's (none held) or the snapshot's; the first tick's record
     // holds the coordinator's holding every robot without an agent.
@@ -687,6 +770,8 @@ fn run_inputs(
     let mut snapshots = recorded.snapshots.iter().peekable();
     let (mut checked, mut snapshots_checked) = (0, 0);
     let mut commands = vec![agent::model::Command::STOP; n];
+    // The ledger as the replay makes it (from tick 0 only: a snapshot's tasks began before it).
+    let mut ledger = std::collections::BTreeMap::<u64, TaskRecord>::new();
     for (k, input) in recorded.ticks.iter().enumerate().skip(from as usize) {
         if input.tick != k as u64 {
             return Err(JournalError::State(format!(
@@ -713,6 +798,12 @@ fn run_inputs(
         let mut events = fleet.step(&commands);
         events.extend(fleet.dispatch());
         on_tick(&fleet, &events);
+        for event in &events {
+            let id = task_of(event);
+            if let Some(line) = ledger_step(ledger.remove(&id), input.tick, event) {
+                ledger.insert(id, line);
+            }
+        }
         if let Some(recorded_print) = input.fingerprint {
             let now = fingerprint(&fleet);
             if now != recorded_print {
@@ -740,12 +831,26 @@ fn run_inputs(
             end.fingerprint
         )));
     }
+    let mut tasks_checked = 0;
+    if from == 0 {
+        for line in &recorded.tasks {
+            let replayed = ledger.get(&line.task);
+            if replayed != Some(line) {
+                return Err(JournalError::State(format!(
+                    "the ledger's task {} is {line:?}; the replay made it {replayed:?}",
+                    line.task
+                )));
+            }
+            tasks_checked += 1;
+        }
+    }
     Ok(Replayed {
         from,
         ticks: recorded.ticks.len() as u64,
         fingerprint: print,
         checked,
         snapshots_checked,
+        tasks_checked,
         tasks_done: tasks_done(&fleet),
         fleet,
     })

@@ -344,10 +344,14 @@ impl Coordinator<'_> {
         let mut events = self.fleet.step(&commands);
         events.extend(self.fleet.dispatch());
         if let (Some(journal), Some(mut input)) = (&self.config.journal, input.take()) {
-            if (input.tick + 1).is_multiple_of(journal::FINGERPRINT_EVERY) {
+            let tick = input.tick;
+            if (tick + 1).is_multiple_of(journal::FINGERPRINT_EVERY) {
                 input.fingerprint = Some(journal::fingerprint(&self.fleet));
             }
             journal.tick(input);
+            for event in &events {
+                journal.task(tick, *event);
+            }
             let ran = self.status.tick + 1;
             if ran.is_multiple_of(self.snapshot_every) {
                 journal.snapshot(ran, self.fleet.clone());
