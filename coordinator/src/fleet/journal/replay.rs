@@ -53,7 +53,7 @@ fn tasks_done(fleet: &Fleet) -> u64 {
 pub struct Replayed {
     /// The tick it started from: 0, or the restored snapshot's.
     pub from: u64,
-    /// Ticks re-run.
+    /// Ticks the run is at after it: the journal's (those re-run are `ticks - from`).
     pub ticks: u64,
     /// The world's fingerprint after them.
     pub fingerprint: u64,
