@@ -352,7 +352,7 @@ impl Coordinator<'_> {
             for event in &events {
                 journal.task(tick, *event);
             }
-            let ran = self.status.tick + 1;
+            let ran = tick + 1;
             if ran.is_multiple_of(self.snapshot_every) {
                 journal.snapshot(ran, self.fleet.clone());
             }
