@@ -377,12 +377,13 @@ struct Credentials {
     password: String,
 }
 
-/// What every gapfleet session sets: no multicast scouting, the fleet's express publications.
+/// What every gapfleet session sets: no multicast scouting, the fleet's publications batched
+/// (see [`agent::runtime::net::FLEET_QOS`]).
 fn common(mode: &str) -> Value {
     json!({
         "mode": mode,
         "scouting": { "multicast": { "enabled": false } },
-        "qos": { "publication": [ { "key_exprs": ["gapfleet/**"], "config": { "express": true } } ] },
+        "qos": { "publication": [ { "key_exprs": ["gapfleet/**"], "config": { "express": false } } ] },
     })
 }
 
