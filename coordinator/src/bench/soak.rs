@@ -60,6 +60,46 @@ pub struct Soak {
     pub windows: Vec<SoakWindow>,
     /// Resident memory growth from the end of the first window to the end of the last, %.
     pub rss_growth_percent: f64,
+    /// The run's second half against its first (warm-up), by windows; `None` under 2 windows.
+    pub halves: Option<Halves>,
+}
+
+/// A soak's second half against its first. The first half is taken as the warm-up: a rule
+/// fixed in advance, so that where warm-up ends is not picked after looking at the curve.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Halves {
+    /// Resident memory growth from the end of the first half to the end of the run, %.
+    pub rss_growth_percent: f64,
+    /// The median of the first half's windows' p99 (ms).
+    pub p99_first_ms: f64,
+    /// The median of the second half's windows' p99 (ms).
+    pub p99_second_ms: f64,
+}
+
+impl Halves {
+    /// Splits `windows` at the middle (the first half has ⌊n/2⌋ windows).
+    pub fn of(windows: &[SoakWindow]) -> Option<Self> {
+        if windows.len() < 2 {
+            return None;
+        }
+        let (first, second) = windows.split_at(windows.len() / 2);
+        let median_p99 = |ws: &[SoakWindow]| {
+            let mut p: Vec<f64> = ws.iter().map(|w| w.p99_ms).collect();
+            p.sort_by(f64::total_cmp);
+            p[(p.len() - 1) / 2]
+        };
+        let start = first.last()?.rss_mib;
+        let end = second.last()?.rss_mib;
+        Some(Self {
+            rss_growth_percent: if start > 0.0 {
+                (end / start - 1.0) * 100.0
+            } else {
+                0.0
+            },
+            p99_first_ms: median_p99(first),
+            p99_second_ms: median_p99(second),
+        })
+    }
 }
 
 /// Resident memory of this process (MiB), from `/proc/self/statm`; 0 where there is none.
@@ -203,7 +243,42 @@ pub async fn bench_soak(
         superseded: sum(|c| &c.superseded),
         stale_commands: s.stale_commands,
         rejected: s.rejected,
+        halves: Halves::of(&windows),
         windows,
         rss_growth_percent: growth,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn window(rss_mib: f64, p99_ms: f64) -> SoakWindow {
+        SoakWindow {
+            wall_s: 0.0,
+            ticks: 0,
+            rss_mib,
+            state_kib: 1.0,
+            round_trips: 1,
+            p50_ms: 1.0,
+            p99_ms,
+        }
+    }
+
+    #[test]
+    fn halves_split_at_the_middle() {
+        assert!(Halves::of(&[window(100.0, 1.0)]).is_none());
+        // Five windows: the first half is the first two, its memory ends at 120 MiB.
+        let ws = [
+            window(100.0, 9.0),
+            window(120.0, 3.0),
+            window(121.0, 4.0),
+            window(119.0, 8.0),
+            window(123.0, 5.0),
+        ];
+        let h = Halves::of(&ws).expect("two halves");
+        assert!((h.rss_growth_percent - 2.5).abs() < 1e-12);
+        assert_eq!(h.p99_first_ms, 3.0); // lower median of {9, 3}
+        assert_eq!(h.p99_second_ms, 5.0); // median of {4, 8, 5}
+    }
 }

@@ -289,6 +289,13 @@ impl Bench {
                     "resident memory from the first window to the last: {:+.1} %",
                     soak.rss_growth_percent
                 );
+                if let Some(h) = &soak.halves {
+                    println!(
+                        "second half against the first (the warm-up): resident memory {:+.1} %, \
+                         median window p99 {:.2} ms against {:.2} ms",
+                        h.rss_growth_percent, h.p99_second_ms, h.p99_first_ms
+                    );
+                }
                 Ok(())
             }
             Bench::World {
