@@ -85,6 +85,9 @@ pub struct AgentCounters {
     /// Observations replaced by a newer one before the planner got to them (a planner slower
     /// than the tick plans on the newest only).
     pub superseded: AtomicU64,
+    /// Observations that never arrived: gaps in the sequence numbers of those that did (an
+    /// observation lost after the last one that arrived is not seen here).
+    pub missed: AtomicU64,
     /// Safe-stop commands sent (timeouts and shutdown).
     pub safe_stops: AtomicU64,
     /// Maps fetched.
@@ -134,14 +137,30 @@ pub async fn run_agent(
     let obs_sub = {
         let newest = newest.clone();
         let counters = counters.clone();
+        let gaps = AtomicU64::new(0);
         session
             .declare_subscriber(keys.robot(id, Channel::Obs))
             .callback(
                 move |sample| match decode::<Observation>(&sample.payload().to_bytes()) {
                     Ok(obs) if obs.robot_id == id => {
                         counters.received.fetch_add(1, Ordering::Relaxed);
-                        if newest.put(obs) {
+                        let seq = obs.seq;
+                        let arrival = newest.put(obs);
+                        if arrival.replaced {
                             counters.superseded.fetch_add(1, Ordering::Relaxed);
+                        }
+                        if arrival.missed > 0 {
+                            let n = counters.missed.fetch_add(arrival.missed, Ordering::Relaxed)
+                                + arrival.missed;
+                            let gap = gaps.fetch_add(1, Ordering::Relaxed) + 1;
+                            if log_rejection(gap) {
+                                tracing::warn!(
+                                    robot = id,
+                                    missed = n,
+                                    "{} observations before number {seq} never arrived",
+                                    arrival.missed
+                                );
+                            }
                         }
                     }
                     Ok(obs) => reject(
@@ -336,29 +355,53 @@ pub async fn run_agent(
 /// taken by the agent's loop.
 #[derive(Debug, Default)]
 struct NewestObservation {
-    slot: std::sync::Mutex<Option<Observation>>,
+    slot: std::sync::Mutex<Slot>,
     /// Signalled on every new observation (a permit is kept when the loop is busy, so none is
     /// missed).
     ready: tokio::sync::Notify,
 }
 
+#[derive(Debug, Default)]
+struct Slot {
+    newest: Option<Observation>,
+    /// The sequence number of the last observation that arrived, planned on or not.
+    last_seq: Option<u64>,
+}
+
+/// What keeping an observation found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Arrival {
+    /// It replaced one the loop had not taken.
+    replaced: bool,
+    /// Observations that never arrived between the previous one and this: the coordinator
+    /// numbers each robot's observations 0, 1, 2, … and one link delivers them in order.
+    /// A number lower than the last is a restarted coordinator counting again, not a gap.
+    missed: u64,
+}
+
 impl NewestObservation {
-    /// Keeps `obs`; true if it replaced one the loop had not taken.
-    fn put(&self, obs: Observation) -> bool {
+    /// Keeps `obs`.
+    fn put(&self, obs: Observation) -> Arrival {
         // A poisoned lock only means a panic elsewhere while holding it; the slot is still
-        // a whole Option.
-        let replaced = self
-            .slot
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .replace(obs)
-            .is_some();
+        // whole.
+        let mut slot = self.slot.lock().unwrap_or_else(|e| e.into_inner());
+        let missed = match slot.last_seq {
+            Some(last) if obs.seq > last => obs.seq - last - 1,
+            _ => 0,
+        };
+        slot.last_seq = Some(obs.seq);
+        let replaced = slot.newest.replace(obs).is_some();
+        drop(slot);
         self.ready.notify_one();
-        replaced
+        Arrival { replaced, missed }
     }
 
     fn take(&self) -> Option<Observation> {
-        self.slot.lock().unwrap_or_else(|e| e.into_inner()).take()
+        self.slot
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .newest
+            .take()
     }
 }
 
@@ -511,4 +554,71 @@ pub fn percentile(values: &mut [u32], q: f64) -> f64 {
     values.sort_unstable();
     let rank = ((q * values.len() as f64).ceil() as usize).clamp(1, values.len());
     f64::from(values[rank - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn observation(seq: u64) -> Observation {
+        Observation {
+            robot_id: 7,
+            seq,
+            sim_time: seq as f64 * 0.1,
+            dt: 0.1,
+            map_version: 1,
+            p: schemas::P2(1.0, 2.0),
+            heading: 0.0,
+            vel: schemas::P2(0.0, 0.0),
+            yaw_rate: 0.0,
+            radius: 0.3,
+            goal: None,
+            task: None,
+            neighbours: Vec::new(),
+            visibility: None,
+        }
+    }
+
+    #[test]
+    fn gaps_in_the_sequence_are_counted_and_a_restart_is_not_one() {
+        let newest = NewestObservation::default();
+        let put = |seq| newest.put(observation(seq));
+        assert_eq!(
+            put(5),
+            Arrival {
+                replaced: false,
+                missed: 0
+            }
+        );
+        assert_eq!(
+            put(6),
+            Arrival {
+                replaced: true,
+                missed: 0
+            }
+        );
+        assert_eq!(newest.take().map(|o| o.seq), Some(6));
+        assert_eq!(
+            put(9),
+            Arrival {
+                replaced: false,
+                missed: 2
+            }
+        );
+        // The coordinator restarted and counts from 0 again.
+        assert_eq!(
+            put(0),
+            Arrival {
+                replaced: true,
+                missed: 0
+            }
+        );
+        assert_eq!(
+            put(1),
+            Arrival {
+                replaced: true,
+                missed: 0
+            }
+        );
+    }
 }

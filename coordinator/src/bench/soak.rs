@@ -50,6 +50,9 @@ pub struct Soak {
     /// Observations that never reached their agent (sent − received, summed over agents; the
     /// last tick's may still be on their way when the run ends).
     pub lost: u64,
+    /// Of those lost, the ones an agent saw missing: gaps in the sequence numbers of those that
+    /// arrived, each logged (rate-limited) with its robot as it is found.
+    pub missed: u64,
     /// Observations an agent received but skipped for a newer one (it plans on the newest).
     pub superseded: u64,
     /// Ticks in which a robot with a task had no fresh command.
@@ -240,6 +243,7 @@ pub async fn bench_soak(
         observations: s.observations,
         answered: s.answered,
         lost: s.observations.saturating_sub(received),
+        missed: sum(|c| &c.missed),
         superseded: sum(|c| &c.superseded),
         stale_commands: s.stale_commands,
         rejected: s.rejected,

@@ -272,14 +272,15 @@ impl Bench {
                     row(last);
                 }
                 println!(
-                    "{} agents, {} ticks in {:.0} wall s (asked {}x): {} observations, {} lost, \
-                     {} skipped for a newer one, {} answered; {} stale-command ticks, {} rejected",
+                    "{} agents, {} ticks in {:.0} wall s (asked {}x): {} observations, {} lost \
+                     ({} seen missing by their agent), {} skipped for a newer one, {} answered; {} stale-command ticks, {} rejected",
                     soak.agents,
                     soak.ticks,
                     soak.wall_s,
                     soak.speed,
                     soak.observations,
                     soak.lost,
+                    soak.missed,
                     soak.superseded,
                     soak.answered,
                     soak.stale_commands,
