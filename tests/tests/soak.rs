@@ -3,21 +3,21 @@
 //! saturated. No observation is lost (the demo lets the last tick's land before its agents go),
 //! nothing is rejected, and every window reports.
 
-use coordinator::bench::soak::bench_soak;
+use coordinator::bench::soak::{Soak, bench_soak};
 use std::time::Duration;
 use world_sim::scenario::Scenario;
 
-#[test]
-fn a_short_soak_loses_nothing() {
+/// `agents` agents planning with `planner` for `ticks` ticks of the large warehouse, no people,
+/// 2 s windows; checks that every tick ran and every agent was observed on each.
+fn soak(agents: usize, planner: &str, ticks: u64) -> Soak {
     let mut scenario = Scenario::builtin("warehouse-large").expect("built in");
-    assert!(scenario.set_fleet_size(Some(10), Some(0)));
-    let rt = gapfleet_tests::runtime();
-    let soak = rt
+    assert!(scenario.set_fleet_size(Some(agents), Some(0)));
+    let soak = gapfleet_tests::runtime()
         .block_on(bench_soak(
             scenario,
-            "pgp+orca".parse().expect("a planner"),
-            10,
-            4000,
+            planner.parse().expect("a planner"),
+            agents,
+            ticks,
             1000.0,
             Duration::from_secs(2),
             std::future::pending(),
@@ -25,8 +25,14 @@ fn a_short_soak_loses_nothing() {
         ))
         .expect("the soak runs");
     println!("{soak:#?}");
-    assert_eq!(soak.ticks, 4000);
-    assert_eq!(soak.observations, 40_000);
+    assert_eq!(soak.ticks, ticks);
+    assert_eq!(soak.observations, ticks * agents as u64);
+    soak
+}
+
+#[test]
+fn a_short_soak_loses_nothing() {
+    let soak = soak(10, "pgp+orca", 4000);
     assert_eq!(soak.lost, 0, "observations lost");
     assert_eq!(soak.rejected, 0);
     assert!(!soak.windows.is_empty());
@@ -42,24 +48,8 @@ fn a_short_soak_loses_nothing() {
 /// and observations were dropped: 47 in 10,000 ticks of `bench soak --planner dwa`.
 #[test]
 fn a_saturated_fleet_loses_nothing() {
-    let mut scenario = Scenario::builtin("warehouse-large").expect("built in");
-    assert!(scenario.set_fleet_size(Some(100), Some(0)));
-    let rt = gapfleet_tests::runtime();
-    let soak = rt
-        .block_on(bench_soak(
-            scenario,
-            "dwa".parse().expect("a planner"),
-            100,
-            1000,
-            1000.0,
-            Duration::from_secs(2),
-            std::future::pending(),
-            |_| {},
-        ))
-        .expect("the soak runs");
-    println!("{soak:#?}");
-    assert_eq!(soak.ticks, 1000);
-    assert_eq!(soak.observations, 100_000);
+    let soak = soak(100, "dwa", 1000);
     assert_eq!(soak.lost, 0, "observations lost");
+    assert_eq!(soak.missed, 0, "gaps seen by the agents");
     assert_eq!(soak.rejected, 0);
 }
