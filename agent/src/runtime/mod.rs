@@ -583,42 +583,13 @@ mod tests {
     fn gaps_in_the_sequence_are_counted_and_a_restart_is_not_one() {
         let newest = NewestObservation::default();
         let put = |seq| newest.put(observation(seq));
-        assert_eq!(
-            put(5),
-            Arrival {
-                replaced: false,
-                missed: 0
-            }
-        );
-        assert_eq!(
-            put(6),
-            Arrival {
-                replaced: true,
-                missed: 0
-            }
-        );
+        let arrival = |replaced, missed| Arrival { replaced, missed };
+        assert_eq!(put(5), arrival(false, 0));
+        assert_eq!(put(6), arrival(true, 0));
         assert_eq!(newest.take().map(|o| o.seq), Some(6));
-        assert_eq!(
-            put(9),
-            Arrival {
-                replaced: false,
-                missed: 2
-            }
-        );
+        assert_eq!(put(9), arrival(false, 2));
         // The coordinator restarted and counts from 0 again.
-        assert_eq!(
-            put(0),
-            Arrival {
-                replaced: true,
-                missed: 0
-            }
-        );
-        assert_eq!(
-            put(1),
-            Arrival {
-                replaced: true,
-                missed: 0
-            }
-        );
+        assert_eq!(put(0), arrival(true, 0));
+        assert_eq!(put(1), arrival(true, 0));
     }
 }

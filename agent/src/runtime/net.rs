@@ -69,7 +69,8 @@ fn set(config: &mut zenoh::Config, key: &str, value: &str) -> Result<(), ConfigE
 /// none were lost; the round trip was as fast at 10 Hz (p99 1.18–1.39 ms either way) and faster
 /// at full load (p50 5.7 ms against 9.1 ms). Batching holds a message back only while the link
 /// is still sending the previous one.
-pub const FLEET_QOS: &str = r#"[{ key_exprs: ["gapfleet/**"], config: { express: false } }]"#;
+/// Plain JSON (so also JSON5), as `site init` writes it into its configs too.
+pub const FLEET_QOS: &str = r#"[{ "key_exprs": ["gapfleet/**"], "config": { "express": false } }]"#;
 
 /// Zenoh's link lease (ms), set on every gapfleet session: a peer not heard from for this long
 /// (keep-alives go 4 times a lease) is gone, its transport closed and its liveliness tokens

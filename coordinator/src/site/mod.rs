@@ -380,10 +380,12 @@ struct Credentials {
 /// What every gapfleet session sets: no multicast scouting, the fleet's publications batched
 /// (see [`agent::runtime::net::FLEET_QOS`]).
 fn common(mode: &str) -> Value {
+    let qos: Value =
+        serde_json::from_str(agent::runtime::net::FLEET_QOS).expect("FLEET_QOS is a JSON constant");
     json!({
         "mode": mode,
         "scouting": { "multicast": { "enabled": false } },
-        "qos": { "publication": [ { "key_exprs": ["gapfleet/**"], "config": { "express": false } } ] },
+        "qos": { "publication": qos },
     })
 }
 
