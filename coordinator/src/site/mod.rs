@@ -393,7 +393,8 @@ fn path(p: &Path) -> String {
     p.display().to_string()
 }
 
-/// Mutual TLS with `tls`'s certificate, a lease of [`agent::runtime::net::LEASE_MS`], and
+/// Mutual TLS with `tls`'s certificate, a lease of [`agent::runtime::net::LEASE_MS`], a drop
+/// wait of [`agent::runtime::net::DROP_WAIT_US`], and
 /// `user`'s login; a routing process (`dictionary` given) also listens with the certificate
 /// and checks logins against the dictionary.
 fn transport(tls: &Tls, user: &Credentials, dictionary: Option<&Path>) -> Value {
@@ -415,7 +416,12 @@ fn transport(tls: &Tls, user: &Credentials, dictionary: Option<&Path>) -> Value 
     json!({
         "link": {
             "protocols": ["tls"],
-            "tx": { "lease": agent::runtime::net::LEASE_MS },
+            "tx": {
+                "lease": agent::runtime::net::LEASE_MS,
+                "queue": { "congestion_control": { "drop": {
+                    "wait_before_drop": agent::runtime::net::DROP_WAIT_US,
+                } } },
+            },
             "tls": link_tls,
         },
         "auth": { "usrpwd": usrpwd },
