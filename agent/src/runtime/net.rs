@@ -82,6 +82,19 @@ pub const DROP_WAIT_US: u64 = 10_000;
 
 const DROP_WAIT_KEY: &str = "transport/link/tx/queue/congestion_control/drop/wait_before_drop";
 
+/// Batches (of up to 64 KiB each) in a link's send queue for the data priority, the fleet's
+/// publications' (Zenoh's default 2, its maximum 16), set on every gapfleet session. Zenoh
+/// drops a put only when the batch being filled is full and no other comes back from the
+/// link's sender within [`DROP_WAIT_US`]; the sender of every link in a process is one thread
+/// (Zenoh's TX runtime), which a saturated machine can keep off a core for tens of
+/// milliseconds. With 2 batches, 100 agents at full speed on two cores lost about one
+/// observation in a million that way, with 1 ms or 10 ms of wait alike; 16 batches are
+/// 1 MiB of backlog per link, dozens of ticks of observations. Zenoh allocates them lazily:
+/// a link that never backs up never holds more than it did.
+pub const DATA_QUEUE_BATCHES: usize = 16;
+
+const DATA_QUEUE_KEY: &str = "transport/link/tx/queue/size/data";
+
 /// Zenoh's link lease (ms), set on every gapfleet session: a peer not heard from for this long
 /// (keep-alives go 4 times a lease) is gone, its transport closed and its liveliness tokens
 /// withdrawn, so a robot cut off by a partition is flagged within 3 s. (Zenoh's default is
@@ -112,6 +125,7 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
             set(&mut c, "qos/publication", FLEET_QOS)?;
             set(&mut c, "transport/link/tx/lease", &LEASE_MS.to_string())?;
             set(&mut c, DROP_WAIT_KEY, &DROP_WAIT_US.to_string())?;
+            set(&mut c, DATA_QUEUE_KEY, &DATA_QUEUE_BATCHES.to_string())?;
             set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
             if default_role == Role::Client {
                 set(&mut c, "connect/timeout_ms", "-1")?;
@@ -144,6 +158,7 @@ pub fn loopback(
     set(&mut c, "qos/publication", FLEET_QOS)?;
     set(&mut c, "transport/link/tx/lease", &LEASE_MS.to_string())?;
     set(&mut c, DROP_WAIT_KEY, &DROP_WAIT_US.to_string())?;
+    set(&mut c, DATA_QUEUE_KEY, &DATA_QUEUE_BATCHES.to_string())?;
     set(&mut c, "listen/endpoints", &json_list(listen))?;
     if role == Role::Client {
         set(&mut c, "connect/timeout_ms", "-1")?;
@@ -171,4 +186,49 @@ pub fn free_loopback_port() -> std::io::Result<u16> {
     Ok(std::net::TcpListener::bind("127.0.0.1:0")?
         .local_addr()?
         .port())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fleet's transport settings, as Zenoh reads them back from `config`.
+    fn fleet_settings(config: &zenoh::Config) -> [String; 4] {
+        [
+            "transport/link/tx/lease",
+            DROP_WAIT_KEY,
+            DATA_QUEUE_KEY,
+            "qos/publication",
+        ]
+        .map(|key| {
+            config
+                .get_json(key)
+                .unwrap_or_else(|e| panic!("{key}: {e}"))
+        })
+    }
+
+    /// Every session gapfleet builds without a file carries the fleet's lease, drop wait, data
+    /// queue and batching, whatever its role (`site init`'s files are checked in
+    /// `coordinator::site`).
+    #[test]
+    fn every_built_config_carries_the_fleet_settings() {
+        let endpoint = ["tcp/127.0.0.1:7447".to_owned()];
+        let mut built = vec![
+            loopback(Role::Router, &endpoint, &[]).expect("a router config"),
+            loopback(Role::Client, &[], &endpoint).expect("a client config"),
+        ];
+        for role in [Role::Router, Role::Peer, Role::Client] {
+            built.push(config(&NetArgs::default(), role).expect("a config"));
+        }
+        for c in &built {
+            let [lease, wait, queue, qos] = fleet_settings(c);
+            assert_eq!(lease, LEASE_MS.to_string());
+            assert_eq!(wait, DROP_WAIT_US.to_string());
+            assert_eq!(queue, DATA_QUEUE_BATCHES.to_string());
+            assert!(
+                qos.contains("gapfleet/**") && qos.contains("\"express\":false"),
+                "{qos}"
+            );
+        }
+    }
 }

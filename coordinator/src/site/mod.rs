@@ -394,7 +394,8 @@ fn path(p: &Path) -> String {
 }
 
 /// Mutual TLS with `tls`'s certificate, a lease of [`agent::runtime::net::LEASE_MS`], a drop
-/// wait of [`agent::runtime::net::DROP_WAIT_US`], and
+/// wait of [`agent::runtime::net::DROP_WAIT_US`], [`agent::runtime::net::DATA_QUEUE_BATCHES`]
+/// batches for data, and
 /// `user`'s login; a routing process (`dictionary` given) also listens with the certificate
 /// and checks logins against the dictionary.
 fn transport(tls: &Tls, user: &Credentials, dictionary: Option<&Path>) -> Value {
@@ -418,9 +419,12 @@ fn transport(tls: &Tls, user: &Credentials, dictionary: Option<&Path>) -> Value 
             "protocols": ["tls"],
             "tx": {
                 "lease": agent::runtime::net::LEASE_MS,
-                "queue": { "congestion_control": { "drop": {
-                    "wait_before_drop": agent::runtime::net::DROP_WAIT_US,
-                } } },
+                "queue": {
+                    "size": { "data": agent::runtime::net::DATA_QUEUE_BATCHES },
+                    "congestion_control": { "drop": {
+                        "wait_before_drop": agent::runtime::net::DROP_WAIT_US,
+                    } },
+                },
             },
             "tls": link_tls,
         },
@@ -463,8 +467,9 @@ mod tests {
         dir
     }
 
-    /// Every file is written, secrets owner-only, every config parses as a Zenoh config, and
-    /// a second init into the same folder is refused.
+    /// Every file is written, secrets owner-only, every config parses as a Zenoh config with
+    /// the fleet's lease, drop wait, data queue and batching, and a second init into the same folder is
+    /// refused.
     #[test]
     fn init_writes_a_site_zenoh_accepts() {
         use std::os::unix::fs::PermissionsExt;
@@ -478,8 +483,25 @@ mod tests {
             paths.robot_config(2),
             paths.observer_config("python"),
         ] {
-            zenoh::Config::from_file(&config)
+            let zenoh = zenoh::Config::from_file(&config)
                 .unwrap_or_else(|e| panic!("{}: {e}", config.display()));
+            // The fleet's transport settings, as on every session gapfleet builds itself.
+            let setting = |key: &str| zenoh.get_json(key).expect("a known key");
+            assert_eq!(
+                setting("transport/link/tx/lease"),
+                agent::runtime::net::LEASE_MS.to_string()
+            );
+            assert_eq!(
+                setting("transport/link/tx/queue/congestion_control/drop/wait_before_drop"),
+                agent::runtime::net::DROP_WAIT_US.to_string(),
+                "{}",
+                config.display()
+            );
+            assert_eq!(
+                setting("transport/link/tx/queue/size/data"),
+                agent::runtime::net::DATA_QUEUE_BATCHES.to_string()
+            );
+            assert!(setting("qos/publication").contains("\"express\":false"));
             let mode = std::fs::metadata(&config)
                 .expect("written")
                 .permissions()
