@@ -101,17 +101,54 @@ const DATA_QUEUE_KEY: &str = "transport/link/tx/queue/size/data";
 /// 10 s.) A closed TCP connection, as when a process dies, is noticed at once.
 pub const LEASE_MS: u64 = 3000;
 
+const LEASE_KEY: &str = "transport/link/tx/lease";
+
+/// Whether `config` carries the fleet's transport settings: the lease, the drop wait, the data
+/// queue and batched publications, as [`config`] and [`loopback`] set them and `gapfleet site
+/// init` writes them. `Err` names the first that differs; [`from_file`] warns with it, since a
+/// config written by hand may leave them out (Zenoh's defaults then: a 10 s lease, a 1 ms
+/// wait, 2 batches, express publications).
+pub fn check_fleet_settings(config: &zenoh::Config) -> Result<(), String> {
+    let read = |key: &str| config.get_json(key).map_err(|e| format!("{key}: {e}"));
+    for (key, fleet) in [
+        (LEASE_KEY, LEASE_MS.to_string()),
+        (DROP_WAIT_KEY, DROP_WAIT_US.to_string()),
+        (DATA_QUEUE_KEY, DATA_QUEUE_BATCHES.to_string()),
+    ] {
+        let value = read(key)?;
+        if value != fleet {
+            return Err(format!("{key} is {value}, the fleet's is {fleet}"));
+        }
+    }
+    let qos = read("qos/publication")?;
+    if !(qos.contains("\"gapfleet/**\"") && qos.contains("\"express\":false")) {
+        return Err(format!(
+            "qos/publication is {qos}, the fleet's is {FLEET_QOS}"
+        ));
+    }
+    Ok(())
+}
+
 fn json_list(items: &[String]) -> String {
     let quoted: Vec<String> = items.iter().map(|s| format!("{s:?}")).collect();
     format!("[{}]", quoted.join(","))
 }
 
-/// The Zenoh config in the JSON5 file at `path`, as written by `gapfleet site init`.
+/// The Zenoh config in the JSON5 file at `path`, as written by `gapfleet site init`; a file
+/// without the fleet's transport settings is taken as it is, with a warning.
 pub fn from_file(path: &std::path::Path) -> Result<zenoh::Config, ConfigError> {
-    zenoh::Config::from_file(path).map_err(|e| ConfigError {
+    let config = zenoh::Config::from_file(path).map_err(|e| ConfigError {
         setting: path.display().to_string(),
         source: e,
-    })
+    })?;
+    if let Err(difference) = check_fleet_settings(&config) {
+        tracing::warn!(
+            file = %path.display(),
+            "{difference}: this Zenoh config lacks the fleet's transport settings \
+             (`gapfleet site init` writes them)"
+        );
+    }
+    Ok(config)
 }
 
 /// Builds the session config: the file (if any), then mode and endpoints from the arguments.
@@ -123,7 +160,7 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
             let mut c = zenoh::Config::default();
             set(&mut c, "scouting/multicast/enabled", "false")?;
             set(&mut c, "qos/publication", FLEET_QOS)?;
-            set(&mut c, "transport/link/tx/lease", &LEASE_MS.to_string())?;
+            set(&mut c, LEASE_KEY, &LEASE_MS.to_string())?;
             set(&mut c, DROP_WAIT_KEY, &DROP_WAIT_US.to_string())?;
             set(&mut c, DATA_QUEUE_KEY, &DATA_QUEUE_BATCHES.to_string())?;
             set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
@@ -156,7 +193,7 @@ pub fn loopback(
     set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
     set(&mut c, "scouting/multicast/enabled", "false")?;
     set(&mut c, "qos/publication", FLEET_QOS)?;
-    set(&mut c, "transport/link/tx/lease", &LEASE_MS.to_string())?;
+    set(&mut c, LEASE_KEY, &LEASE_MS.to_string())?;
     set(&mut c, DROP_WAIT_KEY, &DROP_WAIT_US.to_string())?;
     set(&mut c, DATA_QUEUE_KEY, &DATA_QUEUE_BATCHES.to_string())?;
     set(&mut c, "listen/endpoints", &json_list(listen))?;
@@ -192,24 +229,9 @@ pub fn free_loopback_port() -> std::io::Result<u16> {
 mod tests {
     use super::*;
 
-    /// The fleet's transport settings, as Zenoh reads them back from `config`.
-    fn fleet_settings(config: &zenoh::Config) -> [String; 4] {
-        [
-            "transport/link/tx/lease",
-            DROP_WAIT_KEY,
-            DATA_QUEUE_KEY,
-            "qos/publication",
-        ]
-        .map(|key| {
-            config
-                .get_json(key)
-                .unwrap_or_else(|e| panic!("{key}: {e}"))
-        })
-    }
-
     /// Every session gapfleet builds without a file carries the fleet's lease, drop wait, data
     /// queue and batching, whatever its role (`site init`'s files are checked in
-    /// `coordinator::site`).
+    /// `coordinator::site`); Zenoh's own defaults do not.
     #[test]
     fn every_built_config_carries_the_fleet_settings() {
         let endpoint = ["tcp/127.0.0.1:7447".to_owned()];
@@ -221,14 +243,23 @@ mod tests {
             built.push(config(&NetArgs::default(), role).expect("a config"));
         }
         for c in &built {
-            let [lease, wait, queue, qos] = fleet_settings(c);
-            assert_eq!(lease, LEASE_MS.to_string());
-            assert_eq!(wait, DROP_WAIT_US.to_string());
-            assert_eq!(queue, DATA_QUEUE_BATCHES.to_string());
-            assert!(
-                qos.contains("gapfleet/**") && qos.contains("\"express\":false"),
-                "{qos}"
-            );
+            check_fleet_settings(c).expect("the fleet's settings");
         }
+        let mut c = zenoh::Config::default();
+        assert_eq!(
+            check_fleet_settings(&c),
+            Err("transport/link/tx/lease is 10000, the fleet's is 3000".to_owned())
+        );
+        for (key, value) in [
+            (LEASE_KEY, LEASE_MS.to_string()),
+            (DROP_WAIT_KEY, DROP_WAIT_US.to_string()),
+            (DATA_QUEUE_KEY, DATA_QUEUE_BATCHES.to_string()),
+        ] {
+            set(&mut c, key, &value).expect("a setting");
+        }
+        let qos = check_fleet_settings(&c).expect_err("express publications");
+        assert!(qos.starts_with("qos/publication is "), "{qos}");
+        set(&mut c, "qos/publication", FLEET_QOS).expect("a setting");
+        assert_eq!(check_fleet_settings(&c), Ok(()));
     }
 }

@@ -468,8 +468,7 @@ mod tests {
     }
 
     /// Every file is written, secrets owner-only, every config parses as a Zenoh config with
-    /// the fleet's lease, drop wait, data queue and batching, and a second init into the same folder is
-    /// refused.
+    /// the fleet's transport settings, and a second init into the same folder is refused.
     #[test]
     fn init_writes_a_site_zenoh_accepts() {
         use std::os::unix::fs::PermissionsExt;
@@ -485,23 +484,8 @@ mod tests {
         ] {
             let zenoh = zenoh::Config::from_file(&config)
                 .unwrap_or_else(|e| panic!("{}: {e}", config.display()));
-            // The fleet's transport settings, as on every session gapfleet builds itself.
-            let setting = |key: &str| zenoh.get_json(key).expect("a known key");
-            assert_eq!(
-                setting("transport/link/tx/lease"),
-                agent::runtime::net::LEASE_MS.to_string()
-            );
-            assert_eq!(
-                setting("transport/link/tx/queue/congestion_control/drop/wait_before_drop"),
-                agent::runtime::net::DROP_WAIT_US.to_string(),
-                "{}",
-                config.display()
-            );
-            assert_eq!(
-                setting("transport/link/tx/queue/size/data"),
-                agent::runtime::net::DATA_QUEUE_BATCHES.to_string()
-            );
-            assert!(setting("qos/publication").contains("\"express\":false"));
+            agent::runtime::net::check_fleet_settings(&zenoh)
+                .unwrap_or_else(|e| panic!("{}: {e}", config.display()));
             let mode = std::fs::metadata(&config)
                 .expect("written")
                 .permissions()
