@@ -103,6 +103,16 @@ pub const LEASE_MS: u64 = 3000;
 
 const LEASE_KEY: &str = "transport/link/tx/lease";
 
+/// The fleet's link settings beside the batching, as (key, value): the lease, the drop wait
+/// and the data queue.
+fn transport_settings() -> [(&'static str, String); 3] {
+    [
+        (LEASE_KEY, LEASE_MS.to_string()),
+        (DROP_WAIT_KEY, DROP_WAIT_US.to_string()),
+        (DATA_QUEUE_KEY, DATA_QUEUE_BATCHES.to_string()),
+    ]
+}
+
 /// Whether `config` carries the fleet's transport settings: the lease, the drop wait, the data
 /// queue and batched publications, as [`config`] and [`loopback`] set them and `gapfleet site
 /// init` writes them. `Err` names the first that differs; [`from_file`] warns with it, since a
@@ -110,11 +120,7 @@ const LEASE_KEY: &str = "transport/link/tx/lease";
 /// wait, 2 batches, express publications).
 pub fn check_fleet_settings(config: &zenoh::Config) -> Result<(), String> {
     let read = |key: &str| config.get_json(key).map_err(|e| format!("{key}: {e}"));
-    for (key, fleet) in [
-        (LEASE_KEY, LEASE_MS.to_string()),
-        (DROP_WAIT_KEY, DROP_WAIT_US.to_string()),
-        (DATA_QUEUE_KEY, DATA_QUEUE_BATCHES.to_string()),
-    ] {
+    for (key, fleet) in transport_settings() {
         let value = read(key)?;
         if value != fleet {
             return Err(format!("{key} is {value}, the fleet's is {fleet}"));
@@ -160,9 +166,9 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
             let mut c = zenoh::Config::default();
             set(&mut c, "scouting/multicast/enabled", "false")?;
             set(&mut c, "qos/publication", FLEET_QOS)?;
-            set(&mut c, LEASE_KEY, &LEASE_MS.to_string())?;
-            set(&mut c, DROP_WAIT_KEY, &DROP_WAIT_US.to_string())?;
-            set(&mut c, DATA_QUEUE_KEY, &DATA_QUEUE_BATCHES.to_string())?;
+            for (key, value) in transport_settings() {
+                set(&mut c, key, &value)?;
+            }
             set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
             if default_role == Role::Client {
                 set(&mut c, "connect/timeout_ms", "-1")?;
@@ -193,9 +199,9 @@ pub fn loopback(
     set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
     set(&mut c, "scouting/multicast/enabled", "false")?;
     set(&mut c, "qos/publication", FLEET_QOS)?;
-    set(&mut c, LEASE_KEY, &LEASE_MS.to_string())?;
-    set(&mut c, DROP_WAIT_KEY, &DROP_WAIT_US.to_string())?;
-    set(&mut c, DATA_QUEUE_KEY, &DATA_QUEUE_BATCHES.to_string())?;
+    for (key, value) in transport_settings() {
+        set(&mut c, key, &value)?;
+    }
     set(&mut c, "listen/endpoints", &json_list(listen))?;
     if role == Role::Client {
         set(&mut c, "connect/timeout_ms", "-1")?;
@@ -250,11 +256,7 @@ mod tests {
             check_fleet_settings(&c),
             Err("transport/link/tx/lease is 10000, the fleet's is 3000".to_owned())
         );
-        for (key, value) in [
-            (LEASE_KEY, LEASE_MS.to_string()),
-            (DROP_WAIT_KEY, DROP_WAIT_US.to_string()),
-            (DATA_QUEUE_KEY, DATA_QUEUE_BATCHES.to_string()),
-        ] {
+        for (key, value) in transport_settings() {
             set(&mut c, key, &value).expect("a setting");
         }
         let qos = check_fleet_settings(&c).expect_err("express publications");
