@@ -157,24 +157,29 @@ pub fn from_file(path: &std::path::Path) -> Result<zenoh::Config, ConfigError> {
     Ok(config)
 }
 
+/// Zenoh's defaults with what every session gapfleet builds itself carries: `role`, multicast
+/// scouting off, the fleet's batching and transport settings, and a client that keeps retrying
+/// its first connection.
+fn fleet_base(role: Role) -> Result<zenoh::Config, ConfigError> {
+    let mut c = zenoh::Config::default();
+    set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
+    set(&mut c, "scouting/multicast/enabled", "false")?;
+    set(&mut c, "qos/publication", FLEET_QOS)?;
+    for (key, value) in transport_settings() {
+        set(&mut c, key, &value)?;
+    }
+    if role == Role::Client {
+        set(&mut c, "connect/timeout_ms", "-1")?;
+    }
+    Ok(c)
+}
+
 /// Builds the session config: the file (if any), then mode and endpoints from the arguments.
 /// Without a file, multicast scouting is off (loopback fleets and CI must not find strangers).
 pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, ConfigError> {
     let mut config = match &args.zenoh_config {
         Some(path) => from_file(path)?,
-        None => {
-            let mut c = zenoh::Config::default();
-            set(&mut c, "scouting/multicast/enabled", "false")?;
-            set(&mut c, "qos/publication", FLEET_QOS)?;
-            for (key, value) in transport_settings() {
-                set(&mut c, key, &value)?;
-            }
-            set(&mut c, "mode", &format!("{:?}", default_role.as_str()))?;
-            if default_role == Role::Client {
-                set(&mut c, "connect/timeout_ms", "-1")?;
-            }
-            c
-        }
+        None => fleet_base(default_role)?,
     };
     if let Some(mode) = &args.mode {
         set(&mut config, "mode", &format!("{mode:?}"))?;
@@ -195,17 +200,8 @@ pub fn loopback(
     listen: &[String],
     connect: &[String],
 ) -> Result<zenoh::Config, ConfigError> {
-    let mut c = zenoh::Config::default();
-    set(&mut c, "mode", &format!("{:?}", role.as_str()))?;
-    set(&mut c, "scouting/multicast/enabled", "false")?;
-    set(&mut c, "qos/publication", FLEET_QOS)?;
-    for (key, value) in transport_settings() {
-        set(&mut c, key, &value)?;
-    }
+    let mut c = fleet_base(role)?;
     set(&mut c, "listen/endpoints", &json_list(listen))?;
-    if role == Role::Client {
-        set(&mut c, "connect/timeout_ms", "-1")?;
-    }
     set(&mut c, "connect/endpoints", &json_list(connect))?;
     Ok(c)
 }
