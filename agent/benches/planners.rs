@@ -30,6 +30,7 @@ fn planners(c: &mut Criterion) {
                 goal,
                 dt: 0.1,
                 visibility: None,
+                safety: None,
             };
             group.bench_with_input(BenchmarkId::new(spec.to_string(), n), &input, |b, input| {
                 b.iter(|| black_box(stack.plan(black_box(input))))
@@ -54,6 +55,7 @@ fn planners(c: &mut Criterion) {
         goal,
         dt: 0.1,
         visibility: None,
+        safety: None,
     };
     group.bench_function(BenchmarkId::new("orca", 5), |b| {
         b.iter(|| black_box(orca.plan(black_box(&input))))

@@ -1,7 +1,9 @@
 //! One call of the safety layer on a robot driving at full speed among 50 perceived people
-//! (the planners' benchmark scene, 0.5 persons/m²), in open space and between two walls.
+//! (the planners' benchmark scene, 0.5 persons/m²), in open space and between two walls; and
+//! on a robot standing among them, which people walking on would walk into (a yield), and
+//! one `admits` call, the predicate planners ask.
 //!
-//! Target (issue 19): one call with 50 perceived bodies ≤ 10 µs median.
+//! Target (issue 43): one call with 50 perceived bodies ≤ 20 µs median, yields included.
 //!
 //!     cargo bench -p agent --bench safety
 
@@ -9,7 +11,7 @@ mod scene;
 
 use agent::map::{Obstacle, StaticMap};
 use agent::math::vec2;
-use agent::model::Command;
+use agent::model::{Command, EgoState};
 use agent::safety::{SafetyLayer, SafetyLimits, SafetyParams};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -19,6 +21,7 @@ fn safety(c: &mut Criterion) {
         max_speed: 1.0,
         max_accel: 1.5,
         max_braking: 1.5,
+        max_yaw_rate: 1.0,
         max_yaw_accel: 1.5,
         control_period: 0.1,
     };
@@ -30,11 +33,30 @@ fn safety(c: &mut Criterion) {
     ])
     .expect("two valid walls");
     let mut group = c.benchmark_group("safety");
+    let standing = EgoState {
+        velocity: vec2(0.0, 0.0),
+        ..e
+    };
     for (name, map) in [("open", StaticMap::empty()), ("corridor", corridor)] {
         let mut layer = SafetyLayer::new(SafetyParams::default());
         let command = Command::Velocity(vec2(1.0, 0.0));
+        let threatened = layer.prepare(&e, &limits, &people, &map).threatened();
         group.bench_function(BenchmarkId::new(name, 50), |b| {
             b.iter(|| black_box(layer.guard(command, &e, &limits, black_box(&people), &map)))
+        });
+        let stay = Command::Velocity(vec2(0.0, 0.0));
+        let set = layer.prepare(&standing, &limits, &people, &map);
+        eprintln!(
+            "{name}: driving threatened {threatened}, standing threatened {}, standing yields: {:?}",
+            set.threatened(),
+            set.guard(stay).zone
+        );
+        group.bench_function(BenchmarkId::new(format!("{name}-standing"), 50), |b| {
+            b.iter(|| black_box(layer.guard(stay, &standing, &limits, black_box(&people), &map)))
+        });
+        group.bench_function(BenchmarkId::new(format!("{name}-admits"), 50), |b| {
+            let set = layer.prepare(&e, &limits, &people, &map);
+            b.iter(|| black_box(set.admits(black_box(command))))
         });
     }
     group.finish();

@@ -44,6 +44,7 @@ fn main() -> Result<(), String> {
         goal: vec2(20.0, 0.0),
         dt: 0.1,
         visibility: None,
+        safety: None,
     };
     let mut micros = Vec::with_capacity(plans);
     let mut last = None;

@@ -15,7 +15,7 @@
 use crate::fastmath::LANES;
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, unit, wrap_angle};
-use crate::model::{EgoState, Neighbour, TrajectorySample};
+use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
 use crate::prediction::{SigmaModel, ctrv_offset};
 
 /// DWA's parameters; `Default` is the PGP paper's Table I plus the objective weights, which
@@ -166,6 +166,20 @@ impl Dwa {
         target: Vec2,
         control_dt: Real,
     ) -> DwaChoice {
+        self.plan_within(ego, neighbours, map, target, control_dt, None)
+    }
+
+    /// One DWA step towards `target`, restricted to the arcs `admits` allows (the safety
+    /// layer's predicate) when any of DWA's admissible arcs is allowed; else as [`Dwa::plan`].
+    pub fn plan_within(
+        &mut self,
+        ego: &EgoState,
+        neighbours: &[Neighbour],
+        map: &StaticMap,
+        target: Vec2,
+        control_dt: Real,
+        admits: Option<&dyn Fn(Command) -> bool>,
+    ) -> DwaChoice {
         let p = self.params;
         let window = self.window(ego, control_dt);
         let steps = (p.t_plan / p.dt).round() as usize;
@@ -222,6 +236,7 @@ impl Dwa {
             target,
             window: &window,
             steps,
+            admits,
         });
         let admissible = best.is_some();
         let (_, speed, yaw_rate) = best
@@ -237,9 +252,10 @@ impl Dwa {
         }
     }
 
-    /// The best admissible arc (G, v, ω); and the arc whose predicted collision comes latest
-    /// (hit time, v, ω; ties: the slower arc, which the loop meets first). Runs inside
-    /// [`ArcSearch`], compiled for the widest instruction set the CPU has.
+    /// The best admissible arc (G, v, ω), among those `admits` allows when it allows any;
+    /// and the arc whose predicted collision comes latest (hit time, v, ω; ties: the slower
+    /// arc, which the loop meets first). Runs inside [`ArcSearch`], compiled for the widest
+    /// instruction set the CPU has (the predicate is a call out of it).
     #[inline(always)]
     fn search<S: pulp::Simd>(
         &self,
@@ -249,9 +265,11 @@ impl Dwa {
         target: Vec2,
         window: &Window,
         steps: usize,
+        admits: Option<&dyn Fn(Command) -> bool>,
     ) -> (Pick, Pick) {
         let p = &self.params;
         let mut best: Pick = None;
+        let mut best_allowed: Pick = None;
         let mut latest_hit: Pick = None;
         for iv in 0..p.v_samples {
             let v = lerp(window.v, iv, p.v_samples);
@@ -263,6 +281,16 @@ impl Dwa {
                         if best.is_none_or(|b| score > b.0) {
                             best = Some((score, v, w));
                         }
+                        if best_allowed.is_none_or(|b| score > b.0)
+                            && admits.is_none_or(|f| {
+                                f(Command::Unicycle {
+                                    speed: v,
+                                    yaw_rate: w,
+                                })
+                            })
+                        {
+                            best_allowed = Some((score, v, w));
+                        }
                     }
                     Err(hit_time) => {
                         if latest_hit.is_none_or(|b| hit_time > b.0) {
@@ -272,7 +300,7 @@ impl Dwa {
                 }
             }
         }
-        (best, latest_hit)
+        (best_allowed.or(best), latest_hit)
     }
 
     /// G(v, ω), or, for an arc that is not admissible, the time of its first predicted
@@ -359,6 +387,7 @@ struct ArcSearch<'a> {
     target: Vec2,
     window: &'a Window,
     steps: usize,
+    admits: Option<&'a dyn Fn(Command) -> bool>,
 }
 
 impl pulp::WithSimd for ArcSearch<'_> {
@@ -373,6 +402,7 @@ impl pulp::WithSimd for ArcSearch<'_> {
             self.target,
             self.window,
             self.steps,
+            self.admits,
         )
     }
 }

@@ -11,6 +11,7 @@
 pub mod asfm;
 pub mod dwa;
 pub mod fastmath;
+pub mod guard;
 pub mod igp;
 pub mod map;
 pub mod math;

@@ -16,6 +16,7 @@ use crate::orca::{Body, Orca, OrcaParams, V};
 use crate::pgp::{Pgp, PgpParams};
 use crate::pnp::{Pnp, PnpParams};
 use crate::prediction::SigmaModel;
+use crate::safety::SafeSet;
 use crate::social_force::{SfAgentParams, SocialForceAgent};
 use crate::visibility::Visibility;
 use std::fmt;
@@ -49,6 +50,53 @@ pub struct PlanningInput<'a> {
     /// on); planners that reason about hidden people compute it from `map` and `neighbours`
     /// otherwise.
     pub visibility: Option<&'a Visibility>,
+    /// The safety layer's set of admissible commands, when the robot runs the layer
+    /// ([`crate::guard::Guard::plan`]): planners rank or restrict their candidates with
+    /// [`SafeSet::admits`] so that the layer rarely has to override them.
+    pub safety: Option<&'a SafeSet<'a>>,
+}
+
+/// Turns from a velocity command that the safe set does not admit, nearest first (rad), and
+/// the speeds tried along each (fractions of the command's).
+const DETOUR_TURNS: [Real; 11] = [
+    0.0, 0.26, -0.26, 0.52, -0.52, 0.79, -0.79, 1.05, -1.05, 1.57, -1.57,
+];
+const DETOUR_SPEEDS: [Real; 3] = [1.0, 0.7, 0.4];
+
+/// The admissible velocity command nearest `command`, for the planners whose output is one
+/// velocity (ORCA, Social Force, the foIGP family, anticipatory SF): `command` itself when
+/// admissible or when no safe set is given; else the first admissible of the command turned
+/// by up to 90° either way and slowed to 70 % and 40 %, nearest the command first; else
+/// `command` (the layer then slows it). What these planners would prefer next to their own
+/// command is the velocity closest to it, as ORCA's linear program and Social Force's
+/// desired velocity both rank velocities.
+pub fn nearest_admissible(input: &PlanningInput<'_>, command: Command) -> Command {
+    let (Some(set), Command::Velocity(v)) = (input.safety, command) else {
+        return command;
+    };
+    if v.norm() < 1e-9 || set.admits(command) {
+        return command;
+    }
+    let mut tried: [(Real, Vec2); DETOUR_TURNS.len() * DETOUR_SPEEDS.len()] =
+        [(0.0, Vec2::zeros()); DETOUR_TURNS.len() * DETOUR_SPEEDS.len()];
+    let mut n = 0;
+    for turn in DETOUR_TURNS {
+        let (sin, cos) = turn.sin_cos();
+        let turned = Vec2::new(cos * v.x - sin * v.y, sin * v.x + cos * v.y);
+        for s in DETOUR_SPEEDS {
+            let candidate = turned * s;
+            tried[n] = ((candidate - v).norm(), candidate);
+            n += 1;
+        }
+    }
+    // Stable: equal distances keep the order above (left before right).
+    tried.sort_by(|a, b| a.0.total_cmp(&b.0));
+    tried
+        .iter()
+        .skip(1)
+        .map(|&(_, c)| Command::Velocity(c))
+        .find(|&c| set.admits(c))
+        .unwrap_or(command)
 }
 
 /// The short-term planners.
@@ -225,13 +273,15 @@ impl LocalPlanner for Dwa {
     }
 
     fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
-        let c = Dwa::plan(
+        let admits = input.safety.map(|set| move |c: Command| set.admits(c));
+        let c = Dwa::plan_within(
             self,
             input.ego,
             input.neighbours,
             input.map,
             target,
             input.dt,
+            admits.as_ref().map(|f| f as &dyn Fn(Command) -> bool),
         );
         LocalPlan {
             command: Command::Unicycle {
@@ -304,8 +354,9 @@ impl LocalPlanner for OrcaPlanner {
             .orca
             .new_velocity(&ego, V::from_vec2(&pref), &self.others, input.map)
             .to_vec2();
+        let command = nearest_admissible(input, Command::Velocity(v));
         LocalPlan {
-            command: Command::Velocity(v),
+            command,
             trajectory: straight(input.ego.position, v, p.time_horizon, 0.25, &self.sigma),
         }
     }
@@ -341,7 +392,7 @@ impl LocalPlanner for SfPlanner {
             .agent
             .command(input.ego, input.neighbours, input.map, target, input.dt);
         LocalPlan {
-            command: Command::Velocity(v),
+            command: nearest_admissible(input, Command::Velocity(v)),
             trajectory: straight(input.ego.position, v, self.t_plan, 0.25, &self.sigma),
         }
     }
@@ -357,7 +408,7 @@ impl LocalPlanner for IgpPlanner {
     fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
         let d = IgpPlanner::plan(self, input.ego, input.neighbours, target, input.dt);
         LocalPlan {
-            command: d.command,
+            command: nearest_admissible(input, d.command),
             trajectory: d.trajectory,
         }
     }
@@ -374,13 +425,15 @@ impl LocalPlanner for Pnp {
     }
 
     fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
-        let d = Pnp::plan(
+        let admits = input.safety.map(|set| move |c: Command| set.admits(c));
+        let d = Pnp::plan_within(
             self,
             input.ego,
             input.neighbours,
             input.map,
             target,
             input.visibility,
+            admits.as_ref().map(|f| f as &dyn Fn(Command) -> bool),
         );
         LocalPlan {
             command: d.command,
@@ -406,7 +459,7 @@ impl LocalPlanner for Asfm {
             input.dt,
         );
         LocalPlan {
-            command: Command::Velocity(s.command),
+            command: nearest_admissible(input, Command::Velocity(s.command)),
             trajectory: s.trajectory,
         }
     }
@@ -575,7 +628,14 @@ impl PlannerStack {
     pub fn plan(&mut self, input: &PlanningInput<'_>) -> Plan {
         match &mut self.pgp {
             Some(pgp) => {
-                let decision = pgp.plan(input.ego, input.neighbours, input.map, input.goal);
+                let admits = input.safety.map(|set| move |c: Command| set.admits(c));
+                let decision = pgp.plan_within(
+                    input.ego,
+                    input.neighbours,
+                    input.map,
+                    input.goal,
+                    admits.as_ref().map(|f| f as &dyn Fn(Command) -> bool),
+                );
                 let local = self.local.plan(input, decision.subgoal);
                 Plan {
                     command: local.command,
@@ -666,6 +726,7 @@ mod tests {
                 goal: Vec2::new(10.0, 0.0),
                 dt: 0.4,
                 visibility: None,
+                safety: None,
             };
             match PlannerStack::new(spec).plan(&input).command {
                 Command::Velocity(v) => v,

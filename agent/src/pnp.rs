@@ -236,6 +236,11 @@ pub struct Pnp {
     scratch: Scratch,
     /// (goal term, candidate), in scoring order.
     order: Vec<(Real, usize)>,
+    /// Per candidate: whether the safety layer admits its first segment (all true without a
+    /// predicate, or when it admits none).
+    allowed: Vec<bool>,
+    /// (first segment, admitted) as asked of the predicate in this plan.
+    first_segments: Vec<((Real, Real), bool)>,
     local: LocalMap,
     own: Visibility,
 }
@@ -283,6 +288,8 @@ impl Pnp {
             hidden: Vec::new(),
             scratch: Scratch::default(),
             order: Vec::new(),
+            allowed: Vec::new(),
+            first_segments: Vec::new(),
             local: LocalMap::default(),
             own: Visibility::default(),
         }
@@ -298,6 +305,39 @@ impl Pnp {
         self.primitives.len()
     }
 
+    /// Marks the candidates whose first segment `admits` allows (the first segment is what the
+    /// robot executes until the next plan); all of them without a predicate or when it allows
+    /// none (the layer then acts on the best of them).
+    fn mark_allowed(&mut self, admits: Option<&dyn Fn(Command) -> bool>) {
+        self.allowed.clear();
+        self.allowed.resize(self.primitives.len(), true);
+        let Some(admits) = admits else {
+            return;
+        };
+        self.first_segments.clear();
+        for (c, primitive) in self.primitives.iter().enumerate() {
+            let Some(&first) = primitive.first() else {
+                continue;
+            };
+            let known = self.first_segments.iter().find(|(seg, _)| *seg == first);
+            let ok = match known {
+                Some(&(_, ok)) => ok,
+                None => {
+                    let ok = admits(Command::Unicycle {
+                        speed: first.0,
+                        yaw_rate: first.1,
+                    });
+                    self.first_segments.push((first, ok));
+                    ok
+                }
+            };
+            self.allowed[c] = ok;
+        }
+        if !self.allowed.contains(&true) {
+            self.allowed.fill(true);
+        }
+    }
+
     /// One plan toward `goal`. `visibility` is what the sensor saw; without it the planner
     /// derives the shadows of the map and of the bodies it perceives.
     pub fn plan(
@@ -308,6 +348,21 @@ impl Pnp {
         goal: Vec2,
         visibility: Option<&Visibility>,
     ) -> PnpDecision {
+        self.plan_within(ego, neighbours, map, goal, visibility, None)
+    }
+
+    /// One plan toward `goal` among the candidates whose first segment `admits` allows (the
+    /// safety layer's predicate), when it allows any; else as [`Pnp::plan`].
+    pub fn plan_within(
+        &mut self,
+        ego: &EgoState,
+        neighbours: &[Neighbour],
+        map: &StaticMap,
+        goal: Vec2,
+        visibility: Option<&Visibility>,
+        admits: Option<&dyn Fn(Command) -> bool>,
+    ) -> PnpDecision {
+        self.mark_allowed(admits);
         let p = &self.params;
         let n = (p.horizon / p.step).round().max(1.0) as usize;
         let dt = p.horizon / n as Real;
@@ -388,6 +443,9 @@ impl Pnp {
             partial > best.0 || (partial == best.0 && c > best.1)
         };
         for &(goal_term, c) in &self.order {
+            if !self.allowed[c] {
+                continue;
+            }
             let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
             // The rest cannot beat the best even without risk.
             if loses(p.c1 * goal_term, c, &best) {

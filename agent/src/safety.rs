@@ -1,5 +1,6 @@
 //! The safety layer under every planner: a protective field and a warning field, as a safety
-//! laser scanner gives a warehouse robot, checked on the command the planner chose.
+//! laser scanner gives a warehouse robot, checked on the command the planner chose, and a
+//! yield rule for when standing still is not safe either.
 //!
 //! Speed and separation monitoring (ISO/TS 15066, ISO 13855) keeps a protective separation
 //! S = v_h·(T_r + T_s) + v_r·T_r + B + C + Z between robot and person: what the person covers
@@ -9,26 +10,53 @@
 //! commanded arc"): the robot is rolled out as its base executes the command, for the reaction
 //! time T_r, then braking at its guaranteed deceleration until it stands; every perceived body
 //! either moves on at its perceived velocity meanwhile (v_h·(T_r + T_s)) or stops dead where
-//! it is (a robot ahead braking hard), whichever comes closer, and walls stand still. The
-//! command is safe when, at every instant of that rollout at which the robot is moving toward a
-//! body, the gap stays above the margin C + Z. A robot that only ever executes safe commands
-//! can always still stop before it drives into anything it sees.
+//! it is (a robot ahead braking hard), whichever comes closer, and walls stand still.
+//!
+//! **The predicate.** A command is *admissible* ([`SafeSet::admits`]) when, at every instant
+//! of that rollout at which the robot is moving toward a body, the gap stays above the margin
+//! C + Z, people being allowed to swerve at up to a_h; and it never moves toward a wall or
+//! shelf within the margin. Inside the margin an admissible command may therefore only keep
+//! or open every gap: its velocity toward each body is ≤ 0.
+//!
+//! **The guarantee: passive safety** (Macek, Fraichard et al.): every command the layer lets
+//! through is admissible, so the robot can always still brake to a stop before it moves into
+//! anything it perceives and that keeps within the motion model (walking on, stopping dead,
+//! swerving at ≤ a_h); if a contact happens, the robot is not moving toward the other body at
+//! its onset. This is the guarantee behind "robot-caused" contacts
+//! (`world_sim::metrics::contact_cause`). It is not *passive-friendly* safety (the other body
+//! could always have avoided the contact as well) and not the avoidance of inevitable
+//! collision states: both need to know what people will do. The property tests in `tests`
+//! pin it: every command out of the layer is admissible, or a stop.
+//!
+//! **Yielding.** Passive safety alone is met by standing still, and a robot standing in a
+//! person's way is walked into. So when someone who walks on at their perceived velocity
+//! would come within the margin of the robot were it to stop (within the yield horizon T_y),
+//! the robot is *threatened* and the layer yields: among the admissible commands of a fixed
+//! set (the planner's command and its fractions, and moves in every direction at half and
+//! full speed, or for a unicycle base backing off, turning away and driving on) it takes the
+//! one whose predicted clearance over T_y is largest, clearances beyond
+//! [`SafetyParams::yield_clearance`] counting as equal, ties going to the command nearest
+//! the planner's. It backs off, sidesteps or turns away, never toward anyone (admissible) and
+//! never into a wall or shelf; with no admissible way out (cornered against a shelf) it
+//! stands, and the contact is the person's.
 //!
 //! - **Protective field**: an unsafe command is scaled down (speed and turn rate alike, so an
 //!   arc keeps its curvature) to the largest safe fraction on a fixed ladder, down to a stop.
 //! - **Warning field**: a command that would become unsafe were the robot to keep it for the
-//!   warning time T_w longer is first slowed to [`SafetyParams::warning_scale`].
-//! - It never adds speed, and a command that neither field touches passes through
-//!   bit-identical.
+//!   warning time T_w longer is first slowed to [`SafetyParams::warning_scale`] (ISO 3691-4's
+//!   reduced speed near people).
+//! - **Yield**: as above, only when threatened.
+//! - A command that no field touches passes through bit-identical. Outside a yield the layer
+//!   never adds speed.
 //!
-//! Bodies the robot moves away from, or that walk into a robot standing still, cannot make a
-//! command unsafe: the layer prevents contacts the robot would cause, and leaves a robot free
-//! to back away from a person closing in.
+//! Planners plan inside the same set: the layer hands them a [`SafeSet`], and they rank or
+//! restrict their candidates with its [`SafeSet::admits`], so that the layer rarely has to
+//! override them (`crate::guard`).
 
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
 use crate::model::{AgentKind, Command, EgoState, Neighbour};
-use crate::planner::PlanningInput;
+use std::cell::RefCell;
 
 /// What the robot's base guarantees, and how often it is commanded.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,6 +68,8 @@ pub struct SafetyLimits {
     /// Deceleration the base guarantees when stopping (m/s²): the braking a safety-rated stop
     /// achieves. Never more than the base can do.
     pub max_braking: Real,
+    /// Largest turn rate (rad/s), for unicycle bases.
+    pub max_yaw_rate: Real,
     /// Largest turn-rate change (rad/s²), for unicycle bases.
     pub max_yaw_accel: Real,
     /// How long a command holds before the next one (s): the control period.
@@ -48,11 +78,12 @@ pub struct SafetyLimits {
 
 impl SafetyLimits {
     /// The simulator's default robot (`world-sim/scenarios/*.toml`, `[robot]`): 1 m/s,
-    /// 1.5 m/s² both ways, 1.5 rad/s², commanded at 10 Hz.
+    /// 1.5 m/s² both ways, 1 rad/s, 1.5 rad/s², commanded at 10 Hz.
     pub const SIMULATED_ROBOT: Self = Self {
         max_speed: 1.0,
         max_accel: 1.5,
         max_braking: 1.5,
+        max_yaw_rate: 1.0,
         max_yaw_accel: 1.5,
         control_period: 0.1,
     };
@@ -97,6 +128,20 @@ pub struct SafetyParams {
     /// samples, far less than two bodies' width, so no conflict passes between samples
     /// unseen.
     pub check_step: Real,
+    /// T_y (s): how far ahead the layer looks for someone who walks into the robot were it to
+    /// stop, and over which it compares the ways out. 2 s: a person walking at 1.3 m/s from
+    /// 2.6 m away; farther threats are the planner's to avoid. Ours (1.5 s saw a group of
+    /// three coming down an aisle too late to back off; 3 s had a robot overtaken in an
+    /// aisle race ahead of the person instead of stepping aside: `tests`).
+    pub yield_time: Real,
+    /// The body clearance (m, surface to surface) a way out aims at: clearances beyond it
+    /// count as equal, and the way out nearest the planner's command is taken. 0.2 m: room
+    /// for a person walking on to pass without touching, small enough that a way out near
+    /// the planner's command usually reaches it (with no cap the robot would turn whichever
+    /// way keeps it clearest, away from its task). Ours.
+    pub yield_clearance: Real,
+    /// Whether the layer yields at all (off: it only slows and stops, as before issue 43).
+    pub yielding: bool,
 }
 
 impl Default for SafetyParams {
@@ -108,6 +153,9 @@ impl Default for SafetyParams {
             warning_scale: 0.5,
             person_accel: 3.0,
             check_step: 0.05,
+            yield_time: 2.0,
+            yield_clearance: 0.2,
+            yielding: true,
         }
     }
 }
@@ -121,6 +169,9 @@ pub enum Zone {
     Warning,
     /// The protective field slowed it further, or stopped the robot.
     Protective,
+    /// The robot was threatened (someone would walk into it were it to stop) and the layer
+    /// took another way out than the planner's command.
+    Yield,
 }
 
 /// A command after the safety layer.
@@ -130,7 +181,8 @@ pub struct Guarded {
     pub command: Command,
     /// Which field acted.
     pub zone: Zone,
-    /// The fraction of the planner's command kept (1 when clear, 0 for a protective stop).
+    /// The fraction of the planner's command kept (1 when clear, 0 for a protective stop and
+    /// for a yield's way out that is not a fraction of it).
     pub scale: Real,
 }
 
@@ -139,7 +191,7 @@ pub const LADDER: [Real; 8] = [1.0, 0.8, 0.6, 0.45, 0.3, 0.2, 0.1, 0.05];
 
 /// The safety layer: its parameters and scratch buffers reused between calls (it keeps no
 /// other state; the same input gives the same bits).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct SafetyLayer {
     params: SafetyParams,
     /// Bodies that can come within reach during the rollouts.
@@ -151,8 +203,21 @@ pub struct SafetyLayer {
     /// when, and how it goes on. A body that walks into the robot does not walk through it
     /// (its straight line through the robot afterwards means nothing): it slides along,
     /// keeping only the part of its velocity that does not close on the robot, and stays an
-    /// obstacle the robot may not move toward later in the rollout.
-    arrived: Vec<[Option<Arrival>; 2]>,
+    /// obstacle the robot may not move toward later in the rollout. (A `RefCell` so that
+    /// planners can ask [`SafeSet::admits`] through a shared reference.)
+    arrived: RefCell<Vec<[Option<Arrival>; 2]>>,
+    /// The robot the layer was last prepared for.
+    ego: EgoState,
+    /// Its base's limits.
+    limits: SafetyLimits,
+}
+
+/// The commands a robot may execute in one control period, as the layer sees them: what
+/// [`SafetyLayer::prepare`] returns, and what planners consult to plan inside the safe set.
+#[derive(Debug, Clone, Copy)]
+pub struct SafeSet<'a> {
+    layer: &'a SafetyLayer,
+    map: &'a StaticMap,
 }
 
 /// A perceived body as the rollouts see it.
@@ -168,6 +233,9 @@ struct Body {
     /// can come within `within` of the robot at all in that check's rollout. Those that
     /// cannot are skipped; the result is the same.
     relevant: [[bool; 2]; 2],
+    /// Whether, walking on, it can come within the yield clearance of the robot over the
+    /// yield horizon at all.
+    relevant_yield: bool,
 }
 
 /// A check's rollout: its sub-step (s), the sub-steps driving the command, and the most
@@ -196,12 +264,42 @@ struct Motion {
     yaw_rate: Real,
 }
 
+impl Default for SafetyLayer {
+    fn default() -> Self {
+        Self::new(SafetyParams::default())
+    }
+}
+
+/// Headings of the holonomic ways out (a full turn in 30° steps) and their speeds (fractions
+/// of the top speed).
+const YIELD_HEADINGS: usize = 12;
+const YIELD_SPEEDS: [Real; 2] = [0.5, 1.0];
+/// A unicycle's ways out: speeds (fractions of the top speed; negative backs off) × turn
+/// rates (fractions of the largest).
+const YIELD_UNICYCLE_SPEEDS: [Real; 4] = [-0.5, 0.0, 0.5, 1.0];
+const YIELD_UNICYCLE_TURNS: [Real; 5] = [-1.0, -0.5, 0.0, 0.5, 1.0];
+/// The most candidates a yield compares: the ladder, the ways out and a stop.
+const MAX_CANDIDATES: usize = LADDER.len() + YIELD_HEADINGS * YIELD_SPEEDS.len() + 1;
+/// The clearance rollout's step (s): it ranks ways out; admissibility, checked at the
+/// protective check's finer step, is the guarantee.
+const CLEARANCE_STEP: Real = 0.1;
+
 impl SafetyLayer {
     /// A layer with the given parameters.
     pub fn new(params: SafetyParams) -> Self {
         Self {
             params,
-            ..Self::default()
+            near: Vec::new(),
+            local: LocalMap::default(),
+            arrived: RefCell::new(Vec::new()),
+            ego: EgoState {
+                position: Vec2::zeros(),
+                heading: 0.0,
+                velocity: Vec2::zeros(),
+                yaw_rate: 0.0,
+                radius: 0.0,
+            },
+            limits: SafetyLimits::SIMULATED_ROBOT,
         }
     }
 
@@ -210,8 +308,10 @@ impl SafetyLayer {
         &self.params
     }
 
-    /// The command the robot may execute instead of `command`: `command` itself when it is
-    /// safe and outside the warning field, else a slower fraction of it, else a stop.
+    /// The command the robot may execute instead of `command` (see the module doc):
+    /// `command` itself when it is safe, outside the warning field and the robot is not
+    /// threatened; else a slower fraction of it, else a stop; or, when threatened, the best
+    /// admissible way out.
     pub fn guard(
         &mut self,
         command: Command,
@@ -220,52 +320,36 @@ impl SafetyLayer {
         bodies: &[Neighbour],
         map: &StaticMap,
     ) -> Guarded {
+        self.prepare(ego, limits, bodies, map).guard(command)
+    }
+
+    /// Gathers what can come within reach of `ego` during the layer's rollouts, and returns
+    /// the safe set it bounds.
+    pub fn prepare<'a>(
+        &'a mut self,
+        ego: &EgoState,
+        limits: &SafetyLimits,
+        bodies: &[Neighbour],
+        map: &'a StaticMap,
+    ) -> SafeSet<'a> {
         let p = self.params;
+        self.ego = *ego;
+        self.limits = *limits;
         let dt = limits.control_period;
         let braking = limits.braking();
-        // The farthest the robot can get before it stands, at any fraction of the command.
+        // The farthest the robot can get before it stands, at any fraction of the command,
+        // or along a way out.
         let top = limits.max_speed.max(ego.velocity.norm());
-        let horizon = dt + p.reaction_time + p.warning_time + top / braking.max(1e-9);
+        let stop_horizon = dt + p.reaction_time + p.warning_time + top / braking.max(1e-9);
+        let horizon = if p.yielding {
+            stop_horizon.max(p.yield_time)
+        } else {
+            stop_horizon
+        };
         let reach = top * horizon;
         self.gather(ego, bodies, map, reach, horizon);
         self.mark_relevant(ego, limits);
-        if self.near.is_empty() && self.local.is_empty() {
-            return Guarded {
-                command,
-                zone: Zone::Clear,
-                scale: 1.0,
-            };
-        }
-        let warned = !self.safe(command, ego, limits, map, p.warning_time, false);
-        let start = if warned { p.warning_scale } else { 1.0 };
-        let tried =
-            std::iter::once(start).chain(LADDER.into_iter().filter(|&s| s < start && s > 0.0));
-        for s in tried {
-            let candidate = if s == 1.0 {
-                command
-            } else {
-                scaled(command, s)
-            };
-            if self.safe(candidate, ego, limits, map, p.reaction_time, true) {
-                let zone = match (s == start, warned) {
-                    (true, false) => Zone::Clear,
-                    (true, true) => Zone::Warning,
-                    (false, _) => Zone::Protective,
-                };
-                // Untouched commands keep their bits.
-                return Guarded {
-                    command: candidate,
-                    zone,
-                    scale: s,
-                };
-            }
-        }
-        // A stop: the most the robot can do (it never adds speed, so it does not flee).
-        Guarded {
-            command: scaled(command, 0.0),
-            zone: Zone::Protective,
-            scale: 0.0,
-        }
+        SafeSet { layer: self, map }
     }
 
     /// Keeps the bodies and wall edges that can come within reach of the robot before the
@@ -279,6 +363,11 @@ impl SafetyLayer {
         horizon: Real,
     ) {
         let m = self.params.margin;
+        let slack = if self.params.yielding {
+            m.max(self.params.yield_clearance)
+        } else {
+            m
+        };
         self.near.clear();
         self.near.extend(
             bodies
@@ -287,7 +376,7 @@ impl SafetyLayer {
                     let travel = reach
                         + b.velocity.norm() * horizon
                         + 0.5 * self.params.person_accel * horizon * horizon;
-                    (b.position - ego.position).norm() < travel + ego.radius + b.radius + m
+                    (b.position - ego.position).norm() < travel + ego.radius + b.radius + slack
                 })
                 .map(|b| Body {
                     position: b.position,
@@ -299,6 +388,7 @@ impl SafetyLayer {
                         0.0
                     },
                     relevant: [[true; 2]; 2],
+                    relevant_yield: true,
                 }),
         );
         let r = vec2(reach, reach);
@@ -311,7 +401,8 @@ impl SafetyLayer {
     }
 
     /// The rollout of a check that drives the command for one control period plus `extra`.
-    fn rollout_steps(&self, ego: &EgoState, limits: &SafetyLimits, extra: Real) -> Rollout {
+    fn rollout_steps(&self, extra: Real) -> Rollout {
+        let limits = &self.limits;
         // As many equal sub-steps per control period as it takes (the small slack keeps an
         // exact multiple from rounding up to one more).
         let substeps = (limits.control_period / self.params.check_step - 1e-9)
@@ -321,7 +412,8 @@ impl SafetyLayer {
         let drive_steps = ((limits.control_period + extra) / h).ceil() as usize;
         // Until the robot stands (at most its speed over the deceleration, plus the drive).
         let max_steps = drive_steps
-            + (limits.max_speed.max(ego.velocity.norm()) / (limits.braking() * h)).ceil() as usize
+            + (limits.max_speed.max(self.ego.velocity.norm()) / (limits.braking() * h)).ceil()
+                as usize
             + 1;
         Rollout {
             h,
@@ -336,8 +428,18 @@ impl SafetyLayer {
     fn mark_relevant(&mut self, ego: &EgoState, limits: &SafetyLimits) {
         let top = limits.max_speed.max(ego.velocity.norm());
         let extras = [self.params.warning_time, self.params.reaction_time];
+        let closest = |b: &Body, duration: Real| {
+            let from = b.position - ego.position;
+            let speed_sq = b.velocity.norm_squared();
+            let closest_t = if speed_sq > 0.0 {
+                (-from.dot(&b.velocity) / speed_sq).clamp(0.0, duration)
+            } else {
+                0.0
+            };
+            ((from + b.velocity * closest_t).norm(), from.norm())
+        };
         for (check, extra) in extras.into_iter().enumerate() {
-            let Rollout { h, max_steps, .. } = self.rollout_steps(ego, limits, extra);
+            let Rollout { h, max_steps, .. } = self.rollout_steps(extra);
             let duration = h * max_steps as Real;
             let robot_reach = top * duration;
             let swerve = check == 1;
@@ -347,50 +449,37 @@ impl SafetyLayer {
                 } else {
                     0.0
                 };
-                let from = b.position - ego.position;
-                let speed_sq = b.velocity.norm_squared();
-                let closest_t = if speed_sq > 0.0 {
-                    (-from.dot(&b.velocity) / speed_sq).clamp(0.0, duration)
-                } else {
-                    0.0
-                };
-                let walking = (from + b.velocity * closest_t).norm();
-                let standing = from.norm();
+                let (walking, standing) = closest(b, duration);
                 let reach = robot_reach + b.within + stray;
                 b.relevant[check] = [walking < reach, standing < reach];
             }
+        }
+        let yield_time = self.params.yield_time;
+        let cap = self.params.yield_clearance.max(self.params.margin);
+        for b in &mut self.near {
+            let (walking, _) = closest(b, yield_time);
+            b.relevant_yield = walking < top * yield_time + b.within + cap;
         }
     }
 
     /// Whether the robot, executing `command` for one control period plus `extra` seconds and
     /// then braking to a stop, keeps more than the margin from every body and wall it moves
     /// toward (with people swerving at up to a_h when `swerve`).
-    fn safe(
-        &mut self,
-        command: Command,
-        ego: &EgoState,
-        limits: &SafetyLimits,
-        map: &StaticMap,
-        extra: Real,
-        swerve: bool,
-    ) -> bool {
+    fn safe(&self, command: Command, map: &StaticMap, extra: Real, swerve: bool) -> bool {
         let Rollout {
             h,
             drive_steps,
             max_steps,
-        } = self.rollout_steps(ego, limits, extra);
+        } = self.rollout_steps(extra);
         let p = &self.params;
+        let limits = &self.limits;
         let braking = limits.braking();
-        let mut m = Motion {
-            position: ego.position,
-            velocity: ego.velocity,
-            heading: ego.heading,
-            yaw_rate: ego.yaw_rate,
-        };
+        let mut m = Motion::of(&self.ego);
         let mut t = 0.0;
         let mut wall = self.local.distance(map, &m.position);
-        self.arrived.clear();
-        self.arrived.resize(self.near.len(), [None; 2]);
+        let mut arrived = self.arrived.borrow_mut();
+        arrived.clear();
+        arrived.resize(self.near.len(), [None; 2]);
         let check = usize::from(swerve);
         for k in 0..max_steps {
             let driving = k < drive_steps;
@@ -408,7 +497,7 @@ impl SafetyLayer {
             // People may swerve in the protective check (a_h, `person_accel`); the warning field
             // looks ahead on the hypotheses alone.
             let half_tt = if swerve { 0.5 * t * t } else { 0.0 };
-            for (b, arrived) in self.near.iter().zip(&mut self.arrived) {
+            for (b, arrived) in self.near.iter().zip(arrived.iter_mut()) {
                 let within_sq = (b.within + b.accel * half_tt).powi(2);
                 let hypotheses = [
                     (b.position + b.velocity * t, b.velocity),
@@ -438,12 +527,259 @@ impl SafetyLayer {
             }
             // Walls the robot moves toward.
             let to_wall = self.local.distance(map, &m.position);
-            if to_wall - ego.radius < p.margin && to_wall < wall {
+            if to_wall - self.ego.radius < p.margin && to_wall < wall {
                 return false;
             }
             wall = to_wall;
         }
         true
+    }
+
+    /// How clear the robot executing `command` over the yield horizon T_y stays of every body
+    /// walking on at its perceived velocity: the smallest gap (m, surface to surface) when
+    /// nobody touches it, else t − T_y − one step (< 0) for a first touch at t, so that a
+    /// later touch ranks above an earlier one (a body does not pass through the robot, so
+    /// how deep its straight line would go means nothing). A stop command brakes; any other
+    /// is driven for the whole horizon, except that the robot halts where it would come
+    /// within the margin of a wall or shelf. With `bound` ≥ 0 the rollout ends once the gap
+    /// falls below it (the result is then below `bound`).
+    fn clearance(&self, command: Command, map: &StaticMap, bound: Real) -> Real {
+        let p = &self.params;
+        let steps = (p.yield_time / CLEARANCE_STEP).ceil() as usize;
+        let mut m = Motion::of(&self.ego);
+        let mut lowest = Real::INFINITY;
+        let mut t = 0.0;
+        let walls = !self.local.is_empty();
+        let mut wall = if walls {
+            self.local.distance(map, &m.position)
+        } else {
+            Real::INFINITY
+        };
+        let mut halted = false;
+        for _ in 0..steps {
+            if !halted {
+                let before = m;
+                step_toward(&mut m, command, &self.limits, CLEARANCE_STEP);
+                if walls {
+                    let to_wall = self.local.distance(map, &m.position);
+                    if to_wall - self.ego.radius < p.margin && to_wall < wall {
+                        m = before;
+                        halted = true;
+                    } else {
+                        wall = to_wall;
+                    }
+                }
+            }
+            t += CLEARANCE_STEP;
+            for b in self.near.iter().filter(|b| b.relevant_yield) {
+                let d = (b.position + b.velocity * t - m.position).norm();
+                lowest = lowest.min(d - (b.within - p.margin));
+            }
+            if lowest < 0.0 {
+                return t - p.yield_time - CLEARANCE_STEP;
+            }
+            if bound >= 0.0 && lowest < bound {
+                break;
+            }
+        }
+        lowest
+    }
+}
+
+impl SafeSet<'_> {
+    /// Whether the robot may execute `command` for the next control period: the protective
+    /// check (see the module doc). The one predicate planners and the layer share.
+    pub fn admits(&self, command: Command) -> bool {
+        let p = self.layer.params;
+        self.layer.safe(command, self.map, p.reaction_time, true)
+    }
+
+    /// Whether someone walking on at their perceived velocity would come within the margin
+    /// of the robot, were it to stop now, within the yield horizon.
+    pub fn threatened(&self) -> bool {
+        let l = self.layer;
+        l.params.yielding
+            && l.near.iter().any(|b| b.relevant_yield)
+            && l.clearance(Command::STOP, self.map, l.params.margin) < l.params.margin
+    }
+
+    /// The predicted body clearance of `command` over the yield horizon (m, surface to
+    /// surface; infinite with nobody near; negative for a predicted touch, the sooner the
+    /// lower, as the yield ranks ways out).
+    pub fn clearance(&self, command: Command) -> Real {
+        self.layer.clearance(command, self.map, Real::NEG_INFINITY)
+    }
+
+    /// What the robot may execute instead of `command`.
+    pub fn guard(&self, command: Command) -> Guarded {
+        let l = self.layer;
+        let p = l.params;
+        if l.near.is_empty() && l.local.is_empty() {
+            return Guarded {
+                command,
+                zone: Zone::Clear,
+                scale: 1.0,
+            };
+        }
+        if self.threatened()
+            && let Some(way_out) = self.yield_from(command)
+        {
+            return way_out;
+        }
+        let warned = !l.safe(command, self.map, p.warning_time, false);
+        let start = if warned { p.warning_scale } else { 1.0 };
+        let tried =
+            std::iter::once(start).chain(LADDER.into_iter().filter(|&s| s < start && s > 0.0));
+        for s in tried {
+            let candidate = if s == 1.0 {
+                command
+            } else {
+                scaled(command, s)
+            };
+            if self.admits(candidate) {
+                let zone = match (s == start, warned) {
+                    (true, false) => Zone::Clear,
+                    (true, true) => Zone::Warning,
+                    (false, _) => Zone::Protective,
+                };
+                // Untouched commands keep their bits.
+                return Guarded {
+                    command: candidate,
+                    zone,
+                    scale: s,
+                };
+            }
+        }
+        // A stop: the most the robot can do without a threat (it never adds speed).
+        Guarded {
+            command: scaled(command, 0.0),
+            zone: Zone::Protective,
+            scale: 0.0,
+        }
+    }
+
+    /// The yield: among the admissible candidates (the command, its fractions, the ways out,
+    /// a stop), the one with the largest clearance capped at the yield clearance, ties to the
+    /// one nearest the command; `None` when that is the command itself (the fields then act
+    /// on it as usual).
+    fn yield_from(&self, command: Command) -> Option<Guarded> {
+        let l = self.layer;
+        let cap = l.params.yield_clearance;
+        let mut candidates = [(0.0, Command::STOP, 0.0); MAX_CANDIDATES];
+        let n = self.candidates(command, &mut candidates);
+        let candidates = &mut candidates[..n];
+        // Nearest the command first (stable: ties keep the order they were made in).
+        candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut best: Option<(Real, Command, Real)> = None;
+        for &(_, candidate, scale) in candidates.iter() {
+            let floor = best.map_or(Real::NEG_INFINITY, |b| b.0);
+            let clearance = l.clearance(candidate, self.map, floor).min(cap);
+            if clearance <= floor || !self.admits(candidate) {
+                continue;
+            }
+            best = Some((clearance, candidate, scale));
+            if clearance >= cap {
+                // Nothing later is both clearer and nearer the command.
+                break;
+            }
+        }
+        match best {
+            Some((_, c, scale)) if scale == 1.0 && c == command => None,
+            Some((_, c, scale)) => Some(Guarded {
+                command: c,
+                zone: Zone::Yield,
+                scale,
+            }),
+            // Cornered: nothing is admissible; the robot brakes where it is.
+            None => Some(Guarded {
+                command: scaled(command, 0.0),
+                zone: Zone::Protective,
+                scale: 0.0,
+            }),
+        }
+    }
+
+    /// Fills `out` with (distance to `command`, candidate, fraction of `command`, 0 for a
+    /// way out) and returns how many.
+    fn candidates(
+        &self,
+        command: Command,
+        out: &mut [(Real, Command, Real); MAX_CANDIDATES],
+    ) -> usize {
+        let limits = &self.layer.limits;
+        let mut n = 0;
+        let mut push = |c: Command, scale: Real| {
+            out[n] = (command_distance(command, c), c, scale);
+            n += 1;
+        };
+        for s in LADDER {
+            push(
+                if s == 1.0 {
+                    command
+                } else {
+                    scaled(command, s)
+                },
+                s,
+            );
+        }
+        push(scaled(command, 0.0), 0.0);
+        match command {
+            Command::Velocity(_) => {
+                for k in 0..YIELD_HEADINGS {
+                    let heading = k as Real * std::f64::consts::TAU / YIELD_HEADINGS as Real;
+                    for s in YIELD_SPEEDS {
+                        push(
+                            Command::Velocity(unit(heading) * (s * limits.max_speed)),
+                            0.0,
+                        );
+                    }
+                }
+            }
+            Command::Unicycle { .. } => {
+                for v in YIELD_UNICYCLE_SPEEDS {
+                    for w in YIELD_UNICYCLE_TURNS {
+                        push(
+                            Command::Unicycle {
+                                speed: v * limits.max_speed,
+                                yaw_rate: w * limits.max_yaw_rate,
+                            },
+                            0.0,
+                        );
+                    }
+                }
+            }
+        }
+        n
+    }
+}
+
+impl Motion {
+    fn of(ego: &EgoState) -> Self {
+        Self {
+            position: ego.position,
+            velocity: ego.velocity,
+            heading: ego.heading,
+            yaw_rate: ego.yaw_rate,
+        }
+    }
+}
+
+/// How far apart two commands are: the velocity difference (m/s), or for unicycle commands
+/// the speed difference and half the turn-rate difference (a 1 rad/s turn at a 0.5 m lever).
+fn command_distance(a: Command, b: Command) -> Real {
+    match (a, b) {
+        (Command::Velocity(x), Command::Velocity(y)) => (x - y).norm(),
+        (
+            Command::Unicycle {
+                speed: s1,
+                yaw_rate: w1,
+            },
+            Command::Unicycle {
+                speed: s2,
+                yaw_rate: w2,
+            },
+        ) => ((s1 - s2).powi(2) + (0.5 * (w1 - w2)).powi(2)).sqrt(),
+        _ => Real::INFINITY,
     }
 }
 
@@ -459,52 +795,6 @@ pub fn field_reach(speed: Real, limits: &SafetyLimits, params: &SafetyParams) ->
         + speed * speed / (2.0 * braking)
         + params.margin;
     (protective, protective + speed * params.warning_time)
-}
-
-/// The layer as a robot runs it under its planner: the base's limits (the control period is
-/// each plan's `dt`) and how often each field acted.
-#[derive(Debug, Clone)]
-pub struct Guard {
-    layer: SafetyLayer,
-    limits: SafetyLimits,
-    /// Commands the warning field slowed.
-    pub warned: u64,
-    /// Commands the protective field slowed further or stopped.
-    pub protective: u64,
-}
-
-impl Guard {
-    /// A guard for a base with `limits`, with the default parameters.
-    pub fn new(limits: SafetyLimits) -> Self {
-        Self::with_params(limits, SafetyParams::default())
-    }
-
-    /// A guard with the given parameters.
-    pub fn with_params(limits: SafetyLimits, params: SafetyParams) -> Self {
-        Self {
-            layer: SafetyLayer::new(params),
-            limits,
-            warned: 0,
-            protective: 0,
-        }
-    }
-
-    /// What the robot may execute of the planner's `command`, planned on `input`; counted.
-    pub fn check(&mut self, command: Command, input: &PlanningInput<'_>) -> Guarded {
-        let limits = SafetyLimits {
-            control_period: input.dt,
-            ..self.limits
-        };
-        let guarded = self
-            .layer
-            .guard(command, input.ego, &limits, input.neighbours, input.map);
-        match guarded.zone {
-            Zone::Clear => {}
-            Zone::Warning => self.warned += 1,
-            Zone::Protective => self.protective += 1,
-        }
-        guarded
-    }
 }
 
 /// `v` scaled to length 1, or zero.
@@ -535,6 +825,7 @@ fn step_toward(m: &mut Motion, command: Command, lim: &SafetyLimits, h: Real) {
             let current = m.velocity.dot(&unit(m.heading));
             let target = speed.clamp(-lim.max_speed, lim.max_speed);
             let v = current + (target - current).clamp(-lim.max_accel * h, lim.max_accel * h);
+            let yaw_rate = yaw_rate.clamp(-lim.max_yaw_rate, lim.max_yaw_rate);
             m.yaw_rate +=
                 (yaw_rate - m.yaw_rate).clamp(-lim.max_yaw_accel * h, lim.max_yaw_accel * h);
             m.heading += m.yaw_rate * h;

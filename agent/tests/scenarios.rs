@@ -61,6 +61,7 @@ fn run(robots: &mut [Robot], map: &StaticMap, seconds: Real) -> (Real, bool) {
                 goal: r.goal,
                 dt: DT,
                 visibility: None,
+                safety: None,
             };
             commands.push(if arrived {
                 Command::STOP
@@ -153,6 +154,7 @@ fn robot_meets_person(spec: PlannerSpec, lateral_offset: Real) -> Encounter {
             goal: r.goal,
             dt: DT,
             visibility: None,
+            safety: None,
         };
         let command = r.stack.plan(&input).command;
         let force = desired_force(

@@ -104,6 +104,7 @@ fn traffic_rows_are_the_committed_rows() {
         first_seed: 1,
         seeds: 1,
         policies: vec![false, true],
+        layers: vec![true],
         seconds: 300.0,
     };
     let runs = study.execute(&|| {}).expect("fleet sites");

@@ -57,8 +57,13 @@ pub(crate) fn blueprint() -> rerun::blueprint::Blueprint {
     let kpis = Grid::new([
         fleet_plot("tasks / min", &["tasks_per_minute"]),
         fleet_plot(
-            "contacts with people: robot-caused, person-caused",
-            &["robot_caused_contacts", "person_caused_contacts"],
+            "contacts: robot-caused, person-caused, robot–robot, total",
+            &[
+                "robot_caused_contacts",
+                "person_caused_contacts",
+                "robot_robot_contacts",
+                "total_contacts",
+            ],
         ),
         fleet_plot("space violations (SVR)", &["svr"]),
         fleet_plot(

@@ -204,7 +204,7 @@ impl Painter {
 }
 
 /// The fields: outlines always, in the colour of the field that acted (amber warning, red
-/// protective), grey otherwise.
+/// protective, blue for a yield, on the protective outline), grey otherwise.
 fn log_fields(
     rec: &rerun::RecordingStream,
     fields: &[FieldView],
@@ -214,14 +214,16 @@ fn log_fields(
     rec.log(
         "world/safety/protective",
         &rerun::LineStrips2D::new(fields.iter().map(|f| f.protective.clone()))
-            .with_colors(fields.iter().map(|f| {
-                colour(
-                    f.state == FieldState::Protective,
+            .with_colors(fields.iter().map(|f| match f.state {
+                FieldState::Yield => rerun::Color::from_rgb(40, 110, 240),
+                state => colour(
+                    state == FieldState::Protective,
                     rerun::Color::from_rgb(230, 30, 30),
-                )
+                ),
             }))
             .with_labels(fields.iter().map(|f| match f.state {
                 FieldState::Protective => format!("{} protective", f.robot),
+                FieldState::Yield => format!("{} yields", f.robot),
                 _ => String::new(),
             })),
     )?;

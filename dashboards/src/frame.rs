@@ -40,6 +40,9 @@ pub enum FieldState {
     Warning,
     /// The protective field slowed it further or stopped it.
     Protective,
+    /// The layer yielded: someone would have walked into the stopped robot, and it took a
+    /// way out.
+    Yield,
 }
 
 /// A robot's protective and warning fields as outlines on the floor.

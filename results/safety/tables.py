@@ -1,16 +1,24 @@
 #!/usr/bin/env python3
 """The tables of results/safety/REPORT.md, from the committed study outputs (standard library
-only): each study as published (no safety layer) beside the same study with the layer.
+and git only): each study without the safety layer (as the papers ran it), with the layer that
+only slowed and stopped (as committed at STOPPING, before issue 43), and with the layer as it
+is now (it yields, and the planners plan inside its safe set).
 
     python3 results/safety/tables.py
+
+Run it inside the repository: the stopping layer's outputs are read from git history.
 """
 import csv
-import json
+import io
 import os
 import statistics
+import subprocess
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-PLANNERS = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf"]
+# The last commit with the layer that only slowed and stopped.
+STOPPING = "e9ded2f"
+OPEN_SPACE = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf"]
+REPLAY = ["foigp", "foigp-1", "igp-diag", "igp-lin", "mc", "dwa", "pgp+orca"]
 
 
 def rows(path):
@@ -18,131 +26,134 @@ def rows(path):
         return list(csv.DictReader(f))
 
 
+def rows_at(rev, path):
+    text = subprocess.run(
+        ["git", "show", f"{rev}:results/{path}"],
+        cwd=ROOT, check=True, capture_output=True, text=True,
+    ).stdout
+    return list(csv.DictReader(io.StringIO(text)))
+
+
 def mean(xs):
     xs = list(xs)
     return statistics.fmean(xs) if xs else float("nan")
 
 
+def three(values):
+    return " / ".join(values)
+
+
+def replays():
+    for scene in ("seq_eth", "zara01"):
+        runs = {
+            "no layer": rows(f"eth/{scene}-partial/runs.csv"),
+            "stopping": rows_at(STOPPING, f"safety/{scene}-partial/runs.csv"),
+            "yielding": rows(f"safety/{scene}-partial/runs.csv"),
+        }
+        print(f"### {scene}, partial runs: no layer / stopping layer / yielding layer\n")
+        print("| planner | runs | reached | %s<0.21 | robot-caused | person-caused | "
+              "appeared too close | total contacts |")
+        print("|---|---|---|---|---|---|---|---|")
+        for p in ["human"] + REPLAY:
+            cells = {k: [x for x in v if x["planner"] == p] for k, v in runs.items()}
+            n = len(cells["yielding"])
+            col = []
+            col.append(three(f"{mean(x['reached'] == 'true' for x in c):.0%}" for c in cells.values()))
+            col.append(three(f"{mean(float(x['s_m']) < 0.21 for x in c):.0%}" for c in cells.values()))
+            for key in ("robot_caused_contacts", "person_caused_contacts", "appeared_contacts"):
+                col.append(three(str(sum(int(x[key]) for x in c)) for c in cells.values()))
+            col.append(three(str(sum(int(x["robot_caused_contacts"]) + int(x["person_caused_contacts"])
+                                     + int(x["appeared_contacts"]) for x in c))
+                             for c in cells.values()))
+            print(f"| {p} | {n} | " + " | ".join(col) + " |")
+        print()
+
+
 def open_space():
-    off, on = rows("open-space/runs.csv"), rows("open-space-safety/runs.csv")
-    print("### Open space: 6 planners × 11 densities × 100 seeds (6,600 runs each)\n")
-    print("| planner | success | time to goal (s, successes) | robot-caused contacts | "
-          "person-caused contacts | collision rate while moving | people's delay (s per run) |")
-    print("|---|---|---|---|---|---|---|")
-    total = [0, 0, 0, 0]
-    for p in PLANNERS:
-        cells = []
-        for col in ("success", "time", "robot", "person", "collision", "delay"):
-            pair = []
-            for data in (off, on):
-                r = [x for x in data if x["algorithm"] == p]
-                if col == "success":
-                    pair.append(f"{mean(x['success'] == 'true' for x in r):.1%}")
-                elif col == "time":
-                    pair.append(f"{mean(float(x['time_to_goal_s']) for x in r if x['success'] == 'true'):.1f}")
-                elif col == "robot":
-                    pair.append(str(sum(int(x["robot_caused_contacts"]) for x in r)))
-                elif col == "person":
-                    pair.append(str(sum(int(x["person_caused_contacts"]) for x in r)))
-                elif col == "collision":
-                    pair.append(f"{mean(float(x['collision_rate']) for x in r):.1%}")
-                else:
-                    pair.append(f"{mean(float(x['human_delay_s']) for x in r):.2f}")
-            cells.append(" → ".join(pair))
-        print(f"| {p} | " + " | ".join(cells) + " |")
-    for data, k in ((off, 0), (on, 2)):
-        total[k] = sum(int(x["robot_caused_contacts"]) for x in data)
-        total[k + 1] = sum(int(x["person_caused_contacts"]) for x in data)
-    print(f"| all | | | {total[0]} → {total[2]} | {total[1]} → {total[3]} | | |\n")
-    print("Success by density (as published → with the layer):\n")
-    densities = sorted({float(x["density"]) for x in off})
+    runs = {
+        "no layer": rows("open-space/runs.csv"),
+        "stopping": rows_at(STOPPING, "open-space-safety/runs.csv"),
+        "yielding": rows("open-space-safety/runs.csv"),
+    }
+    print("### Open space: 6 planners × 11 densities × 100 seeds: no layer / stopping layer / "
+          "yielding layer\n")
+    print("| planner | success | time to goal (s, successes) | robot-caused | person-caused | "
+          "total contacts | min distance to a person (m) | people's delay (s per run) |")
+    print("|---|---|---|---|---|---|---|---|")
+    total = lambda x: (int(x["robot_caused_contacts"]) + int(x["person_caused_contacts"])
+                       + int(x["wall_contacts"]))
+    for p in OPEN_SPACE:
+        cells = [[x for x in v if x["algorithm"] == p] for v in runs.values()]
+        col = [
+            three(f"{mean(x['success'] == 'true' for x in c):.1%}" for c in cells),
+            three(f"{mean(float(x['time_to_goal_s']) for x in c if x['success'] == 'true'):.1f}"
+                  for c in cells),
+            three(str(sum(int(x["robot_caused_contacts"]) for x in c)) for c in cells),
+            three(str(sum(int(x["person_caused_contacts"]) for x in c)) for c in cells),
+            three(str(sum(total(x) for x in c)) for c in cells),
+            three(f"{mean(float(x['min_human_distance_m']) for x in c):.2f}" for c in cells),
+            three(f"{mean(float(x['human_delay_s']) for x in c):.2f}" for c in cells),
+        ]
+        print(f"| {p} | " + " | ".join(col) + " |")
+    sums = [sum(total(x) for x in v) for v in runs.values()]
+    robot = [sum(int(x["robot_caused_contacts"]) for x in v) for v in runs.values()]
+    print(f"| all | | | {three(map(str, robot))} | | {three(map(str, sums))} | | |\n")
+    print("Success by density (no layer / stopping / yielding):\n")
+    densities = sorted({float(x["density"]) for x in runs["no layer"]})
     print("| planner | " + " | ".join(f"{d:g}" for d in densities) + " |")
     print("|---|" + "---|" * len(densities))
-    for p in PLANNERS:
-        cells = []
+    for p in OPEN_SPACE:
+        out = []
         for d in densities:
-            pair = []
-            for data in (off, on):
-                r = [x for x in data if x["algorithm"] == p and float(x["density"]) == d]
-                pair.append(f"{mean(x['success'] == 'true' for x in r):.2f}")
-            cells.append("→".join(pair))
-        print(f"| {p} | " + " | ".join(cells) + " |")
+            out.append("/".join(
+                f"{mean(x['success'] == 'true' for x in v if x['algorithm'] == p and float(x['density']) == d):.2f}"
+                for v in runs.values()))
+        print(f"| {p} | " + " | ".join(out) + " |")
     print()
 
 
-def intent_sharing():
-    path_off = os.path.join(ROOT, "intent-sharing/runs.json")
-    path_on = os.path.join(ROOT, "safety/intent-sharing.json")
-    if not (os.path.exists(path_off) and os.path.exists(path_on)):
-        print("(intent-sharing runs missing)\n")
-        return
-    off, on = json.load(open(path_off)), json.load(open(path_on))
-    print("### Intent sharing: warehouse, 12 robots, 40 people, pgp+orca, 300 s, seeds 1–100\n")
-    print("Means per run (a run is one seed with sharing on or off); tasks per minute is the "
-          "fleet's.\n")
-    print("| sharing | layer | tasks / min | robot-caused | person-caused | robot–robot contacts "
-          "| wall contacts | robot contact steps | collision rate | SVR | protective commands |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for sharing in (True, False):
-        for label, data in (("off", off), ("on", on)):
-            r = [x for x in data if x["sharing"] == sharing]
-            print(f"| {'on' if sharing else 'off'} | {label} | {mean(x['tasks'] for x in r) / 5:.2f} "
-                  f"| {mean(x['robot_caused_contacts'] for x in r):.2f} "
-                  f"| {mean(x['person_caused_contacts'] for x in r):.2f} "
-                  f"| {mean(x['robot_robot_contacts'] for x in r):.2f} "
-                  f"| {mean(x['wall_contacts'] for x in r):.2f} "
-                  f"| {mean(x['robot_contact_steps'] for x in r):.2f} "
-                  f"| {mean(x['collision_rate'] for x in r):.3%} "
-                  f"| {mean(x['svr'] for x in r):.3f} "
-                  f"| {mean(x['protective_commands'] for x in r):.0f} |")
-    for label, data in (("off", off), ("on", on)):
-        print(f"\nLayer {label}: robot-caused contacts summed over all 200 runs: "
-              f"{sum(x['robot_caused_contacts'] for x in data)}; person-caused: "
-              f"{sum(x['person_caused_contacts'] for x in data)}; robot–robot: "
-              f"{sum(x['robot_robot_contacts'] for x in data)}.")
-    print()
-
-
-def replay():
-    for seq in ("seq_eth", "zara01"):
-        off_dir, on_dir = f"eth/{seq}-partial", f"safety/{seq}-partial"
-        if not os.path.exists(os.path.join(ROOT, on_dir, "runs.csv")):
-            print(f"({seq} runs missing)\n")
+def fleets():
+    for folder, seeds in (("fleet-safety", "1–30"), ("fleet-safety-heldout", "101–130")):
+        path = os.path.join(ROOT, folder, "runs.csv")
+        if not os.path.exists(path):
+            print(f"({folder} missing)\n")
             continue
-        off, on = rows(f"{off_dir}/runs.csv"), rows(f"{on_dir}/runs.csv")
-        print(f"### Replay, {seq}, partial runs (recorded people do not react)\n")
-        print("| planner | runs | reached | robot-caused | person-caused | appeared too close "
-              "| μ(s) (m) | μ(d_r) (m) | μ(duration) (s) |")
-        print("|---|---|---|---|---|---|---|---|---|")
-        planners = list(dict.fromkeys(x["planner"] for x in off))
-        for p in planners:
-            cells = []
-            for col in ("runs", "reached", "robot", "person", "appeared", "s", "path", "duration"):
-                pair = []
-                for data in (off, on):
-                    r = [x for x in data if x["planner"] == p]
-                    if col == "runs":
-                        pair.append(str(len(r)))
-                    elif col == "reached":
-                        pair.append(f"{mean(x['reached'] == 'true' for x in r):.0%}")
-                    elif col == "robot":
-                        pair.append(str(sum(int(x["robot_caused_contacts"]) for x in r)))
-                    elif col == "person":
-                        pair.append(str(sum(int(x["person_caused_contacts"]) for x in r)))
-                    elif col == "appeared":
-                        pair.append(str(sum(int(x["appeared_contacts"]) for x in r)))
-                    elif col == "s":
-                        pair.append(f"{mean(float(x['s_m']) for x in r if x['s_m'] not in ('', 'inf')):.2f}")
-                    elif col == "path":
-                        pair.append(f"{mean(float(x['path_m']) for x in r):.1f}")
-                    else:
-                        pair.append(f"{mean(float(x['duration_s']) for x in r):.1f}")
-                cells.append(pair[0] if col == "runs" else " → ".join(pair))
-            print(f"| {p} | " + " | ".join(cells) + " |")
+        data = rows(f"{folder}/runs.csv")
+        print(f"### Fleets in-process, seeds {seeds}, 300 s, traffic policy on: layer off / on\n")
+        print("| site | robots | tasks (mean per run) | robot-caused | person-caused | robot–robot | "
+              "walls | total | total per robot-hour | closest (m) | people's delay (person-s) | "
+              "stuck share | commands changed | of which yields |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        sites = []
+        for r in data:
+            if (r["scenario"], r["robots"]) not in sites:
+                sites.append((r["scenario"], r["robots"]))
+        for site, robots in sites:
+            cells = [[x for x in data if (x["scenario"], x["robots"]) == (site, robots)
+                      and x["safety"] == on] for on in ("false", "true")]
+            hours = int(robots) * 300 / 3600
+
+            def m(key, fmt="{:.1f}", scale=1.0):
+                return " / ".join(fmt.format(scale * mean(float(x[key]) for x in c)) for c in cells)
+
+            def share(key):
+                out = []
+                for c in cells:
+                    checked = sum(int(x["layer_checked"]) for x in c)
+                    n = sum(int(x[k]) for x in c for k in key)
+                    out.append(f"{n / checked:.1%}" if checked else "–")
+                return " / ".join(out)
+            stuck = " / ".join(f"{mean(float(x['stuck_robot_s']) for x in c) / (int(robots) * 300):.0%}"
+                               for c in cells)
+            print(f"| {site} | {robots} | {m('tasks')} | {m('robot_caused_contacts')} | "
+                  f"{m('person_caused_contacts')} | {m('robot_robot_contacts')} | {m('wall_contacts')} | "
+                  f"{m('total_contacts')} | {m('total_contacts', scale=1 / hours)} | "
+                  f"{m('min_human_distance_m', '{:.2f}')} | {m('human_delay_s')} | {stuck} | "
+                  f"{share(('layer_warned', 'layer_protective', 'yielded'))} | {share(('yielded',))} |")
         print()
 
 
 if __name__ == "__main__":
+    replays()
     open_space()
-    intent_sharing()
-    replay()
+    fleets()

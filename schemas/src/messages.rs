@@ -164,7 +164,7 @@ pub struct CommandMsg {
 }
 
 /// The safety layer's verdict on a command. On the wire a string: `"clear"`, `"warning"`,
-/// `"protective"`.
+/// `"protective"`, `"yield"`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SafetyZone {
@@ -175,6 +175,9 @@ pub enum SafetyZone {
     Warning,
     /// The protective field slowed it further or stopped the robot.
     Protective,
+    /// The robot was threatened (someone would walk into it were it to stop) and the layer
+    /// took a way out other than the planner's command.
+    Yield,
 }
 
 /// Agent → fleet, key `…/robot/<id>/info`, once a second: who the agent is and how it fares.

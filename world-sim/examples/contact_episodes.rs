@@ -44,11 +44,11 @@ fn main() -> Result<(), String> {
             }
         }
         plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
-            let mut plan = stack.plan(input);
+            let plan = match &mut guards[i] {
+                Some(guard) => guard.plan(stack, input).0,
+                None => stack.plan(input),
+            };
             subgoals[i] = Some(plan.intent.subgoal);
-            if let Some(guard) = &mut guards[i] {
-                plan.command = guard.check(plan.command, input).command;
-            }
             plan
         });
         fleet.step(&commands);

@@ -5,9 +5,10 @@
 //!     cargo run --release -p world-sim --example safety_contacts [seed] [seconds] [--no-safety]
 //!         [--person-accel A]
 
+use agent::guard::Guard;
 use agent::model::Command;
 use agent::planner::PlannerStack;
-use agent::safety::{Guard, SafetyParams};
+use agent::safety::SafetyParams;
 use world_sim::fleet::{Fleet, plan_all};
 use world_sim::metrics::{ContactCause, contact_cause};
 use world_sim::scenario::Scenario;
@@ -48,11 +49,11 @@ fn main() {
             *seen = fleet.observe(i).1.iter().map(|b| b.id).collect();
         }
         plan_all(&mut fleet, &mut stacks, &mut commands, |i, stack, input| {
-            let mut plan = stack.plan(input);
             if safety {
-                plan.command = guards[i].check(plan.command, input).command;
+                guards[i].plan(stack, input).0
+            } else {
+                stack.plan(input)
             }
-            plan
         });
         fleet.step(&commands);
         let w = &fleet.world;

@@ -5,10 +5,10 @@ use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::world::World;
+use agent::guard::Guard;
 use agent::map::LocalMap;
 use agent::model::Command;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
-use agent::safety::Guard;
 
 /// Windows of the human-impact measurement in episodes (s): short, so that few people change
 /// goal within one and drop out of it; the last, partial window is counted too.
@@ -61,11 +61,12 @@ pub fn run_episode_with(
                     goal,
                     dt: world.dt,
                     visibility: profile.as_ref(),
+                    safety: None,
                 };
-                let command = stack.plan(&input).command;
-                guard
-                    .as_mut()
-                    .map_or(command, |g| g.check(command, &input).command)
+                match guard {
+                    Some(g) => g.plan(stack, &input).0.command,
+                    None => stack.plan(&input).command,
+                }
             };
         }
         world.step(&commands);

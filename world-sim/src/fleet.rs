@@ -20,12 +20,12 @@ use crate::traffic_policy::{
 };
 use crate::warehouse::{Site, StationKind};
 use crate::world::{ROBOT_ID_BIT, World};
+use agent::guard::Guard;
 use agent::map::LocalMap;
 use agent::math::{Real, Vec2};
 use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use agent::planner::Plan;
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
-use agent::safety::Guard;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
@@ -637,6 +637,12 @@ pub struct FleetReport {
     pub warned: Vec<u64>,
     /// Commands its protective field slowed further or stopped, per robot.
     pub protective: Vec<u64>,
+    /// Commands its yield replaced with a way out, per robot.
+    pub yielded: Vec<u64>,
+    /// Commands it checked, per robot.
+    pub checked: Vec<u64>,
+    /// How far it moved the commands it changed, summed over the fleet (m/s).
+    pub change_sum: Real,
     /// Stuck robots and deadlocks.
     pub traffic: TrafficTotals,
     /// What the traffic policy did, when on.
@@ -683,6 +689,7 @@ pub fn plan_all(
                 goal,
                 dt: fleet.world.dt,
                 visibility: profile.as_ref(),
+                safety: None,
             },
         );
         let now = fleet.world.time;
@@ -700,13 +707,15 @@ pub fn drive(
     commands: &mut [Command],
 ) {
     fleet.dispatch();
-    plan_all(fleet, stacks, commands, |i, stack, input| {
-        let mut plan = stack.plan(input);
-        if let Some(guard) = &mut guards[i] {
-            plan.command = guard.check(plan.command, input).command;
-        }
-        plan
-    });
+    plan_all(
+        fleet,
+        stacks,
+        commands,
+        |i, stack, input| match &mut guards[i] {
+            Some(guard) => guard.plan(stack, input).0,
+            None => stack.plan(input),
+        },
+    );
     fleet.step(commands);
 }
 
@@ -779,6 +788,18 @@ pub fn run_fleet_with(
             .iter()
             .map(|g| g.as_ref().map_or(0, |g| g.protective))
             .collect(),
+        yielded: guards
+            .iter()
+            .map(|g| g.as_ref().map_or(0, |g| g.yielded))
+            .collect(),
+        checked: guards
+            .iter()
+            .map(|g| g.as_ref().map_or(0, |g| g.checked))
+            .collect(),
+        change_sum: guards
+            .iter()
+            .map(|g| g.as_ref().map_or(0.0, |g| g.change_sum))
+            .sum(),
         traffic: fleet.traffic.totals(),
         policy: fleet.policy.as_ref().map(TrafficPolicy::totals),
         reroutes: fleet.reroutes,

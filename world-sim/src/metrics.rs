@@ -129,6 +129,17 @@ pub struct RobotMetrics {
     pub human_path_changes: u64,
 }
 
+impl RobotMetrics {
+    /// Every contact onset: with people (robot-caused and person-caused), with robots, with
+    /// walls and shelves.
+    pub fn total_contacts(&self) -> u64 {
+        self.robot_caused_contacts
+            + self.person_caused_contacts
+            + self.robot_robot_contacts
+            + self.wall_contacts
+    }
+}
+
 /// Accumulates one robot's metrics step by step.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct MetricsRecorder {

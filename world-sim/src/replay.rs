@@ -18,7 +18,7 @@ use agent::map::{MapError, Obstacle, StaticMap};
 use agent::math::{Real, Vec2, angle_of, clamp_norm};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::planner::PlanningInput;
-use agent::safety::{LADDER, SafetyLayer, SafetyParams, Zone};
+use agent::safety::{LADDER, SafetyLayer, SafetyParams};
 use exposure::Exposure;
 use std::fmt;
 
@@ -397,7 +397,9 @@ fn safe_entry_fraction(
                 ..*ego
             };
             let command = Command::Velocity(velocity * s);
-            layer.guard(command, &entering, &limits, &seen, map).zone != Zone::Protective
+            layer
+                .prepare(&entering, &limits, &seen, map)
+                .admits(command)
         })
         .unwrap_or(0.0)
 }
@@ -466,6 +468,7 @@ pub fn replay(
                 goal: goal_at(track, run, t),
                 dt: options.replan_period,
                 visibility: None,
+                safety: None,
             };
             command = plan(&input);
             replans += 1;

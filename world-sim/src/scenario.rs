@@ -272,6 +272,7 @@ impl RobotSpec {
             max_speed: self.max_speed,
             max_accel: self.max_accel,
             max_braking: self.max_accel,
+            max_yaw_rate: self.max_yaw_rate,
             max_yaw_accel: self.max_yaw_accel,
             control_period,
         }

@@ -9,7 +9,7 @@
 use crate::fastmath::LANES;
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, angle_of, rotate, unit, wrap_angle};
-use crate::model::{EgoState, Neighbour, TrajectorySample};
+use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
 use crate::prediction::{SigmaModel, Track, predict, predicts_straight};
 mod hazard;
 
@@ -217,6 +217,21 @@ impl Pgp {
         map: &StaticMap,
         goal: Vec2,
     ) -> PgpDecision {
+        self.plan_within(ego, neighbours, map, goal, None)
+    }
+
+    /// One PGP step whose subgoal lies on the best candidate that the robot may set out along
+    /// now: `admits` (the safety layer's predicate) allows a velocity at PGP's speed along the
+    /// candidate's initial heading. When it allows none, the best candidate as in
+    /// [`Pgp::plan`].
+    pub fn plan_within(
+        &mut self,
+        ego: &EgoState,
+        neighbours: &[Neighbour],
+        map: &StaticMap,
+        goal: Vec2,
+        admits: Option<&dyn Fn(Command) -> bool>,
+    ) -> PgpDecision {
         let p0 = ego.position;
         let to_goal = goal - p0;
         let dist_goal = to_goal.norm();
@@ -245,6 +260,21 @@ impl Pgp {
             if u > expected[best] {
                 best = l;
             }
+        }
+        if let Some(admits) = admits {
+            let speed = self.params.speed;
+            let sets_out = |l: usize| {
+                let ahead = geometries[l].point_at(0.1) - p0;
+                let n = ahead.norm();
+                n > 0.0 && admits(Command::Velocity(ahead / n * speed))
+            };
+            let mut allowed: Option<usize> = None;
+            for (l, &u) in expected.iter().enumerate() {
+                if allowed.is_none_or(|b| u > expected[b]) && sets_out(l) {
+                    allowed = Some(l);
+                }
+            }
+            best = allowed.unwrap_or(best);
         }
         let stride = self.params.steps + 1;
         let fan = self.params.record_fan.then(|| Fan {

@@ -13,11 +13,12 @@
 pub mod net;
 pub mod wire;
 
+use crate::guard::Guard;
 use crate::map::StaticMap;
 use crate::math::Vec2;
 use crate::model::Command;
 use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
-use crate::safety::{Guard, SafetyLimits, Zone};
+use crate::safety::{SafetyLimits, Zone};
 use schemas::{
     AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, SafetyZone, decode, encode,
 };
@@ -96,6 +97,8 @@ pub struct AgentCounters {
     pub warned: AtomicU64,
     /// Commands the safety layer slowed further or stopped in its protective field.
     pub protective: AtomicU64,
+    /// Commands the safety layer replaced with a way out (yields).
+    pub yielded: AtomicU64,
 }
 
 /// Runs one agent on `session` until `shutdown` completes.
@@ -251,16 +254,21 @@ pub async fn run_agent(
                             goal: wire::vec(goal),
                             dt: obs.dt,
                             visibility: profile.as_ref(),
+                            safety: None,
                         };
-                        let mut plan = stack.plan(&input);
+                        let (plan, guarded) = match &mut guard {
+                            Some(guard) => {
+                                let (plan, guarded) = guard.plan(&mut stack, &input);
+                                (plan, Some(guarded))
+                            }
+                            None => (stack.plan(&input), None),
+                        };
                         if !config.fault_plan_delay.is_zero() {
                             // Blocking on purpose: a busy planner holds its thread.
                             std::thread::sleep(config.fault_plan_delay);
                         }
                         let mut zone = SafetyZone::Clear;
-                        if let Some(guard) = &mut guard {
-                            let guarded = guard.check(plan.command, &input);
-                            plan.command = guarded.command;
+                        if let Some(guarded) = guarded {
                             zone = match guarded.zone {
                                 Zone::Clear => SafetyZone::Clear,
                                 Zone::Warning => {
@@ -270,6 +278,10 @@ pub async fn run_agent(
                                 Zone::Protective => {
                                     counters.protective.fetch_add(1, Ordering::Relaxed);
                                     SafetyZone::Protective
+                                }
+                                Zone::Yield => {
+                                    counters.yielded.fetch_add(1, Ordering::Relaxed);
+                                    SafetyZone::Yield
                                 }
                             };
                         }

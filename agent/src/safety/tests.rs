@@ -8,6 +8,7 @@ fn limits() -> SafetyLimits {
         max_speed: 1.0,
         max_accel: 1.5,
         max_braking: 1.5,
+        max_yaw_rate: 1.0,
         max_yaw_accel: 1.5,
         control_period: 0.1,
     }
@@ -174,18 +175,27 @@ fn a_robot_may_back_away_from_a_person_closing_in() {
     let mut layer = SafetyLayer::new(SafetyParams::default());
     let closing = [person(1, vec2(0.8, 0.0), vec2(-1.3, 0.0))];
     let back = Command::Velocity(vec2(-1.0, 0.0));
-    let g = layer.guard(
-        back,
+    let map = StaticMap::empty();
+    let set = layer.prepare(
         &ego(vec2(0.0, 0.0), vec2(0.0, 0.0)),
         &limits(),
         &closing,
-        &StaticMap::empty(),
+        &map,
     );
-    assert_eq!((g.zone, g.command), (Zone::Clear, back));
+    // The predicate never blocks moving away.
+    assert!(set.admits(back));
+    // Threatened, the layer keeps backing off (or steps aside as it backs off).
+    assert!(set.threatened());
+    let g = set.guard(back);
+    let Command::Velocity(v) = g.command else {
+        panic!("kind changed: {g:?}");
+    };
+    assert!(v.x < 0.0, "{g:?}");
+    assert!(set.admits(g.command));
 }
 
 /// A person walks head-on at 2 m/s toward a robot driving at full speed toward them.
-fn head_on(guarded: bool) -> Loop {
+fn head_on(guarded: bool, yielding: bool) -> Loop {
     let walker = person(1, vec2(8.0, 0.0), vec2(-2.0, 0.0));
     let mut sim = Loop::new(
         vec2(0.0, 0.0),
@@ -194,6 +204,10 @@ fn head_on(guarded: bool) -> Loop {
         StaticMap::empty(),
     );
     sim.guarded = guarded;
+    sim.layer = SafetyLayer::new(SafetyParams {
+        yielding,
+        ..SafetyParams::default()
+    });
     for _ in 0..60 {
         sim.step(vec2(1.0, 0.0), |_| true);
     }
@@ -202,11 +216,15 @@ fn head_on(guarded: bool) -> Loop {
 
 #[test]
 fn head_on_person_at_two_metres_per_second_is_never_hit() {
-    assert!(head_on(false).onsets.contains(&Onset::RobotCaused));
-    let sim = head_on(true);
-    // The person does walk into the stopped robot: that contact is theirs.
-    assert_eq!(sim.onsets, [Onset::BodyCaused]);
-    assert!(sim.zones.contains(&Zone::Protective));
+    assert!(head_on(false, true).onsets.contains(&Onset::RobotCaused));
+    // Stopping alone: the person walks into the stopped robot, and the contact is theirs.
+    let stopping = head_on(true, false);
+    assert_eq!(stopping.onsets, [Onset::BodyCaused]);
+    assert!(stopping.zones.contains(&Zone::Protective));
+    // Yielding: the robot stops and steps aside; nobody touches.
+    let sim = head_on(true, true);
+    assert!(sim.onsets.is_empty(), "{:?}", sim.onsets);
+    assert!(sim.zones.contains(&Zone::Yield));
 }
 
 /// A person steps out from behind a shelf corner 1 m ahead of the robot (between the bodies),
@@ -306,10 +324,10 @@ fn full_speed_at_a_wall_stops_short_of_it() {
 }
 
 proptest::proptest! {
-    /// The layer only ever keeps a fraction s ∈ [0, 1] of the planner's command: it never
-    /// adds speed or turns the robot another way.
+    /// Outside a yield the layer only ever keeps a fraction s ∈ [0, 1] of the planner's
+    /// command: it never adds speed or turns the robot another way.
     #[test]
-    fn never_adds_speed(
+    fn never_adds_speed_outside_a_yield(
         v in (-1.5..1.5f64, -1.5..1.5f64),
         own in (-1.0..1.0f64, -1.0..1.0f64),
         others in proptest::collection::vec(
@@ -328,8 +346,55 @@ proptest::proptest! {
         let Command::Velocity(out) = g.command else {
             return Err(proptest::test_runner::TestCaseError::fail("kind changed"));
         };
-        proptest::prop_assert_eq!(out, vec2(v.0, v.1) * g.scale);
-        proptest::prop_assert_eq!(g.zone == Zone::Clear, g.scale == 1.0);
+        if g.zone != Zone::Yield {
+            proptest::prop_assert_eq!(out, vec2(v.0, v.1) * g.scale);
+            proptest::prop_assert_eq!(g.zone == Zone::Clear, g.scale == 1.0);
+        } else {
+            // A way out is within the base's limits.
+            proptest::prop_assert!(out.norm() <= limits().max_speed + 1e-12);
+        }
+    }
+
+    /// Passive safety: every command out of the layer is admissible (the robot can still
+    /// brake before it moves into anything it perceives, people swerving at up to a_h), or a
+    /// stop when nothing is. For holonomic and unicycle bases, among walls.
+    #[test]
+    fn every_command_out_is_admissible_or_a_stop(
+        v in (-1.5..1.5f64, -1.5..1.5f64),
+        own in (-1.0..1.0f64, -1.0..1.0f64),
+        unicycle in proptest::bool::ANY,
+        walled in proptest::bool::ANY,
+        others in proptest::collection::vec(
+            (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
+    ) {
+        let mut layer = SafetyLayer::new(SafetyParams::default());
+        let bodies: Vec<Neighbour> = others
+            .iter()
+            .enumerate()
+            .map(|(i, o)| person(i as u64, vec2(o.0, o.1), vec2(o.2, o.3)))
+            .collect();
+        let command = if unicycle {
+            Command::Unicycle { speed: v.0, yaw_rate: v.1 }
+        } else {
+            Command::Velocity(vec2(v.0, v.1))
+        };
+        let map = if walled {
+            StaticMap::new(vec![
+                Obstacle::Wall(vec2(-10.0, -0.9), vec2(10.0, -0.9)),
+                Obstacle::Wall(vec2(-10.0, 0.9), vec2(10.0, 0.9)),
+            ]).expect("valid walls")
+        } else {
+            StaticMap::empty()
+        };
+        let at = ego(vec2(0.0, 0.0), vec2(own.0, own.1));
+        let set = layer.prepare(&at, &limits(), &bodies, &map);
+        let g = set.guard(command);
+        let stop = g.zone == Zone::Protective && g.scale == 0.0;
+        proptest::prop_assert!(stop || set.admits(g.command), "{:?}", g);
+        // A way out never moves toward anyone within the margin: the predicate's promise.
+        if g.zone == Zone::Yield {
+            proptest::prop_assert!(set.admits(g.command));
+        }
     }
 }
 
@@ -398,4 +463,133 @@ fn field_reach_is_the_stopping_budget() {
     let (protective, warning) = field_reach(1.0, &limits(), &p);
     assert!((protective - (0.2 + 1.0 / 3.0 + 0.05)).abs() < 1e-12);
     assert!((warning - protective - 1.0).abs() < 1e-12);
+}
+
+/// Bodies walk on whatever the robot does: recorded people, or people who do not see it.
+/// `want` is what the planner asks for every step.
+fn run(sim: &mut Loop, want: Vec2, steps: usize) {
+    for _ in 0..steps {
+        sim.step(want, |_| true);
+    }
+}
+
+/// An aisle `width` wide along x, its walls from x = −20 to 20.
+fn aisle(width: Real) -> StaticMap {
+    let half = width / 2.0;
+    StaticMap::new(vec![
+        Obstacle::Wall(vec2(-20.0, -half), vec2(20.0, -half)),
+        Obstacle::Wall(vec2(-20.0, half), vec2(20.0, half)),
+    ])
+    .expect("two valid walls")
+}
+
+#[test]
+fn a_person_walking_straight_at_a_stopped_robot_is_let_through() {
+    // The person never reacts; the robot's planner wants it to stay where it is.
+    let walker = person(1, vec2(6.0, 0.1), vec2(-1.3, 0.0));
+    let mut frozen = Loop::new(
+        vec2(0.0, 0.0),
+        vec2(0.0, 0.0),
+        vec![walker.clone()],
+        StaticMap::empty(),
+    );
+    frozen.layer = SafetyLayer::new(SafetyParams {
+        yielding: false,
+        ..SafetyParams::default()
+    });
+    run(&mut frozen, vec2(0.0, 0.0), 80);
+    // Standing still, as the layer did before it yielded: walked into.
+    assert_eq!(frozen.onsets, [Onset::BodyCaused]);
+
+    let mut sim = Loop::new(
+        vec2(0.0, 0.0),
+        vec2(0.0, 0.0),
+        vec![walker],
+        StaticMap::empty(),
+    );
+    run(&mut sim, vec2(0.0, 0.0), 80);
+    assert!(sim.onsets.is_empty(), "{:?}", sim.onsets);
+    assert!(sim.zones.contains(&Zone::Yield));
+    // It stepped aside, off the person's line at y = 0.1 by more than both bodies' width.
+    let off_line = (sim.robot.position.y - 0.1).abs();
+    assert!(off_line > 0.65, "at {:?}", sim.robot.position);
+}
+
+#[test]
+fn a_person_overtaking_a_slow_robot_in_a_narrow_aisle_gets_by() {
+    // A 1.8 m aisle; the robot drives at 0.3 m/s along its middle, a person comes from
+    // behind at 1.3 m/s a little off the middle and never reacts.
+    let walker = person(1, vec2(-5.0, 0.15), vec2(1.3, 0.0));
+    let mut sim = Loop::new(vec2(0.0, 0.0), vec2(0.3, 0.0), vec![walker], aisle(1.8));
+    run(&mut sim, vec2(0.3, 0.0), 100);
+    assert!(
+        !sim.onsets.contains(&Onset::RobotCaused),
+        "{:?}",
+        sim.onsets
+    );
+    assert!(sim.onsets.is_empty(), "{:?}", sim.onsets);
+    assert_eq!(sim.wall_onsets, 0);
+    assert!(sim.zones.contains(&Zone::Yield));
+    // The person is past, and the robot went on with its task.
+    assert!(sim.bodies[0].position.x > sim.robot.position.x + 1.0);
+    assert!(sim.robot.position.x > 1.0, "at {:?}", sim.robot.position);
+}
+
+#[test]
+fn a_group_of_three_abreast_coming_down_an_aisle_is_given_way() {
+    // Three people abreast (0.1 m between them) walk at 1.2 m/s down a 4 m aisle toward a
+    // robot driving at them at the reduced speed of 0.5 m/s; they never react, and the
+    // planner above the layer does not either.
+    let group = vec![
+        person(1, vec2(8.0, -0.8), vec2(-1.2, 0.0)),
+        person(2, vec2(8.0, 0.0), vec2(-1.2, 0.0)),
+        person(3, vec2(8.0, 0.8), vec2(-1.2, 0.0)),
+    ];
+    let walk = |yielding: bool| {
+        let mut sim = Loop::new(vec2(0.0, 0.0), vec2(0.5, 0.0), group.clone(), aisle(4.0));
+        sim.layer = SafetyLayer::new(SafetyParams {
+            yielding,
+            ..SafetyParams::default()
+        });
+        run(&mut sim, vec2(0.5, 0.0), 120);
+        sim
+    };
+    // Stopping alone, the robot is walked into.
+    assert!(!walk(false).onsets.is_empty());
+    let sim = walk(true);
+    assert!(
+        !sim.onsets.contains(&Onset::RobotCaused),
+        "{:?}",
+        sim.onsets
+    );
+    assert!(sim.onsets.is_empty(), "{:?}", sim.onsets);
+    assert_eq!(sim.wall_onsets, 0);
+    assert!(sim.zones.contains(&Zone::Yield));
+}
+
+#[test]
+fn a_robot_cornered_against_a_shelf_stays_put_and_the_contact_is_the_persons() {
+    // The robot stands at the back of a niche in a shelf, 0.1 m from its back and sides, the
+    // niche 2 m deep; a person walks straight into the niche.
+    let niche = Obstacle::Polygon(vec![
+        vec2(-1.4, -1.0),
+        vec2(1.6, -1.0),
+        vec2(1.6, -0.4),
+        vec2(-0.4, -0.4),
+        vec2(-0.4, 0.4),
+        vec2(1.6, 0.4),
+        vec2(1.6, 1.0),
+        vec2(-1.4, 1.0),
+    ]);
+    let map = StaticMap::new(vec![niche]).expect("a valid shelf");
+    let walker = person(1, vec2(5.0, 0.0), vec2(-1.3, 0.0));
+    let mut sim = Loop::new(vec2(0.0, 0.0), vec2(0.0, 0.0), vec![walker], map);
+    run(&mut sim, vec2(0.0, 0.0), 60);
+    assert_eq!(sim.onsets, [Onset::BodyCaused]);
+    assert_eq!(sim.wall_onsets, 0);
+    assert!(
+        sim.robot.position.norm() < 0.11,
+        "moved to {:?}",
+        sim.robot.position
+    );
 }

@@ -237,8 +237,8 @@ impl DashboardObserver {
 }
 
 impl DashboardObserver {
-    /// A protective stop at its onset: the robot's newest command was slowed or stopped by its
-    /// protective field, and the one before was not.
+    /// A protective stop or a yield at its onset: the robot's newest command was slowed or
+    /// stopped by its protective field (or replaced by a way out), and the one before was not.
     fn safety_events(&mut self, fleet: &Fleet, status: &Status, out: &mut Vec<EventView>) {
         self.zones.resize(status.safety.len(), SafetyZone::Clear);
         for (i, (&now, before)) in status.safety.iter().zip(&mut self.zones).enumerate() {
@@ -247,6 +247,13 @@ impl DashboardObserver {
                     text: format!(
                         "robot {i}: protective stop (slowed or stopped by its safety layer)"
                     ),
+                    position: fleet.world.robots.get(i).map(|r| p(r.state.position)),
+                    warning: false,
+                });
+            }
+            if now == SafetyZone::Yield && *before != SafetyZone::Yield {
+                out.push(EventView {
+                    text: format!("robot {i}: yields (someone would walk into it were it to stop)"),
                     position: fleet.world.robots.get(i).map(|r| p(r.state.position)),
                     warning: false,
                 });
@@ -398,6 +405,7 @@ fn safety_fields(fleet: &Fleet, status: &Status) -> Vec<FieldView> {
             let state = match status.safety.get(i) {
                 Some(SafetyZone::Warning) => FieldState::Warning,
                 Some(SafetyZone::Protective) => FieldState::Protective,
+                Some(SafetyZone::Yield) => FieldState::Yield,
                 _ => FieldState::Clear,
             };
             FieldView {
@@ -544,6 +552,28 @@ impl Observer for DashboardObserver {
                     .iter()
                     .map(|m| m.person_caused_contacts)
                     .sum::<u64>() as f64,
+            ),
+            (
+                "robot_robot_contacts",
+                per_robot
+                    .iter()
+                    .map(|m| m.robot_robot_contacts)
+                    .sum::<u64>() as f64,
+            ),
+            (
+                "total_contacts",
+                per_robot
+                    .iter()
+                    .map(world_sim::metrics::RobotMetrics::total_contacts)
+                    .sum::<u64>() as f64,
+            ),
+            (
+                "yielding_robots",
+                status
+                    .safety
+                    .iter()
+                    .filter(|z| **z == SafetyZone::Yield)
+                    .count() as f64,
             ),
             (
                 "protective_robots",

@@ -258,6 +258,7 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     let rejected = sum(|c| &c.rejected);
     let warned = sum(|c| &c.warned);
     let protective = sum(|c| &c.protective);
+    let yielded = sum(|c| &c.yielded);
     let mut out = String::new();
     out.push_str(&format!(
         "\n{} robots ({planner}), {} people, {:.0} simulated seconds\n",
@@ -270,15 +271,15 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         s.tasks_done, s.round_trip_ms.0, s.round_trip_ms.1, s.stale_commands, s.rejected
     ));
     out.push_str(&format!(
-        "safety layer: {warned} commands slowed in the warning field, {protective} slowed further or stopped in the protective field\n"
+        "safety layer: {warned} commands slowed in the warning field, {protective} slowed further or stopped in the protective field, {yielded} replaced by a way out (yield)\n"
     ));
     out.push_str(
         "robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps  \
-         contacts: robot-caused  person-caused\n",
+         contacts: robot-caused  person-caused  robot-robot  walls  total\n",
     );
     for (i, m) in report.fleet_metrics.iter().enumerate() {
         out.push_str(&format!(
-            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}  {:22}  {:13}\n",
+            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}  {:22}  {:13}  {:11}  {:5}  {:5}\n",
             report.tasks_done.get(i).copied().unwrap_or(0),
             m.path_length_m,
             m.collision_rate * 100.0,
@@ -288,6 +289,9 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             m.robot_near_misses,
             m.robot_caused_contacts,
             m.person_caused_contacts,
+            m.robot_robot_contacts,
+            m.wall_contacts,
+            m.total_contacts(),
         ));
     }
     let total = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| {
@@ -295,11 +299,12 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     };
     out.push_str(&format!(
         "contacts (onsets): with people {} robot-caused, {} person-caused; robot-robot {} \
-         (each robot counts its own); walls and shelves {}\n",
+         (each robot counts its own); walls and shelves {}; total {}\n",
         total(|m| m.robot_caused_contacts),
         total(|m| m.person_caused_contacts),
         total(|m| m.robot_robot_contacts),
         total(|m| m.wall_contacts),
+        total(world_sim::metrics::RobotMetrics::total_contacts),
     ));
     let t = &report.traffic;
     out.push_str(&format!(

@@ -5,10 +5,10 @@
 
 use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
 use super::output::{StudyError, write_json};
+use agent::guard::Guard;
 use agent::igp::{IgpParams, IgpPlanner, SeedRule};
 use agent::map::StaticMap;
 use agent::planner::{LocalKind, PlannerSpec, PlannerStack};
-use agent::safety::Guard;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -148,10 +148,10 @@ impl ReplayStudy {
             &self.options,
             &mut |input| {
                 let started = Instant::now();
-                let planned = stack.plan(input).command;
-                let command = guard
-                    .as_mut()
-                    .map_or(planned, |g| g.check(planned, input).command);
+                let command = match guard.as_mut() {
+                    Some(g) => g.plan(&mut stack, input).0.command,
+                    None => stack.plan(input).command,
+                };
                 planning_s += started.elapsed().as_secs_f64();
                 command
             },
@@ -363,14 +363,14 @@ pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
 /// The table as Markdown, laid out like the paper's Tables 1 and 2.
 pub fn table_markdown(table: &[TableRow]) -> String {
     let mut out = String::from(
-        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) | contacts caused / suffered / appeared |\n\
+        "| | runs | alone | reached | μ(s) | %s<0.3 | %s<0.21 | μ(d_r) | %d_r/d_h>1.25 | max(d_r/d_h) | μ(t) | μ(ρ) | μ(max ρ) | contacts caused / suffered / appeared / total |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let na = |v: Option<f64>, f: &dyn Fn(f64) -> String| v.map_or("NA".to_string(), f);
     for r in table {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} | {} / {} / {} |",
+            "| {} | {} | {} | {:.0}% | {:.2} ± {:.2} m | {:.0}% | {:.0}% | {:.1} ± {:.1} m | {} | {} | {} | {:.2} ± {:.2} | {:.2} | {} / {} / {} / {} |",
             r.planner,
             r.runs,
             r.runs_alone,
@@ -390,6 +390,7 @@ pub fn table_markdown(table: &[TableRow]) -> String {
             r.robot_caused_contacts,
             r.person_caused_contacts,
             r.appeared_contacts,
+            r.robot_caused_contacts + r.person_caused_contacts + r.appeared_contacts,
         );
     }
     out

@@ -35,6 +35,12 @@ pub struct Group {
     pub robot_caused_contacts: u64,
     /// Contacts people caused (walking into a robot stopped or moving away), summed.
     pub person_caused_contacts: u64,
+    /// Contacts with other robots, summed.
+    pub robot_robot_contacts: u64,
+    /// Contacts with walls and shelves, summed.
+    pub wall_contacts: u64,
+    /// Every contact, summed (`world_sim::metrics::RobotMetrics::total_contacts`).
+    pub total_contacts: u64,
     /// Mean delay the robot caused people (s).
     pub human_delay_s: Option<f64>,
 }
@@ -112,6 +118,9 @@ pub fn summarize(algorithms: &[PlannerSpec], densities: &[f64], rows: &[RunRow])
                 min_human_distance_m: mean(g.iter().map(|m| m.min_human_distance_m)),
                 robot_caused_contacts: g.iter().map(|m| m.robot_caused_contacts).sum(),
                 person_caused_contacts: g.iter().map(|m| m.person_caused_contacts).sum(),
+                robot_robot_contacts: g.iter().map(|m| m.robot_robot_contacts).sum(),
+                wall_contacts: g.iter().map(|m| m.wall_contacts).sum(),
+                total_contacts: g.iter().map(|m| m.total_contacts()).sum(),
                 human_delay_s: mean(g.iter().map(|m| m.human_delay_s)),
             });
         }

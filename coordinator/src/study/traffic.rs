@@ -1,7 +1,9 @@
-//! `gapfleet experiment traffic`: fleets of several sizes in the narrow-aisle warehouse and the
-//! fleet hallway, with the traffic policy (`world_sim::traffic_policy`) off and on, the same
-//! seeds both ways; deadlocks, stuck robot-seconds, tasks per minute, robot-caused contacts and
-//! people's delay per run, and throughput against fleet size.
+//! `gapfleet experiment traffic`: fleets of several sizes in the narrow-aisle warehouse, the
+//! fleet hallway and (optionally) the default warehouse, with the traffic policy
+//! (`world_sim::traffic_policy`) off and on and the safety layer on (or off, or both), the
+//! same seeds every way; deadlocks, stuck robot-seconds, tasks per minute, contacts of every
+//! cause and their total, closeness, people's delay and what the safety layer changed, per
+//! run, and throughput against fleet size.
 
 use super::csv_fields::to_csv;
 use super::output::{StudyError, write_json};
@@ -41,6 +43,8 @@ pub struct TrafficStudy {
     pub seeds: u64,
     /// The policy settings to run: off (`false`), on (`true`) or both, in this order.
     pub policies: Vec<bool>,
+    /// The safety layer settings to run: off, on or both, in this order.
+    pub layers: Vec<bool>,
     /// Simulated seconds per run.
     pub seconds: f64,
 }
@@ -54,6 +58,10 @@ pub struct TrafficRun {
     pub robots: usize,
     /// Whether the traffic policy was on.
     pub policy: bool,
+    /// Whether the robots ran the safety layer (true in runs.csv files older than this
+    /// column: the layer was on by default).
+    #[serde(default = "layer_on")]
+    pub safety: bool,
     /// Seed.
     pub seed: u64,
     /// Tasks completed by the fleet.
@@ -76,6 +84,34 @@ pub struct TrafficRun {
     pub person_caused_contacts: u64,
     /// Robot–robot contacts (onsets).
     pub robot_robot_contacts: u64,
+    /// Contacts with walls and shelves (onsets; 0 in runs.csv files older than this column,
+    /// as are the ones below down to `yielded`).
+    #[serde(default)]
+    pub wall_contacts: u64,
+    /// Every contact: robot-caused, person-caused, robot–robot and wall contacts.
+    #[serde(default)]
+    pub total_contacts: u64,
+    /// The smallest centre distance between any robot and any person (m).
+    #[serde(default)]
+    pub min_human_distance_m: f64,
+    /// Robot-seconds with a person in a robot's intimate zone (0.45 m between bodies).
+    #[serde(default)]
+    pub intimate_robot_s: f64,
+    /// Commands the safety layer checked.
+    #[serde(default)]
+    pub layer_checked: u64,
+    /// Commands its warning field slowed.
+    #[serde(default)]
+    pub layer_warned: u64,
+    /// Commands its protective field slowed further or stopped.
+    #[serde(default)]
+    pub layer_protective: u64,
+    /// Commands its yield replaced with a way out.
+    #[serde(default)]
+    pub yielded: u64,
+    /// How far it moved the commands it changed, summed (m/s).
+    #[serde(default)]
+    pub layer_change_sum: f64,
     /// Person-seconds of delay the robots caused, against a crowd that ignores them.
     pub human_delay_s: f64,
     /// Segments granted (0 with the policy off).
@@ -122,8 +158,12 @@ pub struct TrafficRun {
     pub stuck_alone_s: f64,
 }
 
+fn layer_on() -> bool {
+    true
+}
+
 impl TrafficRun {
-    fn new(scenario: &str, seed: u64, report: &FleetReport) -> Self {
+    fn new(scenario: &str, seed: u64, safety: bool, report: &FleetReport) -> Self {
         let sum = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| -> u64 {
             report.robots.iter().map(f).sum()
         };
@@ -132,6 +172,7 @@ impl TrafficRun {
             scenario: scenario.to_owned(),
             robots: report.robots.len(),
             policy: report.policy.is_some(),
+            safety,
             seed,
             tasks: report.total_tasks(),
             tasks_per_min: report.total_tasks() as f64 * 60.0 / report.seconds,
@@ -143,6 +184,19 @@ impl TrafficRun {
             robot_caused_contacts: sum(|m| m.robot_caused_contacts),
             person_caused_contacts: sum(|m| m.person_caused_contacts),
             robot_robot_contacts: sum(|m| m.robot_robot_contacts),
+            wall_contacts: sum(|m| m.wall_contacts),
+            total_contacts: sum(world_sim::metrics::RobotMetrics::total_contacts),
+            min_human_distance_m: report
+                .robots
+                .iter()
+                .map(|m| m.min_human_distance_m)
+                .fold(f64::INFINITY, f64::min),
+            intimate_robot_s: report.robots.iter().map(|m| m.intimate_time_s).sum(),
+            layer_checked: report.checked.iter().sum(),
+            layer_warned: report.warned.iter().sum(),
+            layer_protective: report.protective.iter().sum(),
+            yielded: report.yielded.iter().sum(),
+            layer_change_sum: report.change_sum,
             human_delay_s: report.robots.iter().map(|m| m.human_delay_s).sum(),
             grants: policy.grants,
             waits: policy.waits,
@@ -172,6 +226,8 @@ pub struct Cell {
     pub robots: usize,
     /// Policy on.
     pub policy: bool,
+    /// Safety layer on.
+    pub safety: bool,
     /// Runs.
     pub runs: usize,
     /// Runs with at least one deadlock.
@@ -188,8 +244,26 @@ pub struct Cell {
     pub stuck_share: f64,
     /// Mean robot-caused contacts per run.
     pub robot_caused_contacts: f64,
+    /// Mean person-caused contacts per run.
+    pub person_caused_contacts: f64,
     /// Mean robot–robot contacts per run.
     pub robot_robot_contacts: f64,
+    /// Mean wall and shelf contacts per run.
+    pub wall_contacts: f64,
+    /// Mean contacts of every cause per run.
+    pub total_contacts: f64,
+    /// Contacts of every cause per robot-hour.
+    pub total_per_robot_hour: f64,
+    /// Mean of the runs' smallest robot–person centre distance (m).
+    pub min_human_distance_m: f64,
+    /// Mean robot-seconds with a person in the intimate zone per run.
+    pub intimate_robot_s: f64,
+    /// Share of checked commands the safety layer changed.
+    pub layer_changed_share: f64,
+    /// Share of checked commands its yield replaced.
+    pub yielded_share: f64,
+    /// Mean change of a changed command (m/s).
+    pub layer_mean_change: f64,
     /// Mean person-seconds of delay per run.
     pub human_delay_s: f64,
     /// Mean retreats per run.
@@ -203,13 +277,19 @@ pub struct Cell {
 }
 
 impl TrafficStudy {
-    /// Every run, in (site, fleet, seed, policy) order.
-    pub fn runs(&self) -> Vec<(usize, usize, u64, bool)> {
+    /// Every run, in (site, fleet, seed, policy, layer) order.
+    pub fn runs(&self) -> Vec<(usize, usize, u64, bool, bool)> {
         let mut out = Vec::new();
         for (s, site) in self.sites.iter().enumerate() {
             for &robots in &site.fleets {
                 for seed in self.first_seed..self.first_seed + self.seeds {
-                    out.extend(self.policies.iter().map(|&on| (s, robots, seed, on)));
+                    for &on in &self.policies {
+                        out.extend(
+                            self.layers
+                                .iter()
+                                .map(|&layer| (s, robots, seed, on, layer)),
+                        );
+                    }
                 }
             }
         }
@@ -233,11 +313,11 @@ impl TrafficStudy {
     ) -> Result<Vec<TrafficRun>, NotAWarehouse> {
         self.runs()
             .par_iter()
-            .map(|&(s, robots, seed, policy)| {
+            .map(|&(s, robots, seed, policy, safety)| {
                 let site = &self.sites[s];
                 let found = earlier.iter().find(|r| {
-                    (r.scenario.as_str(), r.robots, r.seed, r.policy)
-                        == (site.scenario.name.as_str(), robots, seed, policy)
+                    (r.scenario.as_str(), r.robots, r.seed, r.policy, r.safety)
+                        == (site.scenario.name.as_str(), robots, seed, policy, safety)
                 });
                 if let Some(run) = found {
                     finished(run);
@@ -245,6 +325,7 @@ impl TrafficStudy {
                 }
                 let mut scenario = site.scenario.clone();
                 scenario.seed = seed;
+                scenario.robot.safety = safety;
                 scenario.set_fleet_size(Some(robots), None);
                 let options = FleetOptions {
                     share_intents: true,
@@ -252,7 +333,7 @@ impl TrafficStudy {
                     human_impact_window_s: Some(IMPACT_WINDOW_S),
                 };
                 let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
-                let run = TrafficRun::new(&scenario.name, seed, &report);
+                let run = TrafficRun::new(&scenario.name, seed, safety, &report);
                 finished(&run);
                 Ok(run)
             })
@@ -272,18 +353,39 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
     let mut cells = Vec::new();
     for site in &study.sites {
         for &robots in &site.fleets {
-            for &policy in &study.policies {
+            for (&policy, &safety) in study
+                .policies
+                .iter()
+                .flat_map(|p| study.layers.iter().map(move |l| (p, l)))
+            {
                 let mine: Vec<&TrafficRun> = runs
                     .iter()
                     .filter(|r| {
-                        r.scenario == site.scenario.name && r.robots == robots && r.policy == policy
+                        r.scenario == site.scenario.name
+                            && r.robots == robots
+                            && r.policy == policy
+                            && r.safety == safety
                     })
                     .collect();
                 let m = |f: fn(&TrafficRun) -> f64| mean(mine.iter().map(|r| f(r))).unwrap_or(0.0);
+                let total = |f: fn(&TrafficRun) -> u64| mine.iter().map(|r| f(r)).sum::<u64>();
+                let checked = total(|r| r.layer_checked);
+                let changed = total(|r| r.layer_warned)
+                    + total(|r| r.layer_protective)
+                    + total(|r| r.yielded);
+                let share = |n: u64| {
+                    if checked > 0 {
+                        n as f64 / checked as f64
+                    } else {
+                        0.0
+                    }
+                };
+                let robot_hours = robots as f64 * study.seconds / 3600.0;
                 cells.push(Cell {
                     scenario: site.scenario.name.clone(),
                     robots,
                     policy,
+                    safety,
                     runs: mine.len(),
                     runs_with_deadlock: mine.iter().filter(|r| r.deadlocks > 0).count(),
                     deadlocks: mine.iter().map(|r| r.deadlocks).sum(),
@@ -292,7 +394,20 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                     stuck_robot_s: m(|r| r.stuck_robot_s),
                     stuck_share: m(|r| r.stuck_robot_s) / (robots as f64 * study.seconds),
                     robot_caused_contacts: m(|r| r.robot_caused_contacts as f64),
+                    person_caused_contacts: m(|r| r.person_caused_contacts as f64),
                     robot_robot_contacts: m(|r| r.robot_robot_contacts as f64),
+                    wall_contacts: m(|r| r.wall_contacts as f64),
+                    total_contacts: m(|r| r.total_contacts as f64),
+                    total_per_robot_hour: m(|r| r.total_contacts as f64) / robot_hours,
+                    min_human_distance_m: m(|r| r.min_human_distance_m),
+                    intimate_robot_s: m(|r| r.intimate_robot_s),
+                    layer_changed_share: share(changed),
+                    yielded_share: share(total(|r| r.yielded)),
+                    layer_mean_change: if changed > 0 {
+                        mine.iter().map(|r| r.layer_change_sum).sum::<f64>() / changed as f64
+                    } else {
+                        0.0
+                    },
                     human_delay_s: m(|r| r.human_delay_s),
                     retreats: m(|r| r.retreats as f64),
                     detours: m(|r| r.detours as f64),
@@ -316,12 +431,12 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
 /// The summary as a Markdown table.
 pub fn table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | robot-caused contacts | robot–robot contacts | people's delay (person-s) | retreats | detours | give-ways |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | people's delay (person-s) | retreats | detours | give-ways |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.0} | {:.1} | {:.1} | {:.1} |\n",
+            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.1} | {:.1} |\n",
             row_head(c),
             c.runs,
             c.runs_with_deadlock,
@@ -330,8 +445,6 @@ pub fn table(cells: &[Cell]) -> String {
             c.tasks_per_min_per_robot,
             c.stuck_robot_s,
             100.0 * c.stuck_share,
-            c.robot_caused_contacts,
-            c.robot_robot_contacts,
             c.human_delay_s,
             c.retreats,
             c.detours,
@@ -341,18 +454,53 @@ pub fn table(cells: &[Cell]) -> String {
     out
 }
 
-/// A table row's first three cells: site, robots, policy.
+/// Contacts of every cause, closeness and what the safety layer changed, per cell, as a
+/// Markdown table (means per run, except where a column says otherwise).
+pub fn contacts_table(cells: &[Cell]) -> String {
+    let mut out = String::from(
+        "| site | robots | policy | layer | tasks/min | robot-caused | person-caused | robot–robot | walls | total | total per robot-hour | closest (m) | intimate robot-s | people's delay (person-s) | commands changed | yields | mean change (m/s) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for c in cells {
+        out.push_str(&format!(
+            "{} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.1} | {:.1}% | {:.1}% | {:.2} |\n",
+            row_head(c),
+            c.tasks_per_min,
+            c.robot_caused_contacts,
+            c.person_caused_contacts,
+            c.robot_robot_contacts,
+            c.wall_contacts,
+            c.total_contacts,
+            c.total_per_robot_hour,
+            c.min_human_distance_m,
+            c.intimate_robot_s,
+            c.human_delay_s,
+            100.0 * c.layer_changed_share,
+            100.0 * c.yielded_share,
+            c.layer_mean_change,
+        ));
+    }
+    out
+}
+
+/// A table row's first four cells: site, robots, policy, layer.
 fn row_head(c: &Cell) -> String {
-    let policy = if c.policy { "on" } else { "off" };
-    format!("| {} | {} | {policy}", c.scenario, c.robots)
+    let on = |b: bool| if b { "on" } else { "off" };
+    format!(
+        "| {} | {} | {} | {}",
+        c.scenario,
+        c.robots,
+        on(c.policy),
+        on(c.safety)
+    )
 }
 
 /// Where the stuck robot-seconds went, per cell, as a Markdown table: shares by place and by
 /// who stood next to the stuck robot (`world_sim::stuck`).
 pub fn stuck_table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | stuck robot-s | in aisles | in cross-aisles | near stations | in corridors | next to a person | next to a robot only | nobody next to it |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | stuck robot-s | in aisles | in cross-aisles | near stations | in corridors | next to a person | next to a robot only | nobody next to it |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         let w = &c.stuck_where;
@@ -392,8 +540,9 @@ pub fn write_outputs(
     write_json(&out.join("summary.json"), &cells)?;
     let path = out.join("summary.md");
     let summary = format!(
-        "{}\nWhere the stuck robot-seconds went (shares of each cell's mean):\n\n{}",
+        "{}\nContacts of every cause, closeness and the safety layer (means per run):\n\n{}\nWhere the stuck robot-seconds went (shares of each cell's mean):\n\n{}",
         table(&cells),
+        contacts_table(&cells),
         stuck_table(&cells)
     );
     std::fs::write(&path, summary).map_err(StudyError::io(&path))?;
@@ -401,16 +550,26 @@ pub fn write_outputs(
         .sites
         .iter()
         .map(|site| {
+            let on = |b: bool| if b { "on" } else { "off" };
             let series = study
                 .policies
                 .iter()
-                .map(|&policy| {
+                .flat_map(|&p| study.layers.iter().map(move |&l| (p, l)))
+                .map(|(policy, safety)| {
                     let points = cells
                         .iter()
-                        .filter(|c| c.scenario == site.scenario.name && c.policy == policy)
+                        .filter(|c| {
+                            c.scenario == site.scenario.name
+                                && c.policy == policy
+                                && c.safety == safety
+                        })
                         .map(|c| (c.robots as f64, c.tasks_per_min))
                         .collect();
-                    let name = format!("policy {}", if policy { "on" } else { "off" });
+                    let name = if study.layers.len() > 1 {
+                        format!("policy {}, layer {}", on(policy), on(safety))
+                    } else {
+                        format!("policy {}", on(policy))
+                    };
                     (name, points)
                 })
                 .collect();
@@ -454,6 +613,7 @@ mod tests {
             first_seed: 3,
             seeds: 1,
             policies: vec![false, true],
+            layers: vec![true],
             seconds: 30.0,
         };
         let runs = study.execute(&|| {}).expect("fleet sites");

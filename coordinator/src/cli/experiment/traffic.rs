@@ -30,9 +30,16 @@ pub struct TrafficArgs {
     /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated; empty for none.
     #[arg(long, default_value = "10,20", value_parser = fleet_sizes)]
     hallway_fleets: FleetSizes,
+    /// Fleet sizes in the default warehouse (`warehouse`), comma-separated; empty (the
+    /// default) for none.
+    #[arg(long, default_value = "", value_parser = fleet_sizes)]
+    warehouse_fleets: FleetSizes,
     /// The traffic policy off, on, or both (`off,on`), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "off,on", value_parser = on_off)]
     policy: Vec<bool>,
+    /// The safety layer off, on, or both (`off,on`), comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "on", value_parser = on_off)]
+    safety: Vec<bool>,
     /// Take runs from this earlier `runs.csv` instead of running them again, for the policy
     /// settings given here (`off`, `on`): only for settings whose code has not changed.
     #[arg(long, requires = "reuse_policy")]
@@ -82,6 +89,7 @@ fn on_off(s: &str) -> Result<bool, String> {
 pub(super) fn run(args: TrafficArgs) -> Result<()> {
     let mut sites = Vec::new();
     for (name, fleets) in [
+        ("warehouse", args.warehouse_fleets.0),
         ("warehouse-narrow", args.narrow_fleets.0),
         ("hallway-fleet", args.hallway_fleets.0),
     ] {
@@ -108,12 +116,16 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
     let mut policies = args.policy;
     policies.sort_unstable();
     policies.dedup();
+    let mut layers = args.safety;
+    layers.sort_unstable();
+    layers.dedup();
     let study = TrafficStudy {
         sites,
         planner: args.planner,
         first_seed: args.first_seed,
         seeds: args.seeds,
         policies,
+        layers,
         seconds: args.seconds,
     };
     let earlier = match &args.reuse {
@@ -179,6 +191,8 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
         args.out.display(),
     );
     print!("{}", traffic_study::table(&cells));
+    println!("\nContacts of every cause, closeness and the safety layer:");
+    print!("{}", traffic_study::contacts_table(&cells));
     println!("\nWhere the stuck robot-seconds went:");
     print!("{}", traffic_study::stuck_table(&cells));
     Ok(())
