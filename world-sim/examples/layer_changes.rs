@@ -33,7 +33,7 @@ struct Tally {
 }
 
 impl Tally {
-    fn add(self, o: Tally) -> Tally {
+    fn plus(self, o: Tally) -> Tally {
         Tally {
             runs: self.runs + o.runs,
             reached: self.reached + o.reached,
@@ -123,12 +123,12 @@ fn main() {
             let half = |part: &[(f64, u64)]| {
                 part.iter()
                     .map(|&(d, s)| run(spec, d, s, inside))
-                    .fold(Tally::default(), Tally::add)
+                    .fold(Tally::default(), Tally::plus)
             };
             std::thread::scope(|scope| {
                 let other = scope.spawn(|| half(right));
                 let mine = half(left);
-                mine.add(other.join().expect("no panic"))
+                mine.plus(other.join().expect("no panic"))
             })
         };
         let (a, b) = (tally(true), tally(false));
