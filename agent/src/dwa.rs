@@ -257,16 +257,16 @@ impl Dwa {
     /// arc, which the loop meets first). Runs inside [`ArcSearch`], compiled for the widest
     /// instruction set the CPU has (the predicate is a call out of it).
     #[inline(always)]
-    fn search<S: pulp::Simd>(
-        &self,
-        simd: S,
-        ego: &EgoState,
-        map: &StaticMap,
-        target: Vec2,
-        window: &Window,
-        steps: usize,
-        admits: Option<&dyn Fn(Command) -> bool>,
-    ) -> (Pick, Pick) {
+    fn search<S: pulp::Simd>(&self, simd: S, task: &ArcSearch<'_>) -> (Pick, Pick) {
+        let ArcSearch {
+            ego,
+            map,
+            target,
+            window,
+            steps,
+            admits,
+            ..
+        } = *task;
         let p = &self.params;
         let mut best: Pick = None;
         let mut best_allowed: Pick = None;
@@ -380,6 +380,7 @@ type Pick = Option<(Real, Real, Real)>;
 
 /// DWA's search over the window as one operation that `pulp` compiles once per instruction
 /// set.
+#[derive(Clone, Copy)]
 struct ArcSearch<'a> {
     dwa: &'a Dwa,
     ego: &'a EgoState,
@@ -395,15 +396,7 @@ impl pulp::WithSimd for ArcSearch<'_> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, simd: S) -> Self::Output {
-        self.dwa.search(
-            simd,
-            self.ego,
-            self.map,
-            self.target,
-            self.window,
-            self.steps,
-            self.admits,
-        )
+        self.dwa.search(simd, &self)
     }
 }
 
