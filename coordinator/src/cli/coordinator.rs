@@ -45,6 +45,12 @@ pub struct CoordinatorArgs {
     /// where its journal ends (after a crash, say). See coordinator/README.md, Journal.
     #[arg(long, value_name = "DIR")]
     state: Option<std::path::PathBuf>,
+    /// With --state: if its journal is damaged, keep the damaged file beside it
+    /// (`state.redb.damaged`) and go on from its newest intact commit, or begin a new journal
+    /// when none is intact. Without this flag a damaged journal stops the start, with what is
+    /// wrong.
+    #[arg(long, requires = "state")]
+    recover_state: bool,
     #[command(flatten)]
     net: NetArgs,
     #[command(flatten)]
@@ -66,6 +72,21 @@ impl CoordinatorArgs {
         // ticks after it.
         let (journal, recorded) = match &self.state {
             Some(dir) => {
+                if self.recover_state {
+                    match journal::recover(dir)? {
+                        journal::Recovery::Intact => {}
+                        journal::Recovery::Restored { kept, ticks } => eprintln!(
+                            "journal damaged: kept at {}; going on from its newest intact \
+                             commit ({ticks} ticks)",
+                            kept.display()
+                        ),
+                        journal::Recovery::Kept { kept, what } => eprintln!(
+                            "journal damaged beyond repair ({what}): kept at {}; beginning a \
+                             new journal, the run starts anew",
+                            kept.display()
+                        ),
+                    }
+                }
                 let header = Header::new(
                     &self.site,
                     self.scenario.source(overrides),

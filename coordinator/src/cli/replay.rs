@@ -3,7 +3,7 @@
 use super::{RerunArgs, init_logging};
 use anyhow::Result;
 use coordinator::fleet::dashboard::DashboardObserver;
-use coordinator::fleet::journal::{read, replay};
+use coordinator::fleet::journal::{Integrity, read, replay};
 use coordinator::fleet::{Observer, Status};
 use std::path::PathBuf;
 
@@ -44,6 +44,13 @@ impl ReplayArgs {
                 None => ", no clean end (the coordinator stopped without one)".to_owned(),
             }
         );
+        if recorded.integrity == Integrity::Recovered {
+            println!(
+                "warning: the journal was damaged on disk: its newest commit does not verify; \
+                 the one before does, and it is intact up to tick {} (the file is unchanged)",
+                recorded.ticks.len()
+            );
+        }
         if let Some(end) = &recorded.end
             && end.lost > 0
         {

@@ -47,7 +47,7 @@ mod replay;
 use ledger::task_of;
 pub use ledger::{TaskRecord, ledger_step};
 use read::read_db;
-pub use read::{Recorded, read};
+pub use read::{Integrity, Recorded, read};
 pub use replay::{Replayed, fingerprint, replay, resume};
 
 const META: TableDefinition<&str, &[u8]> = TableDefinition::new("meta");
@@ -244,6 +244,14 @@ pub enum JournalError {
     /// A record would not decode.
     #[error("journal: bad record: {0}")]
     Record(String),
+    /// The file is not a journal, or is one that was damaged on disk.
+    #[error("journal {path}: {what}")]
+    Damaged {
+        /// The database file.
+        path: PathBuf,
+        /// What is wrong with it.
+        what: String,
+    },
     /// The scenario cannot be built (as given, or again from a journal).
     #[error("scenario {0}")]
     Scenario(String),
@@ -280,6 +288,67 @@ fn unpack<'a, T: Deserialize<'a>>(bytes: &'a [u8]) -> Result<T, JournalError> {
 /// The database file in `dir`.
 pub fn database(dir: &Path) -> PathBuf {
     dir.join("state.redb")
+}
+
+/// What [`recover`] did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Recovery {
+    /// The journal was intact (or missing): nothing to do.
+    Intact,
+    /// The damaged file was kept at `kept`, and the journal is now its newest intact commit,
+    /// with `ticks` ticks: a run resumes from it.
+    Restored {
+        /// Where the damaged file is now.
+        kept: PathBuf,
+        /// Ticks in the restored journal.
+        ticks: u64,
+    },
+    /// Nothing of it was intact: the damaged file was kept at `kept`, and a run on the folder
+    /// begins a new journal.
+    Kept {
+        /// Where the damaged file is now.
+        kept: PathBuf,
+        /// What was wrong with it.
+        what: String,
+    },
+}
+
+/// Makes a damaged journal in `dir` one a run can go on from: the damaged file is kept beside
+/// it (`state.redb.damaged`, or `.damaged-2`, …) and replaced by its newest intact commit, or
+/// by nothing when none is intact (the next run begins a new journal). An intact journal is
+/// left as it is.
+pub fn recover(dir: &Path) -> Result<Recovery, JournalError> {
+    let path = database(dir);
+    if !path.exists() {
+        return Ok(Recovery::Intact);
+    }
+    let checked = read::open_checked(&path);
+    let kept = (1..)
+        .map(|n| match n {
+            1 => dir.join("state.redb.damaged"),
+            n => dir.join(format!("state.redb.damaged-{n}")),
+        })
+        .find(|p| !p.exists())
+        .expect("a free name");
+    let io = |source| JournalError::Io {
+        path: path.clone(),
+        source,
+    };
+    match checked {
+        Ok((_, Integrity::Intact, _)) => Ok(Recovery::Intact),
+        Ok((db, Integrity::Recovered, copy)) => {
+            let ticks = read_db(&db, &path)?.ticks.len() as u64;
+            drop(db);
+            std::fs::rename(&path, &kept).map_err(io)?;
+            std::fs::copy(&copy, &path).map_err(io)?;
+            Ok(Recovery::Restored { kept, ticks })
+        }
+        Err(JournalError::Damaged { what, .. }) => {
+            std::fs::rename(&path, &kept).map_err(io)?;
+            Ok(Recovery::Kept { kept, what })
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// The coordinator's end of the journal: cheap to clone, never blocks.
@@ -352,10 +421,36 @@ impl Journal {
             source,
         })?;
         let path = database(dir);
-        let existed = path.exists();
+        // An existing journal is checked first (on a copy): a damaged one is refused, with
+        // the way to go on ([`recover`]).
+        let recorded = if path.exists() {
+            let recorded = read(dir).map_err(|e| match e {
+                JournalError::Damaged { path, what } => JournalError::Damaged {
+                    path,
+                    what: format!(
+                        "{what}. Nothing was changed. To keep it beside a new journal, start \
+                         again with --recover-state"
+                    ),
+                },
+                e => e,
+            })?;
+            if recorded.integrity != Integrity::Intact {
+                return Err(JournalError::Damaged {
+                    path,
+                    what: format!(
+                        "damaged on disk: its newest commit does not verify (the one before \
+                         does, with {} ticks). Nothing was changed. To go on from that one, \
+                         keeping the damaged file beside it, start again with --recover-state",
+                        recorded.ticks.len()
+                    ),
+                });
+            }
+            Some(recorded)
+        } else {
+            None
+        };
         let db = redb::Database::create(&path).map_err(db_err(&path, "create"))?;
-        let recorded = if existed {
-            let recorded = read_db(&db, &path)?;
+        let recorded = if let Some(recorded) = recorded {
             if recorded.header != *header {
                 return Err(JournalError::State(format!(
                     "{} holds a run of site {:?}, scenario {} ({:?} robots, {:?} people, seed \

@@ -17,19 +17,103 @@ pub struct Recorded {
     pub snapshots: Vec<(u64, Vec<u8>)>,
     /// The task ledger, by id.
     pub tasks: Vec<TaskRecord>,
+    /// What the check of the file found.
+    pub integrity: Integrity,
 }
 
-/// Reads the journal in `dir`.
+/// What the check of a journal's file found, when it could be read at all.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Integrity {
+    /// Every page of its newest commit verified.
+    Intact,
+    /// Its newest commit did not verify (bytes changed on disk since it was written); the
+    /// commit before it did, and the journal reads as it stood then: the ticks after it are
+    /// lost.
+    Recovered,
+}
+
+/// The first bytes of every redb file.
+const REDB_MAGIC: [u8; 9] = [b'r', b'e', b'd', b'b', 0x1A, 0x0A, 0xA9, 0x0D, 0x0A];
+
+/// Reads the journal in `dir`, checked: every page's checksum is verified on a copy of the
+/// file (the file itself is never written by a read), so a damaged journal is an error that
+/// names the file and what is wrong, never a panic. A journal whose newest commit is damaged
+/// but whose previous one is intact reads as that one, [`Integrity::Recovered`].
 pub fn read(dir: &Path) -> Result<Recorded, JournalError> {
     let path = database(dir);
-    if !path.exists() {
-        return Err(JournalError::State(format!(
-            "{}: no such journal",
-            path.display()
+    let (db, integrity, _copy) = open_checked(&path)?;
+    let mut recorded = read_db(&db, &path)?;
+    recorded.integrity = integrity;
+    Ok(recorded)
+}
+
+/// `path` checked and opened from a copy, with what the check found; the copy lives as long
+/// as the returned temporary file.
+pub(super) fn open_checked(
+    path: &Path,
+) -> Result<(redb::Database, Integrity, tempfile::TempPath), JournalError> {
+    let damaged = |what: String| JournalError::Damaged {
+        path: path.to_path_buf(),
+        what,
+    };
+    let io = |source| JournalError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut file = match std::fs::File::open(path) {
+        Ok(file) => file,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(JournalError::State(format!(
+                "{}: no such journal",
+                path.display()
+            )));
+        }
+        Err(e) => return Err(io(e)),
+    };
+    let len = file.metadata().map_err(io)?.len();
+    if len == 0 {
+        return Err(damaged("an empty file (0 bytes), not a journal".to_owned()));
+    }
+    let mut magic = [0u8; REDB_MAGIC.len()];
+    use std::io::Read;
+    if file.read_exact(&mut magic).is_err() || magic != REDB_MAGIC {
+        return Err(damaged(format!(
+            "not a journal: a {len}-byte file that is not a redb database"
         )));
     }
-    let db = redb::Database::open(&path).map_err(db_err(&path, "open"))?;
-    read_db(&db, &path)
+    drop(file);
+    let copy = tempfile::NamedTempFile::new()
+        .map_err(|source| JournalError::Io {
+            path: std::env::temp_dir(),
+            source,
+        })?
+        .into_temp_path();
+    std::fs::copy(path, &copy).map_err(io)?;
+    // The store's checked open: every page's checksum verified, a damaged newest commit
+    // rolled back to the one before (the repair reports progress 0.3 exactly then), and
+    // damage it cannot repair reported as an error rather than a panic.
+    let fell_back = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = Arc::clone(&fell_back);
+    let db = redb::Builder::new()
+        .set_check_integrity_on_open(true)
+        .set_repair_callback(move |session| {
+            if (0.25..0.35).contains(&session.progress()) {
+                flag.store(true, Ordering::Relaxed);
+            }
+        })
+        .open(&copy)
+        .map_err(|e| match e {
+            redb::DatabaseError::Storage(redb::StorageError::Corrupted(why)) => damaged(format!(
+                "damaged on disk: what it holds does not verify against its checksums ({why})"
+            )),
+            e => damaged(format!("unreadable: {e}")),
+        })?;
+    let integrity = if fell_back.load(Ordering::Relaxed) {
+        Integrity::Recovered
+    } else {
+        Integrity::Intact
+    };
+    Ok((db, integrity, copy))
 }
 
 pub(super) fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, JournalError> {
@@ -78,6 +162,7 @@ pub(super) fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, Jour
         end,
         snapshots,
         tasks,
+        integrity: Integrity::Intact,
     })
 }
 

@@ -1,0 +1,345 @@
+//! A journal damaged on disk is an input like any other: a real journal (a warehouse run
+//! in-process, its inputs written through the coordinator's journal writer, as a live run
+//! writes them) with random bytes flipped, cut at random lengths, emptied, replaced by text or
+//! written in another format version. Reading it (`gapfleet replay`), replaying it and opening
+//! it to go on (`gapfleet coordinator --state`) each give a clear error that names the file,
+//! or read and replay it correctly; none panics. A journal whose newest commit is damaged is
+//! refused at start-up and goes on from the commit before with `--recover-state`.
+
+use agent::model::Command;
+use agent::planner::PlannerStack;
+use agent::runtime::wire;
+use coordinator::fleet::journal::{
+    self, End, Header, Integrity, IntentInput, Journal, JournalError, Recovery, ScenarioSource,
+    TickInput, read, replay,
+};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+use world_sim::fleet::{Fleet, plan_all};
+use world_sim::scenario::BUILTIN;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gapfleet-damage-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    dir
+}
+
+fn source() -> ScenarioSource {
+    ScenarioSource {
+        name: "warehouse".to_owned(),
+        toml: BUILTIN
+            .iter()
+            .find(|(n, _)| *n == "warehouse")
+            .map(|(_, t)| (*t).to_owned())
+            .expect("built in"),
+        robots: Some(3),
+        humans: Some(6),
+        seed: Some(5),
+        no_safety: false,
+    }
+}
+
+/// Writes a journal of `ticks` ticks into `dir` as the coordinator writes one (inputs every
+/// tick, fingerprints every 100, a snapshot every 30 s, the ledger, the end), committed in
+/// several batches; returns the final fingerprint.
+fn write_journal(dir: &Path, header: &Header, ticks: u64) -> u64 {
+    let scenario = header.scenario.scenario().expect("a fleet site");
+    let journal = Journal::create(dir, header).expect("a journal");
+    let sink = journal.sink();
+    let mut fleet = Fleet::new(&scenario).expect("a warehouse");
+    fleet.share_intents = header.share_intents;
+    fleet.set_traffic_policy(Some(Default::default()));
+    let n = fleet.robots();
+    let mut stacks: Vec<PlannerStack> = (0..n)
+        .map(|_| PlannerStack::new("pgp+orca".parse().expect("known")))
+        .collect();
+    let mut guards = world_sim::episode::guards(&scenario, n);
+    let mut commands = vec![Command::STOP; n];
+    let snapshot_every = (journal::SNAPSHOT_EVERY_S / scenario.dt_s).round() as u64;
+    for tick in 0..ticks {
+        plan_all(
+            &mut fleet,
+            &mut stacks,
+            &mut commands,
+            |i, stack, input| match &mut guards[i] {
+                Some(g) => g.plan(stack, input).0,
+                None => stack.plan(input),
+            },
+        );
+        // Each robot's intent as the coordinator sets it: as it came over the wire.
+        let mut intents = Vec::new();
+        for i in 0..n {
+            if let Some((stamp, trajectory)) = fleet.intent(i) {
+                let trajectory = wire::samples_to_wire(trajectory);
+                fleet.set_intent(i, stamp, wire::samples_from_wire(&trajectory));
+                intents.push(IntentInput {
+                    robot: i as u32,
+                    stamp,
+                    trajectory,
+                });
+            }
+        }
+        let mut input = TickInput {
+            tick,
+            held: Vec::new(),
+            commands: commands
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (i as u32, wire::motion(*c)))
+                .collect(),
+            intents,
+            fingerprint: None,
+        };
+        let mut events = fleet.step(&commands);
+        events.extend(fleet.dispatch());
+        if (tick + 1).is_multiple_of(journal::FINGERPRINT_EVERY) {
+            input.fingerprint = Some(journal::fingerprint(&fleet));
+        }
+        sink.tick(input);
+        for event in events {
+            sink.task(tick, event);
+        }
+        if (tick + 1).is_multiple_of(snapshot_every) {
+            sink.snapshot(tick + 1, fleet.clone());
+        }
+        // Several commits, as a live run makes (the writer commits every 200 ms).
+        if tick % 150 == 149 {
+            std::thread::sleep(std::time::Duration::from_millis(250));
+        }
+    }
+    let print = journal::fingerprint(&fleet);
+    sink.end(End {
+        ticks,
+        fingerprint: print,
+        tasks_done: (0..n).map(|i| fleet.tasks_done(i)).sum(),
+        lost: 0,
+    });
+    drop(sink);
+    assert_eq!(journal.finish().expect("written"), ticks);
+    print
+}
+
+/// A small deterministic generator (SplitMix64) for the damage.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n.max(1)
+    }
+}
+
+/// What a damaged journal came to.
+#[derive(Debug, Default)]
+struct Outcomes {
+    /// Read intact and replayed to the recorded end.
+    replayed: u32,
+    /// Read as its previous commit, and replayed that far.
+    recovered: u32,
+    /// Refused with an error naming the file.
+    refused: u32,
+    /// The errors' kinds (their text up to the first parenthesis), each once.
+    messages: Vec<String>,
+}
+
+/// Reads, replays and opens (to go on) the journal in `dir`, none of which may panic; every
+/// error must name the file. `print` is the intact run's final fingerprint.
+fn exercise(dir: &Path, header: &Header, print: u64, outcomes: &mut Outcomes) {
+    let file = journal::database(dir);
+    let named = |e: &JournalError| {
+        let text = e.to_string();
+        assert!(
+            text.contains(&file.display().to_string()) || text.starts_with("journal: "),
+            "an error that names neither the file nor the journal: {text}"
+        );
+    };
+    match read(dir) {
+        Err(e) => {
+            named(&e);
+            let text = e.to_string();
+            let kind = text
+                .split(" (")
+                .next()
+                .unwrap_or(&text)
+                .replace(&file.display().to_string(), "FILE");
+            if !outcomes.messages.contains(&kind) {
+                outcomes.messages.push(kind);
+            }
+            outcomes.refused += 1;
+        }
+        Ok(recorded) => {
+            let ticks = recorded.ticks.len();
+            match replay(&recorded, |_, _| {}) {
+                Ok(replayed) => {
+                    if recorded.integrity == Integrity::Intact && recorded.end.is_some() {
+                        assert_eq!(replayed.fingerprint, print, "an intact journal replays");
+                        outcomes.replayed += 1;
+                    } else {
+                        assert_eq!(replayed.ticks as usize, ticks);
+                        outcomes.recovered += 1;
+                    }
+                }
+                Err(e) => {
+                    named(&e);
+                    outcomes.refused += 1;
+                }
+            }
+        }
+    }
+    // The coordinator's start on it: goes on, or refuses with what is wrong.
+    match Journal::open(dir, header) {
+        Ok((journal, _)) => {
+            journal.finish().expect("closed");
+        }
+        Err(e) => named(&e),
+    }
+}
+
+#[test]
+fn damaged_journals_give_clear_errors_and_never_panic() {
+    let header = Header::new("damage-test", source(), true, true);
+    let original = temp_dir("original");
+    let print = write_journal(&original, &header, 700);
+    let bytes = std::fs::read(journal::database(&original)).expect("the journal");
+    let recorded = read(&original).expect("intact");
+    assert_eq!(recorded.integrity, Integrity::Intact);
+    assert!(!recorded.snapshots.is_empty() && !recorded.tasks.is_empty());
+
+    let trial = temp_dir("trial");
+    // A copy as it was written reads and replays as the original does.
+    std::fs::write(journal::database(&trial), &bytes).expect("written");
+    let mut intact = Outcomes::default();
+    exercise(&trial, &header, print, &mut intact);
+    assert_eq!(intact.replayed, 1, "{intact:?}");
+
+    let mut rng = Rng(49);
+    let mut outcomes = Outcomes::default();
+    let mut panics = Vec::new();
+    // 200 journals with 1–50 bytes flipped anywhere, then 60 cut at random lengths.
+    for k in 0..260 {
+        let mut damaged = bytes.clone();
+        let what = if k < 200 {
+            let flips = 1 + rng.below(50);
+            for _ in 0..flips {
+                let at = rng.below(damaged.len() as u64) as usize;
+                damaged[at] ^= 1 << rng.below(8);
+            }
+            format!("{flips} bytes flipped")
+        } else {
+            let len = rng.below(damaged.len() as u64) as usize;
+            damaged.truncate(len);
+            format!("cut to {len} bytes")
+        };
+        let _ = std::fs::remove_dir_all(&trial);
+        std::fs::create_dir_all(&trial).expect("a folder");
+        std::fs::write(journal::database(&trial), &damaged).expect("written");
+        let run = catch_unwind(AssertUnwindSafe(|| {
+            exercise(&trial, &header, print, &mut outcomes)
+        }));
+        if run.is_err() {
+            panics.push(format!("trial {k}: {what}"));
+        }
+    }
+    println!("260 damaged journals: {outcomes:?}");
+    assert!(panics.is_empty(), "panicked: {panics:?}");
+    assert_eq!(
+        outcomes.replayed + outcomes.recovered + outcomes.refused,
+        260
+    );
+    // Damage was found: most of the file is the run's data, each page under a checksum.
+    assert!(outcomes.refused > 100, "{outcomes:?}");
+}
+
+#[test]
+fn an_empty_file_a_text_file_and_an_older_format_are_named_as_such() {
+    let header = Header::new("damage-test", source(), true, true);
+    let dir = temp_dir("kinds");
+    let file = journal::database(&dir);
+    let error = |dir: &Path| read(dir).expect_err("not a journal").to_string();
+
+    std::fs::write(&file, b"").expect("written");
+    let e = error(&dir);
+    assert!(
+        e.contains(&file.display().to_string()) && e.contains("empty"),
+        "{e}"
+    );
+    assert!(Journal::open(&dir, &header).is_err());
+
+    std::fs::write(&file, "tick,robot,command\n0,1,stop\n").expect("written");
+    let e = error(&dir);
+    assert!(e.contains("not a journal"), "{e}");
+    assert!(Journal::open(&dir, &header).is_err());
+
+    std::fs::remove_file(&file).expect("removed");
+    let mut older = header.clone();
+    older.format = 1;
+    write_journal(&dir, &older, 20);
+    let e = error(&dir);
+    assert!(e.contains("format 1") && e.contains("reads 2"), "{e}");
+    let Err(e) = Journal::open(&dir, &header) else {
+        panic!("an older journal is not gone on with");
+    };
+    assert!(e.to_string().contains("format 1"), "{e}");
+}
+
+/// A journal damaged in its newest commit after the run closed it cleanly: nothing of it can
+/// be trusted (the store keeps no earlier commit past a clean close). `replay` and the
+/// coordinator's start name the file and what is wrong; `--recover-state`
+/// (`journal::recover`) keeps the damaged file beside the new journal the run then begins.
+#[test]
+fn a_damaged_journal_is_kept_and_a_new_one_begun_beside_it() {
+    let header = Header::new("damage-test", source(), true, true);
+    let dir = temp_dir("recover");
+    write_journal(&dir, &header, 700);
+    let file = journal::database(&dir);
+    let before = std::fs::read(&file).expect("the journal");
+    // One more commit, as a restart makes (the header again, the end record taken out).
+    let (journal, _) = Journal::open(&dir, &header).expect("goes on");
+    journal.finish().expect("closed");
+    let after = std::fs::read(&file).expect("the journal");
+    // A byte of a page that commit wrote (past the file's header page).
+    let at = (4096..after.len())
+        .find(|&i| before.get(i) != Some(&after[i]))
+        .expect("the commit wrote a page");
+    let mut damaged = after.clone();
+    damaged[at] ^= 0x55;
+    std::fs::write(&file, &damaged).expect("written");
+
+    let e = read(&dir).expect_err("damaged").to_string();
+    assert!(
+        e.contains(&file.display().to_string()) && e.contains("damaged on disk"),
+        "{e}"
+    );
+    // Reading never writes the file.
+    assert_eq!(std::fs::read(&file).expect("the file"), damaged);
+    let Err(e) = Journal::open(&dir, &header) else {
+        panic!("a damaged journal is not gone on with");
+    };
+    let e = e.to_string();
+    assert!(e.contains(&file.display().to_string()), "{e}");
+
+    let recovery = journal::recover(&dir).expect("recovered");
+    let Recovery::Kept { kept, what } = recovery else {
+        panic!("{recovery:?}");
+    };
+    assert!(what.contains("damaged on disk"), "{what}");
+    assert_eq!(std::fs::read(&kept).expect("kept"), damaged);
+    let (journal, resumed) = Journal::open(&dir, &header).expect("a new journal");
+    assert!(resumed.is_none());
+    journal.finish().expect("closed");
+    assert_eq!(
+        read(&dir).expect("the new journal").integrity,
+        Integrity::Intact
+    );
+    assert_eq!(journal::recover(&dir).expect("intact"), Recovery::Intact);
+    // The damaged file stays where it was put.
+    assert_eq!(std::fs::read(&kept).expect("kept"), damaged);
+}
