@@ -46,6 +46,11 @@ impl Guard {
         }
     }
 
+    /// The layer's parameters.
+    pub fn params(&self) -> &SafetyParams {
+        self.layer.params()
+    }
+
     /// Commands the layer changed.
     pub fn changed(&self) -> u64 {
         self.warned + self.protective + self.yielded

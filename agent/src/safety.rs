@@ -96,8 +96,11 @@ impl SafetyLimits {
 }
 
 /// The layer's own parameters. None comes from the papers; each is named with its source or
-/// the reason for its value.
+/// the reason for its value. A scenario may set them (`[robot.safety_layer]`), as a safety
+/// scanner is given a field set per site.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 pub struct SafetyParams {
     /// T_r (s), ISO 13855's response time beyond the control period: from a body appearing
     /// in an observation to the base acting on the stop. Safety laser scanners respond in
@@ -142,6 +145,60 @@ pub struct SafetyParams {
     pub yield_clearance: Real,
     /// Whether the layer yields at all (off: it only slows and stops, as before issue 43).
     pub yielding: bool,
+}
+
+impl SafetyParams {
+    /// The first parameter out of its range (its name) and why.
+    pub fn validate(&self) -> Result<(), (&'static str, String)> {
+        let within = |name: &'static str, v: Real, lo: Real, hi: Real| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err((name, format!("is {v}; it must be in [{lo}, {hi}]")))
+            }
+        };
+        within("reaction_time", self.reaction_time, 0.0, 2.0)?;
+        within("margin", self.margin, 0.0, 2.0)?;
+        within("warning_time", self.warning_time, 0.0, 10.0)?;
+        within("warning_scale", self.warning_scale, 0.05, 1.0)?;
+        within("person_accel", self.person_accel, 0.0, 20.0)?;
+        within("check_step", self.check_step, 0.005, 0.5)?;
+        within("yield_time", self.yield_time, 0.1, 10.0)?;
+        within("yield_clearance", self.yield_clearance, 0.0, 3.0)
+    }
+}
+
+impl SafetyParams {
+    /// These parameters with some changed, as `key=value,key=value` (the field names,
+    /// `yielding` taking `true` or `false`), validated; an empty text changes nothing.
+    pub fn with_overrides(mut self, text: &str) -> Result<Self, String> {
+        for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+            let (key, value) = pair
+                .split_once('=')
+                .ok_or_else(|| format!("`{pair}`: expected key=value"))?;
+            if key == "yielding" {
+                self.yielding = value
+                    .parse()
+                    .map_err(|_| format!("`{pair}`: yielding is true or false"))?;
+                continue;
+            }
+            let field = match key {
+                "reaction_time" => &mut self.reaction_time,
+                "margin" => &mut self.margin,
+                "warning_time" => &mut self.warning_time,
+                "warning_scale" => &mut self.warning_scale,
+                "person_accel" => &mut self.person_accel,
+                "check_step" => &mut self.check_step,
+                "yield_time" => &mut self.yield_time,
+                "yield_clearance" => &mut self.yield_clearance,
+                _ => return Err(format!("`{key}` is not a safety-layer parameter")),
+            };
+            *field = value.parse().map_err(|e| format!("`{pair}`: {e}"))?;
+        }
+        self.validate()
+            .map_err(|(field, why)| format!("{field} {why}"))?;
+        Ok(self)
+    }
 }
 
 impl Default for SafetyParams {
@@ -269,20 +326,6 @@ impl Default for SafetyLayer {
         Self::new(SafetyParams::default())
     }
 }
-
-/// Headings of the holonomic ways out (a full turn in 30° steps) and their speeds (fractions
-/// of the top speed).
-const YIELD_HEADINGS: usize = 12;
-const YIELD_SPEEDS: [Real; 2] = [0.5, 1.0];
-/// A unicycle's ways out: speeds (fractions of the top speed; negative backs off) × turn
-/// rates (fractions of the largest).
-const YIELD_UNICYCLE_SPEEDS: [Real; 4] = [-0.5, 0.0, 0.5, 1.0];
-const YIELD_UNICYCLE_TURNS: [Real; 5] = [-1.0, -0.5, 0.0, 0.5, 1.0];
-/// The most candidates a yield compares: the ladder, the ways out and a stop.
-const MAX_CANDIDATES: usize = LADDER.len() + YIELD_HEADINGS * YIELD_SPEEDS.len() + 1;
-/// The clearance rollout's step (s): it ranks ways out; admissibility, checked at the
-/// protective check's finer step, is the guarantee.
-const CLEARANCE_STEP: Real = 0.1;
 
 impl SafetyLayer {
     /// A layer with the given parameters.
@@ -534,56 +577,6 @@ impl SafetyLayer {
         }
         true
     }
-
-    /// How clear the robot executing `command` over the yield horizon T_y stays of every body
-    /// walking on at its perceived velocity: the smallest gap (m, surface to surface) when
-    /// nobody touches it, else t − T_y − one step (< 0) for a first touch at t, so that a
-    /// later touch ranks above an earlier one (a body does not pass through the robot, so
-    /// how deep its straight line would go means nothing). A stop command brakes; any other
-    /// is driven for the whole horizon, except that the robot halts where it would come
-    /// within the margin of a wall or shelf. With `bound` ≥ 0 the rollout ends once the gap
-    /// falls below it (the result is then below `bound`).
-    fn clearance(&self, command: Command, map: &StaticMap, bound: Real) -> Real {
-        let p = &self.params;
-        let steps = (p.yield_time / CLEARANCE_STEP).ceil() as usize;
-        let mut m = Motion::of(&self.ego);
-        let mut lowest = Real::INFINITY;
-        let mut t = 0.0;
-        let walls = !self.local.is_empty();
-        let mut wall = if walls {
-            self.local.distance(map, &m.position)
-        } else {
-            Real::INFINITY
-        };
-        let mut halted = false;
-        for _ in 0..steps {
-            if !halted {
-                let before = m;
-                step_toward(&mut m, command, &self.limits, CLEARANCE_STEP);
-                if walls {
-                    let to_wall = self.local.distance(map, &m.position);
-                    if to_wall - self.ego.radius < p.margin && to_wall < wall {
-                        m = before;
-                        halted = true;
-                    } else {
-                        wall = to_wall;
-                    }
-                }
-            }
-            t += CLEARANCE_STEP;
-            for b in self.near.iter().filter(|b| b.relevant_yield) {
-                let d = (b.position + b.velocity * t - m.position).norm();
-                lowest = lowest.min(d - (b.within - p.margin));
-            }
-            if lowest < 0.0 {
-                return t - p.yield_time - CLEARANCE_STEP;
-            }
-            if bound >= 0.0 && lowest < bound {
-                break;
-            }
-        }
-        lowest
-    }
 }
 
 impl SafeSet<'_> {
@@ -592,22 +585,6 @@ impl SafeSet<'_> {
     pub fn admits(&self, command: Command) -> bool {
         let p = self.layer.params;
         self.layer.safe(command, self.map, p.reaction_time, true)
-    }
-
-    /// Whether someone walking on at their perceived velocity would come within the margin
-    /// of the robot, were it to stop now, within the yield horizon.
-    pub fn threatened(&self) -> bool {
-        let l = self.layer;
-        l.params.yielding
-            && l.near.iter().any(|b| b.relevant_yield)
-            && l.clearance(Command::STOP, self.map, l.params.margin) < l.params.margin
-    }
-
-    /// The predicted body clearance of `command` over the yield horizon (m, surface to
-    /// surface; infinite with nobody near; negative for a predicted touch, the sooner the
-    /// lower, as the yield ranks ways out).
-    pub fn clearance(&self, command: Command) -> Real {
-        self.layer.clearance(command, self.map, Real::NEG_INFINITY)
     }
 
     /// What the robot may execute instead of `command`.
@@ -657,100 +634,6 @@ impl SafeSet<'_> {
             scale: 0.0,
         }
     }
-
-    /// The yield: among the admissible candidates (the command, its fractions, the ways out,
-    /// a stop), the one with the largest clearance capped at the yield clearance, ties to the
-    /// one nearest the command; `None` when that is the command itself (the fields then act
-    /// on it as usual).
-    fn yield_from(&self, command: Command) -> Option<Guarded> {
-        let l = self.layer;
-        let cap = l.params.yield_clearance;
-        let mut candidates = [(0.0, Command::STOP, 0.0); MAX_CANDIDATES];
-        let n = self.candidates(command, &mut candidates);
-        let candidates = &mut candidates[..n];
-        // Nearest the command first (stable: ties keep the order they were made in).
-        candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut best: Option<(Real, Command, Real)> = None;
-        for &(_, candidate, scale) in candidates.iter() {
-            let floor = best.map_or(Real::NEG_INFINITY, |b| b.0);
-            let clearance = l.clearance(candidate, self.map, floor).min(cap);
-            if clearance <= floor || !self.admits(candidate) {
-                continue;
-            }
-            best = Some((clearance, candidate, scale));
-            if clearance >= cap {
-                // Nothing later is both clearer and nearer the command.
-                break;
-            }
-        }
-        match best {
-            Some((_, c, scale)) if scale == 1.0 && c == command => None,
-            Some((_, c, scale)) => Some(Guarded {
-                command: c,
-                zone: Zone::Yield,
-                scale,
-            }),
-            // Cornered: nothing is admissible; the robot brakes where it is.
-            None => Some(Guarded {
-                command: scaled(command, 0.0),
-                zone: Zone::Protective,
-                scale: 0.0,
-            }),
-        }
-    }
-
-    /// Fills `out` with (distance to `command`, candidate, fraction of `command`, 0 for a
-    /// way out) and returns how many.
-    fn candidates(
-        &self,
-        command: Command,
-        out: &mut [(Real, Command, Real); MAX_CANDIDATES],
-    ) -> usize {
-        let limits = &self.layer.limits;
-        let mut n = 0;
-        let mut push = |c: Command, scale: Real| {
-            out[n] = (command_distance(command, c), c, scale);
-            n += 1;
-        };
-        for s in LADDER {
-            push(
-                if s == 1.0 {
-                    command
-                } else {
-                    scaled(command, s)
-                },
-                s,
-            );
-        }
-        push(scaled(command, 0.0), 0.0);
-        match command {
-            Command::Velocity(_) => {
-                for k in 0..YIELD_HEADINGS {
-                    let heading = k as Real * std::f64::consts::TAU / YIELD_HEADINGS as Real;
-                    for s in YIELD_SPEEDS {
-                        push(
-                            Command::Velocity(unit(heading) * (s * limits.max_speed)),
-                            0.0,
-                        );
-                    }
-                }
-            }
-            Command::Unicycle { .. } => {
-                for v in YIELD_UNICYCLE_SPEEDS {
-                    for w in YIELD_UNICYCLE_TURNS {
-                        push(
-                            Command::Unicycle {
-                                speed: v * limits.max_speed,
-                                yaw_rate: w * limits.max_yaw_rate,
-                            },
-                            0.0,
-                        );
-                    }
-                }
-            }
-        }
-        n
-    }
 }
 
 impl Motion {
@@ -761,25 +644,6 @@ impl Motion {
             heading: ego.heading,
             yaw_rate: ego.yaw_rate,
         }
-    }
-}
-
-/// How far apart two commands are: the velocity difference (m/s), or for unicycle commands
-/// the speed difference and half the turn-rate difference (a 1 rad/s turn at a 0.5 m lever).
-fn command_distance(a: Command, b: Command) -> Real {
-    match (a, b) {
-        (Command::Velocity(x), Command::Velocity(y)) => (x - y).norm(),
-        (
-            Command::Unicycle {
-                speed: s1,
-                yaw_rate: w1,
-            },
-            Command::Unicycle {
-                speed: s2,
-                yaw_rate: w2,
-            },
-        ) => ((s1 - s2).powi(2) + (0.5 * (w1 - w2)).powi(2)).sqrt(),
-        _ => Real::INFINITY,
     }
 }
 
@@ -843,6 +707,8 @@ fn brake(m: &mut Motion, braking: Real, lim: &SafetyLimits, h: Real) {
         .clamp(-lim.max_yaw_accel * h, lim.max_yaw_accel * h);
     m.position += m.velocity * h;
 }
+
+mod way_out;
 
 #[cfg(test)]
 mod tests;

@@ -33,6 +33,7 @@ fn smoke_rows_are_committed(dir: &str, safety: bool) {
         scenario,
         algorithms: PLANNERS.iter().map(|a| a.parse().expect("known")).collect(),
         densities: vec![0.1, 0.5, 1.0],
+        first_seed: 1,
         seeds: 2,
     };
     let rows = plan.execute(&|| {});

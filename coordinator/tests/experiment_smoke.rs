@@ -15,6 +15,7 @@ fn plan() -> StudyPlan {
             .map(|a| a.parse().expect("known planner"))
             .collect(),
         densities: vec![0.1, 0.3],
+        first_seed: 1,
         seeds: 3,
     }
 }

@@ -15,6 +15,7 @@ fn runs_csv_round_trips_and_rebuilds_the_same_summary() {
             "pgp+orca".parse().expect("known"),
         ],
         densities: vec![0.2],
+        first_seed: 1,
         seeds: 2,
     };
     let rows = plan.execute(&|| {});

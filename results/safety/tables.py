@@ -2,7 +2,9 @@
 """The tables of results/safety/REPORT.md, from the committed study outputs (standard library
 and git only): each study without the safety layer (as the papers ran it), with the layer that
 only slowed and stopped (as committed at STOPPING, before issue 43), and with the layer as it
-is now (it yields, and the planners plan inside its safe set).
+is now (it yields, and the planners plan inside its safe set); in open space also with the
+layer's default yield (as committed at DEFAULT_YIELD), before the open-space scenario had a
+yield of its own.
 
     python3 results/safety/tables.py
 
@@ -17,6 +19,8 @@ import subprocess
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 # The last commit with the layer that only slowed and stopped.
 STOPPING = "e9ded2f"
+# The last commit whose open-space study ran the layer's default yield (2 s, 0.2 m).
+DEFAULT_YIELD = "d0cf286"
 OPEN_SPACE = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf"]
 REPLAY = ["foigp", "foigp-1", "igp-diag", "igp-lin", "mc", "dwa", "pgp+orca"]
 
@@ -69,14 +73,22 @@ def replays():
         print()
 
 
-def open_space():
-    runs = {
-        "no layer": rows("open-space/runs.csv"),
-        "stopping": rows_at(STOPPING, "open-space-safety/runs.csv"),
-        "yielding": rows("open-space-safety/runs.csv"),
-    }
-    print("### Open space: 6 planners × 11 densities × 100 seeds: no layer / stopping layer / "
-          "yielding layer\n")
+def open_space(held_out=False):
+    if held_out:
+        runs = {
+            "no layer": rows("open-space-heldout/runs.csv"),
+            "yielding": rows("open-space-safety-heldout/runs.csv"),
+        }
+        print("### Open space, held-out seeds 101–200: no layer / yielding layer (open ground)\n")
+    else:
+        runs = {
+            "no layer": rows("open-space/runs.csv"),
+            "stopping": rows_at(STOPPING, "open-space-safety/runs.csv"),
+            "default yield": rows_at(DEFAULT_YIELD, "open-space-safety/runs.csv"),
+            "yielding": rows("open-space-safety/runs.csv"),
+        }
+        print("### Open space: 6 planners × 11 densities × 100 seeds: no layer / stopping layer / "
+              "default yield (2 s, 0.2 m) / open-ground yield (3 s, 0.6 m)\n")
     print("| planner | success | time to goal (s, successes) | robot-caused | person-caused | "
           "total contacts | min distance to a person (m) | people's delay (s per run) |")
     print("|---|---|---|---|---|---|---|---|")
@@ -98,7 +110,7 @@ def open_space():
     sums = [sum(total(x) for x in v) for v in runs.values()]
     robot = [sum(int(x["robot_caused_contacts"]) for x in v) for v in runs.values()]
     print(f"| all | | | {three(map(str, robot))} | | {three(map(str, sums))} | | |\n")
-    print("Success by density (no layer / stopping / yielding):\n")
+    print("Success by density (" + " / ".join(runs) + "):\n")
     densities = sorted({float(x["density"]) for x in runs["no layer"]})
     print("| planner | " + " | ".join(f"{d:g}" for d in densities) + " |")
     print("|---|" + "---|" * len(densities))
@@ -156,4 +168,5 @@ def fleets():
 if __name__ == "__main__":
     replays()
     open_space()
+    open_space(held_out=True)
     fleets()

@@ -3,10 +3,10 @@
 //! set (`Guard::plan`, as shipped) and once ignoring it (`Guard::check` on the planner's own
 //! command), with the goals reached and the contacts of every cause beside it.
 //!
-//!     cargo run --release -p world-sim --example layer_changes [seeds] [densities]
+//!     cargo run --release -p world-sim --example layer_changes [seeds] [densities] [planners]
 //!
 //! Defaults: seeds 1–10, densities 0.1,0.3,0.5 (people per m²), tuning seeds of the
-//! open-space study.
+//! open-space study, every planner below.
 
 use agent::guard::Guard;
 use agent::model::Command;
@@ -56,7 +56,10 @@ fn run(spec: PlannerSpec, density: f64, seed: u64, inside: bool) -> Tally {
     let mut world = World::from_scenario(&scenario);
     let mut stack = PlannerStack::with_max_speed(spec, scenario.robot.max_speed);
     stack.set_record_fan(false);
-    let mut guard = Guard::new(scenario.robot.safety_limits(scenario.dt_s));
+    let mut guard = Guard::with_params(
+        scenario.robot.safety_limits(scenario.dt_s),
+        scenario.robot.safety_layer,
+    );
     let mut recorder = MetricsRecorder::new(&world, 0);
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let mut local = agent::map::LocalMap::default();
@@ -104,6 +107,9 @@ fn main() {
         .get(1)
         .map(|a| a.split(',').filter_map(|d| d.parse().ok()).collect())
         .unwrap_or_else(|| vec![0.1, 0.3, 0.5]);
+    let planners: Vec<&str> = args
+        .get(2)
+        .map_or(PLANNERS.to_vec(), |a| a.split(',').collect());
     println!(
         "open space, densities {densities:?}, seeds 1–{seeds}: planning inside the safe set / ignoring it\n"
     );
@@ -111,8 +117,11 @@ fn main() {
         "| planner | runs | reached | commands changed | of which yields | mean change (m/s) | robot-caused | total contacts |"
     );
     println!("|---|---|---|---|---|---|---|---|");
-    for name in PLANNERS {
-        let spec: PlannerSpec = name.parse().expect("known");
+    for name in planners {
+        let Ok(spec) = name.parse::<PlannerSpec>() else {
+            eprintln!("unknown planner {name:?}");
+            std::process::exit(2);
+        };
         let tally = |inside: bool| {
             let cells: Vec<(f64, u64)> = densities
                 .iter()

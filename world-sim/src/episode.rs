@@ -90,9 +90,8 @@ pub fn run_episode_with(
 
 /// One safety guard per robot when the scenario's robots run the layer, else none.
 pub fn guards(scenario: &Scenario, robots: usize) -> Vec<Option<Guard>> {
-    let limits = scenario.robot.safety_limits(scenario.dt_s);
     (0..robots)
-        .map(|_| scenario.robot.safety.then(|| Guard::new(limits)))
+        .map(|_| scenario.robot.guard(scenario.dt_s))
         .collect()
 }
 

@@ -109,6 +109,7 @@ impl Default for ReplayOptions {
                 body_occlusion: false,
                 // Recorded people do not react: the robot yields alone, under the layer.
                 safety: true,
+                safety_layer: SafetyParams::default(),
             },
         }
     }
@@ -388,7 +389,7 @@ fn safe_entry_fraction(
     )
     .collect();
     let limits = options.robot.safety_limits(options.replan_period);
-    let mut layer = SafetyLayer::new(SafetyParams::default());
+    let mut layer = SafetyLayer::new(options.robot.safety_layer);
     LADDER
         .into_iter()
         .find(|&s| {

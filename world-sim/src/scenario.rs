@@ -262,9 +262,21 @@ pub struct RobotSpec {
     /// says `safety = false`, as the papers' studies ran; `--no-safety` on the commands).
     #[serde(default = "yes")]
     pub safety: bool,
+    /// The layer's parameters on this site (`[robot.safety_layer]`; each left out keeps its
+    /// default, `agent::safety::SafetyParams`).
+    #[serde(default)]
+    pub safety_layer: agent::safety::SafetyParams,
 }
 
 impl RobotSpec {
+    /// The safety layer this robot runs, commanded every `control_period` s (0 where each
+    /// plan gives its own period), or none when the scenario turns it off.
+    pub fn guard(&self, control_period: Real) -> Option<agent::guard::Guard> {
+        self.safety.then(|| {
+            agent::guard::Guard::with_params(self.safety_limits(control_period), self.safety_layer)
+        })
+    }
+
     /// What the safety layer may assume of this base, commanded every `control_period` s: it
     /// brakes as hard as it accelerates (the simulator's limit both ways).
     pub fn safety_limits(&self, control_period: Real) -> agent::safety::SafetyLimits {
@@ -522,6 +534,9 @@ impl Scenario {
                 return bad(field, "must be zero or positive");
             }
         }
+        if let Err((field, reason)) = r.safety_layer.validate() {
+            return bad(&format!("robot.safety_layer.{field}"), &reason);
+        }
         Ok(())
     }
 
@@ -641,6 +656,45 @@ mod tests {
         );
         let err = Scenario::from_toml(&text, "t").unwrap_err().to_string();
         assert!(err.contains("humans.interaction_range_m"), "{err}");
+    }
+
+    #[test]
+    fn the_safety_layer_is_set_per_site_and_checked() {
+        use agent::safety::SafetyParams;
+        // The open ground's yield; every other parameter and every other site keeps the
+        // layer's defaults.
+        let open = Scenario::builtin("open-space").expect("valid").robot;
+        assert_eq!(
+            open.safety_layer,
+            SafetyParams {
+                yield_time: 3.0,
+                yield_clearance: 0.6,
+                ..SafetyParams::default()
+            }
+        );
+        let warehouse = Scenario::builtin("warehouse").expect("valid").robot;
+        assert_eq!(warehouse.safety_layer, SafetyParams::default());
+        let guard = open.guard(0.1).expect("the layer is on by default");
+        assert_eq!(guard.params(), &open.safety_layer);
+
+        let text = default_text().replace("yield_time = 3.0", "yield_time = -1.0");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("robot.safety_layer.yield_time") && err.contains("-1"),
+            "{err}"
+        );
+        let text = default_text().replace("yield_time = 3.0", "yeld_time = 3.0");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("yeld_time"), "{err}");
+        let text = default_text().replace("yield_clearance = 0.6", "yield_clearance = nan");
+        let err = Scenario::from_toml(&text, "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("robot.safety_layer.yield_clearance"), "{err}");
     }
 
     #[test]

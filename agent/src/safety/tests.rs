@@ -323,6 +323,42 @@ fn full_speed_at_a_wall_stops_short_of_it() {
     assert!(sim.robot.velocity.norm() < 1e-9);
 }
 
+#[test]
+fn a_way_out_keeps_within_the_bases_limits_when_the_command_does_not() {
+    // A planner asking for 1.63 m/s of a 1 m/s base while a person crosses ahead: the
+    // command's fractions above 1 m/s are no ways out (proptest found the yield taking 0.8 of
+    // it, 1.3 m/s, with the open ground's parameters).
+    let mut layer = SafetyLayer::new(params(true));
+    let command = Command::Velocity(vec2(-0.8075, -1.4186));
+    let bodies = [person(1, vec2(-1.6853, 2.3629), vec2(1.1603, -0.9434))];
+    let g = layer.guard(
+        command,
+        &ego(vec2(0.0, 0.0), vec2(0.8917, 0.7236)),
+        &limits(),
+        &bodies,
+        &StaticMap::empty(),
+    );
+    assert_eq!(g.zone, Zone::Yield, "{g:?}");
+    let Command::Velocity(out) = g.command else {
+        panic!("kind changed: {g:?}");
+    };
+    assert!(out.norm() <= limits().max_speed + 1e-12, "{g:?}");
+}
+
+/// The layer's defaults, or the open ground's longer, roomier yield (the built-in
+/// `open-space` scenario's `[robot.safety_layer]`).
+fn params(open_ground: bool) -> SafetyParams {
+    if open_ground {
+        SafetyParams {
+            yield_time: 3.0,
+            yield_clearance: 0.6,
+            ..SafetyParams::default()
+        }
+    } else {
+        SafetyParams::default()
+    }
+}
+
 proptest::proptest! {
     /// Outside a yield the layer only ever keeps a fraction s ∈ [0, 1] of the planner's
     /// command: it never adds speed or turns the robot another way.
@@ -330,10 +366,11 @@ proptest::proptest! {
     fn never_adds_speed_outside_a_yield(
         v in (-1.5..1.5f64, -1.5..1.5f64),
         own in (-1.0..1.0f64, -1.0..1.0f64),
+        open_ground in proptest::bool::ANY,
         others in proptest::collection::vec(
             (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
     ) {
-        let mut layer = SafetyLayer::new(SafetyParams::default());
+        let mut layer = SafetyLayer::new(params(open_ground));
         let bodies: Vec<Neighbour> = others
             .iter()
             .enumerate()
@@ -364,10 +401,11 @@ proptest::proptest! {
         own in (-1.0..1.0f64, -1.0..1.0f64),
         unicycle in proptest::bool::ANY,
         walled in proptest::bool::ANY,
+        open_ground in proptest::bool::ANY,
         others in proptest::collection::vec(
             (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
     ) {
-        let mut layer = SafetyLayer::new(SafetyParams::default());
+        let mut layer = SafetyLayer::new(params(open_ground));
         let bodies: Vec<Neighbour> = others
             .iter()
             .enumerate()
@@ -592,4 +630,29 @@ fn a_robot_cornered_against_a_shelf_stays_put_and_the_contact_is_the_persons() {
         "moved to {:?}",
         sim.robot.position
     );
+}
+
+#[test]
+fn parameters_are_changed_by_name_and_checked() {
+    let d = SafetyParams::default();
+    assert_eq!(d.with_overrides(""), Ok(d));
+    let p = d
+        .with_overrides("yield_time=3, yield_clearance=0.6,yielding=false")
+        .expect("valid");
+    assert_eq!(
+        (p.yield_time, p.yield_clearance, p.yielding),
+        (3.0, 0.6, false)
+    );
+    assert_eq!(p.person_accel, d.person_accel);
+    for (text, named) in [
+        ("yield_tme=3", "yield_tme"),
+        ("yield_time", "expected key=value"),
+        ("yield_time=soon", "yield_time=soon"),
+        ("margin=-1", "margin"),
+        ("person_accel=nan", "person_accel"),
+        ("yielding=maybe", "true or false"),
+    ] {
+        let e = d.with_overrides(text).expect_err(text);
+        assert!(e.contains(named), "{text}: {e}");
+    }
 }

@@ -4,7 +4,7 @@
 //! metrics, fleet-wide and per robot.
 
 use super::status::{Event, Observer, Status};
-use agent::safety::{SafetyLimits, SafetyParams, field_reach};
+use agent::safety::{SafetyLimits, field_reach};
 use dashboards::{
     Dashboard, EventView, FanView, FieldState, FieldView, Frame, HeatEvent, HeatKind, IntentView,
     MapFrame, P, RobotRow, RobotView, SegmentView, Sinks, TrafficGoal, TrafficView,
@@ -377,11 +377,10 @@ fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
     }
 }
 
-/// Each robot's protective and warning fields at its current speed, as the layer's default
+/// Each robot's protective and warning fields at its current speed, as its scenario's layer
 /// parameters size them (`agent::safety::field_reach`): capsules from the robot along its
 /// direction of travel, as wide as the robot plus the margin.
 fn safety_fields(fleet: &Fleet, status: &Status) -> Vec<FieldView> {
-    let params = SafetyParams::default();
     let dt = fleet.world.dt;
     fleet
         .world
@@ -393,6 +392,7 @@ fn safety_fields(fleet: &Fleet, status: &Status) -> Vec<FieldView> {
         .filter(|(_, r)| r.spec.safety)
         .map(|(i, r)| {
             let limits: SafetyLimits = r.spec.safety_limits(dt);
+            let params = r.spec.safety_layer;
             let s = &r.state;
             let speed = s.velocity.norm();
             let direction = if speed > 1e-3 {

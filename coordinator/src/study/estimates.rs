@@ -10,7 +10,6 @@ use super::laned::five_numbers;
 use super::output::{StudyError, write_json};
 use super::plots::write_boxes;
 use agent::asfm::{Asfm, AsfmParams};
-use agent::guard::Guard;
 use agent::planner::{LocalPlan, LocalPlanner, PlannerSpec, PlannerStack, PlanningInput};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -99,7 +98,7 @@ pub fn recorded(
                 finals: Arc::clone(&finals),
             };
             let robot = &options.robot;
-            let mut guard = robot.safety.then(|| Guard::new(robot.safety_limits(0.0)));
+            let mut guard = robot.guard(0.0);
             world_sim::replay::replay(recording, map, run, options, &mut |input| {
                 let planned = planner.plan(input, input.goal).command;
                 guard

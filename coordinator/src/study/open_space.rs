@@ -22,7 +22,10 @@ pub struct StudyPlan {
     pub algorithms: Vec<PlannerSpec>,
     /// People per m².
     pub densities: Vec<f64>,
-    /// Seeds 1..=seeds for every (algorithm, density).
+    /// The first seed: every (algorithm, density) runs seeds `first_seed` to
+    /// `first_seed + seeds - 1` (1 for the tuning seeds, 101 for held-out ones).
+    pub first_seed: u64,
+    /// How many seeds per (algorithm, density).
     pub seeds: u64,
 }
 
@@ -32,7 +35,7 @@ impl StudyPlan {
         let mut out = Vec::new();
         for &a in &self.algorithms {
             for &d in &self.densities {
-                for seed in 1..=self.seeds {
+                for seed in self.first_seed..self.first_seed + self.seeds {
                     out.push((a, d, seed));
                 }
             }

@@ -5,7 +5,6 @@
 
 use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
 use super::output::{StudyError, write_json};
-use agent::guard::Guard;
 use agent::igp::{IgpParams, IgpPlanner, SeedRule};
 use agent::map::StaticMap;
 use agent::planner::{LocalKind, PlannerSpec, PlannerStack};
@@ -139,7 +138,7 @@ impl ReplayStudy {
         stack.set_destinations(&self.recording.destinations);
         let robot = &self.options.robot;
         // The control period is each plan's dt (the recording's frame step).
-        let mut guard = robot.safety.then(|| Guard::new(robot.safety_limits(0.0)));
+        let mut guard = robot.guard(0.0);
         let mut planning_s = 0.0;
         let outcome = replay::replay(
             &self.recording,

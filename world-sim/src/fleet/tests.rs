@@ -75,25 +75,27 @@ fn held_robots_take_no_tasks_and_stand_still() {
     assert_eq!(fleet.world.robots[2].state.position, start);
 }
 
-/// Ten robots and no people in 1.5 m aisles: without the traffic policy robots meet face
-/// to face in aisles and get stuck there, next to each other; with it none deadlocks. (Under the stopping safety layer these meetings deadlocked on
-/// this seed; the yielding layer backs one robot out of the way of another that would run
-/// into it, which ends them here. With people about, policy-off runs still deadlock:
-/// results/traffic.)
-#[test]
-fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
+/// Ten robots and no people in `warehouse-narrow`'s 1.5 m aisles for 300 s, with the traffic
+/// policy or without it.
+fn narrow_aisles_without_people(policy: Option<PolicyParams>) -> FleetReport {
     let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
     s.set_fleet_size(Some(10), Some(0));
-    let planner = "pgp+orca".parse().expect("known");
-    let run = |policy| {
-        let options = FleetOptions {
-            share_intents: true,
-            policy,
-            human_impact_window_s: None,
-        };
-        run_fleet_with(&s, planner, 300.0, options).expect("warehouse")
+    let options = FleetOptions {
+        share_intents: true,
+        policy,
+        human_impact_window_s: None,
     };
-    let (off, on) = (run(None), run(Some(PolicyParams::default())));
+    run_fleet_with(&s, "pgp+orca".parse().expect("known"), 300.0, options).expect("warehouse")
+}
+
+/// Without the traffic policy robots meet face to face in narrow aisles and get stuck there,
+/// next to each other; with it none deadlocks. (The layer's yield backs one robot out of the
+/// way of another that would run into it, which ends such meetings on this seed; with people
+/// about, policy-off runs still deadlock: results/traffic.)
+#[test]
+fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
+    let off = narrow_aisles_without_people(None);
+    let on = narrow_aisles_without_people(Some(PolicyParams::default()));
     assert!(off.traffic.stuck_onsets > 0, "{:?}", off.traffic);
     assert_eq!(on.traffic.deadlocks, 0, "{:?}", on.traffic);
     // The stuck time, split by place and by company: with nobody but robots about, robots
@@ -119,18 +121,8 @@ fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
 #[test]
 #[ignore = "regression under the yielding safety layer: 32 tasks with the policy, 38 without (issue 45)"]
 fn the_traffic_policy_costs_no_tasks_in_narrow_aisles_without_people() {
-    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
-    s.set_fleet_size(Some(10), Some(0));
-    let planner = "pgp+orca".parse().expect("known");
-    let run = |policy| {
-        let options = FleetOptions {
-            share_intents: true,
-            policy,
-            human_impact_window_s: None,
-        };
-        run_fleet_with(&s, planner, 300.0, options).expect("warehouse")
-    };
-    let (off, on) = (run(None), run(Some(PolicyParams::default())));
+    let off = narrow_aisles_without_people(None);
+    let on = narrow_aisles_without_people(Some(PolicyParams::default()));
     assert!(
         on.total_tasks() >= off.total_tasks(),
         "{} < {}",

@@ -28,9 +28,13 @@ pub struct OpenSpaceArgs {
         value_parser = density
     )]
     densities: Vec<f64>,
-    /// Seeds per (algorithm, density): 1..=N, the same for every algorithm.
+    /// Seeds per (algorithm, density), the same for every algorithm.
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
+    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
+    /// seeds held out from the tuning seeds 1–100).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    first_seed: u64,
     /// Worker threads (default: all cores).
     #[arg(long)]
     jobs: Option<usize>,
@@ -56,6 +60,7 @@ pub(super) fn run(args: OpenSpaceArgs) -> Result<()> {
         scenario,
         algorithms: args.algorithms,
         densities: args.densities,
+        first_seed: args.first_seed,
         seeds: args.seeds,
     };
     let started = Instant::now();
@@ -89,12 +94,14 @@ pub(super) fn summarize(dir: &std::path::Path) -> Result<()> {
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
     let parsed = parse_runs_csv(&text)?;
     let rows = parsed.rows;
-    let seeds = rows.iter().map(|r| r.seed).max().unwrap_or(0);
+    let first_seed = rows.iter().map(|r| r.seed).min().unwrap_or(1);
+    let last_seed = rows.iter().map(|r| r.seed).max().unwrap_or(0);
     let plan = StudyPlan {
         scenario: Scenario::builtin("open-space")?,
         algorithms: parsed.algorithms,
         densities: parsed.densities,
-        seeds,
+        first_seed,
+        seeds: (last_seed + 1).saturating_sub(first_seed),
     };
     write_summary(dir, &plan, &rows)?;
     eprintln!(

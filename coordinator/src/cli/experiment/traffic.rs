@@ -40,6 +40,10 @@ pub struct TrafficArgs {
     /// The safety layer off, on, or both (`off,on`), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "on", value_parser = on_off)]
     safety: Vec<bool>,
+    /// Changes to every site's safety-layer parameters (`[robot.safety_layer]`), as
+    /// `key=value,…`: e.g. `yield_time=3,yield_clearance=0.6`.
+    #[arg(long, default_value = "")]
+    safety_layer: String,
     /// Take runs from this earlier `runs.csv` instead of running them again, for the policy
     /// settings given here (`off`, `on`): only for settings whose code has not changed.
     #[arg(long, requires = "reuse_policy")]
@@ -100,7 +104,12 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
         if let Some(&bad) = fleets.iter().find(|&&n| !(1..=most).contains(&n)) {
             bail!("fleet size {bad} for {name} is not in [1, {most}]");
         }
-        let scenario = Scenario::builtin(name)?;
+        let mut scenario = Scenario::builtin(name)?;
+        scenario.robot.safety_layer = scenario
+            .robot
+            .safety_layer
+            .with_overrides(&args.safety_layer)
+            .map_err(|e| anyhow::anyhow!("--safety-layer: {e}"))?;
         sites.push(traffic_study::Site { scenario, fleets });
     }
     if sites.is_empty() {
