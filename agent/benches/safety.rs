@@ -3,7 +3,8 @@
 //! on a robot standing among them, which people walking on would walk into (a yield), and
 //! one `admits` call, the predicate planners ask.
 //!
-//! Target (issue 43): one call with 50 perceived bodies ≤ 20 µs median, yields included.
+//! Target (issue 43): one call with 50 perceived bodies ≤ 20 µs median, yields included
+//! (met: results/safety/REPORT.md, "Speed").
 //!
 //!     cargo bench -p agent --bench safety
 

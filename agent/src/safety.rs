@@ -253,6 +253,8 @@ pub struct SafetyLayer {
     params: SafetyParams,
     /// Bodies that can come within reach during the rollouts.
     near: Vec<Body>,
+    /// Those of them the yield watches.
+    walkers: Vec<Walker>,
     /// Walls and shelves within reach.
     local: LocalMap,
     /// Per body of `near` and hypothesis (walking on, stopping dead): if it has come within
@@ -265,6 +267,8 @@ pub struct SafetyLayer {
     arrived: RefCell<Vec<[Option<Arrival>; 2]>>,
     /// The robot the layer was last prepared for.
     ego: EgoState,
+    /// Its distance to the nearest gathered wall or shelf edge (infinite with none).
+    ego_wall: Real,
     /// Its base's limits.
     limits: SafetyLimits,
 }
@@ -290,9 +294,16 @@ struct Body {
     /// can come within `within` of the robot at all in that check's rollout. Those that
     /// cannot are skipped; the result is the same.
     relevant: [[bool; 2]; 2],
-    /// Whether, walking on, it can come within the yield clearance of the robot over the
-    /// yield horizon at all.
-    relevant_yield: bool,
+}
+
+/// A body that, walking on, can come within the yield clearance of the robot over the yield
+/// horizon: where it is, how it walks, and the centre distance at which it touches the
+/// robot (both radii).
+#[derive(Debug, Clone, Copy)]
+struct Walker {
+    position: Vec2,
+    velocity: Vec2,
+    touching: Real,
 }
 
 /// A check's rollout: its sub-step (s), the sub-steps driving the command, and the most
@@ -333,6 +344,7 @@ impl SafetyLayer {
         Self {
             params,
             near: Vec::new(),
+            walkers: Vec::new(),
             local: LocalMap::default(),
             arrived: RefCell::new(Vec::new()),
             ego: EgoState {
@@ -342,6 +354,7 @@ impl SafetyLayer {
                 yaw_rate: 0.0,
                 radius: 0.0,
             },
+            ego_wall: Real::INFINITY,
             limits: SafetyLimits::SIMULATED_ROBOT,
         }
     }
@@ -391,6 +404,7 @@ impl SafetyLayer {
         };
         let reach = top * horizon;
         self.gather(ego, bodies, map, reach, horizon);
+        self.ego_wall = self.local.distance(map, &ego.position);
         self.mark_relevant(ego, limits);
         SafeSet { layer: self, map }
     }
@@ -431,7 +445,6 @@ impl SafetyLayer {
                         0.0
                     },
                     relevant: [[true; 2]; 2],
-                    relevant_yield: true,
                 }),
         );
         let r = vec2(reach, reach);
@@ -499,10 +512,18 @@ impl SafetyLayer {
         }
         let yield_time = self.params.yield_time;
         let cap = self.params.yield_clearance.max(self.params.margin);
-        for b in &mut self.near {
-            let (walking, _) = closest(b, yield_time);
-            b.relevant_yield = walking < top * yield_time + b.within + cap;
-        }
+        let margin = self.params.margin;
+        self.walkers.clear();
+        self.walkers.extend(
+            self.near
+                .iter()
+                .filter(|b| closest(b, yield_time).0 < top * yield_time + b.within + cap)
+                .map(|b| Walker {
+                    position: b.position,
+                    velocity: b.velocity,
+                    touching: b.within - margin,
+                }),
+        );
     }
 
     /// Whether the robot, executing `command` for one control period plus `extra` seconds and
@@ -519,12 +540,13 @@ impl SafetyLayer {
         let braking = limits.braking();
         let mut m = Motion::of(&self.ego);
         let mut t = 0.0;
-        let mut wall = self.local.distance(map, &m.position);
+        let mut walls = WallWatch::new(m.position, self.ego_wall, self.ego.radius, p.margin);
         let mut arrived = self.arrived.borrow_mut();
         arrived.clear();
         arrived.resize(self.near.len(), [None; 2]);
         let check = usize::from(swerve);
         for k in 0..max_steps {
+            let before = m.position;
             let driving = k < drive_steps;
             if driving {
                 step_toward(&mut m, command, limits, h);
@@ -569,11 +591,9 @@ impl SafetyLayer {
                 }
             }
             // Walls the robot moves toward.
-            let to_wall = self.local.distance(map, &m.position);
-            if to_wall - self.ego.radius < p.margin && to_wall < wall {
+            if walls.approached(&self.local, map, before, m.position) {
                 return false;
             }
-            wall = to_wall;
         }
         true
     }
@@ -644,6 +664,53 @@ impl Motion {
             heading: ego.heading,
             yaw_rate: ego.yaw_rate,
         }
+    }
+}
+
+/// Watches a rollout for the robot coming within the margin of a wall or shelf while
+/// moving toward it (its distance under `limit` and falling). Exact distances are taken only
+/// where the robot may have come that close: the distance falls by at most the way
+/// travelled from the last point it was taken at. Where it is taken, it is also taken at the
+/// step before when that one was skipped, so the verdict is the one taking it at every step
+/// would give, bit for bit.
+#[derive(Debug, Clone, Copy)]
+struct WallWatch {
+    /// The exact distance at the step before, if it was taken.
+    was: Option<Real>,
+    /// A point and its exact distance.
+    anchor: (Vec2, Real),
+    /// The robot's radius and the margin: moving toward a wall stops where the distance less
+    /// the radius is under the margin.
+    radius: Real,
+    margin: Real,
+}
+
+impl WallWatch {
+    /// At the rollout's start, `distance` from the nearest edge.
+    fn new(position: Vec2, distance: Real, radius: Real, margin: Real) -> Self {
+        Self {
+            was: Some(distance),
+            anchor: (position, distance),
+            radius,
+            margin,
+        }
+    }
+
+    /// Whether the step from `before` to `now` came within the limit, moving toward a wall.
+    fn approached(&mut self, local: &LocalMap, map: &StaticMap, before: Vec2, now: Vec2) -> bool {
+        let lower = self.anchor.1 - (now - self.anchor.0).norm();
+        if lower - self.radius >= self.margin + 1e-9 {
+            self.was = None;
+            return false;
+        }
+        let to_wall = local.distance(map, &now);
+        let was = self.was.unwrap_or_else(|| local.distance(map, &before));
+        if to_wall - self.radius < self.margin && to_wall < was {
+            return true;
+        }
+        self.was = Some(to_wall);
+        self.anchor = (now, to_wall);
+        false
     }
 }
 

@@ -2,7 +2,7 @@
 //! (back off, sidestep, turn away, or the planner's command) that keeps the robot clearest
 //! over the yield horizon, among the admissible ones (see the parent module's doc).
 
-use super::{Guarded, LADDER, Motion, SafeSet, SafetyLayer, Zone, scaled, step_toward};
+use super::{Guarded, LADDER, Motion, SafeSet, SafetyLayer, WallWatch, Zone, scaled, step_toward};
 use crate::map::StaticMap;
 use crate::math::{Real, unit};
 use crate::model::Command;
@@ -37,30 +37,27 @@ impl SafetyLayer {
         let mut lowest = Real::INFINITY;
         let mut t = 0.0;
         let walls = !self.local.is_empty();
-        let mut wall = if walls {
-            self.local.distance(map, &m.position)
-        } else {
-            Real::INFINITY
-        };
+        let mut watch = WallWatch::new(m.position, self.ego_wall, self.ego.radius, p.margin);
         let mut halted = false;
         for _ in 0..steps {
             if !halted {
                 let before = m;
                 step_toward(&mut m, command, &self.limits, CLEARANCE_STEP);
-                if walls {
-                    let to_wall = self.local.distance(map, &m.position);
-                    if to_wall - self.ego.radius < p.margin && to_wall < wall {
-                        m = before;
-                        halted = true;
-                    } else {
-                        wall = to_wall;
-                    }
+                if walls && watch.approached(&self.local, map, before.position, m.position) {
+                    m = before;
+                    halted = true;
                 }
             }
             t += CLEARANCE_STEP;
-            for b in self.near.iter().filter(|b| b.relevant_yield) {
-                let d = (b.position + b.velocity * t - m.position).norm();
-                lowest = lowest.min(d - (b.within - p.margin));
+            for w in &self.walkers {
+                let d_sq = (w.position + w.velocity * t - m.position).norm_squared();
+                // A body farther than the lowest gap so far plus its reach cannot lower it:
+                // no square root for it (the slack keeps the result bit for bit).
+                let limit = lowest + w.touching;
+                if limit > 0.0 && d_sq > limit * limit * (1.0 + 1e-12) {
+                    continue;
+                }
+                lowest = lowest.min(d_sq.sqrt() - w.touching);
             }
             if lowest < 0.0 {
                 return t - p.yield_time - CLEARANCE_STEP;
@@ -79,7 +76,7 @@ impl SafeSet<'_> {
     pub fn threatened(&self) -> bool {
         let l = self.layer;
         l.params.yielding
-            && l.near.iter().any(|b| b.relevant_yield)
+            && !l.walkers.is_empty()
             && l.clearance(Command::STOP, self.map, l.params.margin) < l.params.margin
     }
 
@@ -103,7 +100,11 @@ impl SafeSet<'_> {
         // Nearest the command first (stable: ties keep the order they were made in).
         candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut best: Option<(Real, Command, Real)> = None;
-        for &(_, candidate, scale) in candidates.iter() {
+        for (k, &(_, candidate, scale)) in candidates.iter().enumerate() {
+            // A command already ranked (the fractions of a stop are all stops) ranks the same.
+            if candidates[..k].iter().any(|c| c.1 == candidate) {
+                continue;
+            }
             let floor = best.map_or(Real::NEG_INFINITY, |b| b.0);
             let clearance = l.clearance(candidate, self.map, floor).min(cap);
             if clearance <= floor || !self.admits(candidate) {
