@@ -4,9 +4,10 @@
 //! (`agent::runtime::net::LEASE_MS`).
 //!
 //! - the agent safe-stops within 0.5 s (its observations stopped);
-//! - the coordinator stops the robot once its newest command answers an observation more than
-//!   3 ticks old: 4 to 6 ticks after the cut (the last command may have been on its way, and
-//!   the cut falls anywhere in a tick), so within 0.7 s;
+//! - the coordinator stops the robot once more than 3 observations newer than the one its
+//!   newest command answers have gone out: 4 or 5 ticks after the last tick before the cut
+//!   (5 when the answer to that tick's observation came back before the cut, 4 when it was on
+//!   its way), held in ticks, not in wall time;
 //! - the robot is flagged (crashed) once the lease has run out;
 //! - when the link heals, the agent reconnects by itself and the robot drives again, and
 //!   nothing is counted twice.
@@ -74,6 +75,8 @@ async fn proxy(upstream: String, open: Arc<AtomicBool>) -> String {
 /// What the coordinator did at one tick, for robot 0.
 struct TickSeen {
     at: Instant,
+    /// The coordinator's tick count after it.
+    tick: u64,
     stale: u64,
     speed: f64,
     events: Vec<Event>,
@@ -90,6 +93,7 @@ impl Observer for Watch {
         self.seen_events = status.events_total();
         let _ = self.tx.send(TickSeen {
             at: Instant::now(),
+            tick: status.tick,
             stale: status.stale_per_robot.first().copied().unwrap_or(0),
             speed: fleet.world.robots[0].state.velocity.norm(),
             events,
@@ -188,6 +192,19 @@ fn a_partitioned_agent_stops_is_flagged_and_comes_back() {
     })
     .expect("the coordinator stops robot 0")
     .duration_since(cut);
+    // In ticks: from the last tick before the cut to the one that stopped the robot.
+    let last_before = all
+        .iter()
+        .filter(|t| t.at <= cut)
+        .map(|t| t.tick)
+        .max()
+        .expect("ticks before the cut");
+    let stopped_at = all
+        .iter()
+        .find(|t| t.stale > stale_before)
+        .expect("the stopping tick")
+        .tick;
+    let held_ticks = stopped_at - last_before;
     let flagged = wait(&mut all, Duration::from_secs(10), &|t| {
         t.events.contains(&Event::Crashed(0))
     })
@@ -195,13 +212,21 @@ fn a_partitioned_agent_stops_is_flagged_and_comes_back() {
     .duration_since(cut);
     println!(
         "partition: agent safe-stopped after {agent_stopped:?}, coordinator stopped the robot \
-         after {held:?}, flagged after {flagged:?}"
+         after {held:?} ({held_ticks} ticks), flagged after {flagged:?}"
     );
     assert!(
         agent_stopped <= Duration::from_millis(500),
         "safe-stopped after {agent_stopped:?}"
     );
-    assert!(held <= Duration::from_millis(700), "stopped after {held:?}");
+    // The rule (`CoordinatorConfig::stale_ticks` = 3): a robot drives on its newest command
+    // while at most 3 newer observations have gone out unanswered. With the last answered
+    // observation sent at tick c, it drives through tick c + 4 and stops at c + 5. The cut
+    // falls after tick T with c = T (the answer to T came back first) or c = T − 1 (it was on
+    // its way): 5 or 4 ticks.
+    assert!(
+        (4..=5).contains(&held_ticks),
+        "stopped {held_ticks} ticks after the cut"
+    );
     assert!(
         (Duration::from_millis(2500)..=Duration::from_millis(8000)).contains(&flagged),
         "flagged after the 3 s lease: {flagged:?}"

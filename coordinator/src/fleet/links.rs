@@ -35,8 +35,8 @@ pub(super) struct Link {
 }
 
 impl Link {
-    /// The newest command if it answers one of the last `stale_ticks` observations and is
-    /// not a safe stop.
+    /// The newest command if at most `stale_ticks` observations newer than the one it
+    /// answers have gone out, and it is not a safe stop.
     pub(super) fn fresh_command(&self, stale_ticks: u64) -> Option<Command> {
         self.command
             .filter(|c| !c.2 && self.next_seq.saturating_sub(c.0 + 1) <= stale_ticks)

@@ -5,9 +5,10 @@
 //! and liveliness changes (an agent joined, left or crashed: its robot is held and stops)
 //! (`Coordinator::take_arrivals`); take in heartbeats, fans and intents
 //! (`Coordinator::take_reports`); apply each robot's newest command unless it is stale
-//! (answers an observation more than `stale_ticks` old: the robot stops), step the world and
-//! dispatch tasks to idle robots (`Coordinator::step`); publish each live robot's observation,
-//! with the intents of the robots it sees (`Coordinator::publish_observations`); and once per
+//! (more than `stale_ticks` newer observations went out unanswered: the robot stops), step
+//! the world and dispatch tasks to idle robots (`Coordinator::step`); publish each live
+//! robot's observation, with the intents of the robots it sees
+//! (`Coordinator::publish_observations`); and once per
 //! simulated second a fleet metrics frame (`Coordinator::publish_metrics`). A queryable
 //! serves the static map. The demo ([`demo`]) runs a coordinator and its agents in one
 //! process; [`dashboard`] draws a running fleet.

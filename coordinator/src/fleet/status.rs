@@ -14,7 +14,9 @@ pub struct CoordinatorConfig {
     pub speed: f64,
     /// Stop after this many simulated seconds (None: until shutdown).
     pub seconds: Option<f64>,
-    /// A command answering an observation older than this many ticks is stale.
+    /// A robot drives on its newest command while at most this many newer observations have
+    /// gone out unanswered; then the command is stale and the robot stops. With 3, a command
+    /// answering the observation of tick c drives ticks c + 1 to c + 4 (0.4 s at 10 Hz).
     pub stale_ticks: u64,
     /// Receives every event the moment it happens (tests, dashboards).
     pub events: Option<std::sync::mpsc::Sender<(Instant, Event)>>,
