@@ -2,6 +2,8 @@
 //! traffic policy in narrow aisles, fleet hallways.
 
 use super::*;
+use crate::traffic_policy::PolicyTotals;
+use agent::planner::{PlannerSpec, PlannerStack};
 
 fn small() -> Scenario {
     let mut s = Scenario::builtin("warehouse").expect("valid");
