@@ -16,7 +16,6 @@ use coordinator::fleet::journal::{
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use world_sim::fleet::{Fleet, plan_all};
-use world_sim::scenario::BUILTIN;
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("gapfleet-damage-{name}-{}", std::process::id()));
@@ -26,18 +25,7 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 fn source() -> ScenarioSource {
-    ScenarioSource {
-        name: "warehouse".to_owned(),
-        toml: BUILTIN
-            .iter()
-            .find(|(n, _)| *n == "warehouse")
-            .map(|(_, t)| (*t).to_owned())
-            .expect("built in"),
-        robots: Some(3),
-        humans: Some(6),
-        seed: Some(5),
-        no_safety: false,
-    }
+    ScenarioSource::builtin("warehouse", Some(3), Some(6), Some(5)).expect("built in")
 }
 
 /// Writes a journal of `ticks` ticks into `dir` as the coordinator writes one (inputs every

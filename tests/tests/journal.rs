@@ -9,7 +9,6 @@
 
 use coordinator::fleet::demo::{DemoOptions, Transport, run_demo};
 use coordinator::fleet::journal::{Header, Journal, ScenarioSource, read, replay, resume};
-use world_sim::scenario::BUILTIN;
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("gapfleet-journal-{name}-{}", std::process::id()));
@@ -19,18 +18,8 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn a_recorded_demo_replays_bit_for_bit() {
-    let source = ScenarioSource {
-        name: "warehouse".to_owned(),
-        toml: BUILTIN
-            .iter()
-            .find(|(n, _)| *n == "warehouse")
-            .map(|(_, t)| (*t).to_owned())
-            .expect("built in"),
-        robots: Some(4),
-        humans: Some(20),
-        seed: Some(3),
-        no_safety: false,
-    };
+    let source =
+        ScenarioSource::builtin("warehouse", Some(4), Some(20), Some(3)).expect("built in");
     let scenario = source.scenario().expect("a fleet site");
     let dir = temp_dir("demo");
     let journal =

@@ -94,6 +94,26 @@ pub struct ScenarioSource {
 }
 
 impl ScenarioSource {
+    /// The built-in scenario `name` with these overrides (None: no such built-in).
+    pub fn builtin(
+        name: &str,
+        robots: Option<usize>,
+        humans: Option<usize>,
+        seed: Option<u64>,
+    ) -> Option<Self> {
+        let (_, toml) = world_sim::scenario::BUILTIN
+            .iter()
+            .find(|(n, _)| *n == name)?;
+        Some(Self {
+            name: name.to_owned(),
+            toml: (*toml).to_owned(),
+            robots,
+            humans,
+            seed,
+            no_safety: false,
+        })
+    }
+
     /// The scenario as a fleet site, with the overrides applied and validated (the one place
     /// both the command line and a journal build it).
     pub fn scenario(&self) -> Result<Scenario, JournalError> {
