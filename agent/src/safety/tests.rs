@@ -359,6 +359,15 @@ fn params(open_ground: bool) -> SafetyParams {
     }
 }
 
+/// People at (x, y) walking at (vx, vy), one per tuple.
+fn crowd(others: &[(Real, Real, Real, Real)]) -> Vec<Neighbour> {
+    others
+        .iter()
+        .enumerate()
+        .map(|(i, o)| person(i as u64, vec2(o.0, o.1), vec2(o.2, o.3)))
+        .collect()
+}
+
 proptest::proptest! {
     /// Outside a yield the layer only ever keeps a fraction s ∈ [0, 1] of the planner's
     /// command: it never adds speed or turns the robot another way.
@@ -371,11 +380,7 @@ proptest::proptest! {
             (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
     ) {
         let mut layer = SafetyLayer::new(params(open_ground));
-        let bodies: Vec<Neighbour> = others
-            .iter()
-            .enumerate()
-            .map(|(i, o)| person(i as u64, vec2(o.0, o.1), vec2(o.2, o.3)))
-            .collect();
+        let bodies = crowd(&others);
         let command = Command::Velocity(vec2(v.0, v.1));
         let g = layer.guard(command, &ego(vec2(0.0, 0.0), vec2(own.0, own.1)), &limits(),
             &bodies, &StaticMap::empty());
@@ -406,11 +411,7 @@ proptest::proptest! {
             (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
     ) {
         let mut layer = SafetyLayer::new(params(open_ground));
-        let bodies: Vec<Neighbour> = others
-            .iter()
-            .enumerate()
-            .map(|(i, o)| person(i as u64, vec2(o.0, o.1), vec2(o.2, o.3)))
-            .collect();
+        let bodies = crowd(&others);
         let command = if unicycle {
             Command::Unicycle { speed: v.0, yaw_rate: v.1 }
         } else {
