@@ -9,6 +9,7 @@
 use agent::model::Command;
 use agent::planner::PlannerStack;
 use agent::runtime::wire;
+use agent::safety::Zone;
 use coordinator::fleet::journal::{
     self, End, Header, Integrity, IntentInput, Journal, JournalError, Recovery, ScenarioSource,
     TickInput, read, replay,
@@ -46,15 +47,24 @@ fn write_journal(dir: &Path, header: &Header, ticks: u64) -> u64 {
     let mut commands = vec![Command::STOP; n];
     let snapshot_every = (journal::SNAPSHOT_EVERY_S / scenario.dt_s).round() as u64;
     for tick in 0..ticks {
+        // Which robots' layers held their commands back, journaled as the coordinator does.
+        let mut layer_held = vec![false; n];
         plan_all(
             &mut fleet,
             &mut stacks,
             &mut commands,
             |i, stack, input| match &mut guards[i] {
-                Some(g) => g.plan(stack, input).0,
+                Some(g) => {
+                    let (plan, guarded) = g.plan(stack, input);
+                    layer_held[i] = matches!(guarded.zone, Zone::Protective | Zone::Yield);
+                    plan
+                }
                 None => stack.plan(input),
             },
         );
+        for (i, &held) in layer_held.iter().enumerate() {
+            fleet.set_layer_held(i, held);
+        }
         // Each robot's intent as the coordinator sets it: as it came over the wire.
         let mut intents = Vec::new();
         for i in 0..n {
@@ -77,6 +87,7 @@ fn write_journal(dir: &Path, header: &Header, ticks: u64) -> u64 {
                 .map(|(i, c)| (i as u32, wire::motion(*c)))
                 .collect(),
             intents,
+            layer_held: (0..n as u32).filter(|&i| layer_held[i as usize]).collect(),
             fingerprint: None,
         };
         let mut events = fleet.step(&commands);

@@ -55,6 +55,10 @@ pub(crate) fn blueprint() -> rerun::blueprint::Blueprint {
         ),
     ]);
     let kpis = Grid::new([
+        fleet_plot(
+            "fleet efficiency (% of one robot alone)",
+            &["efficiency_pct"],
+        ),
         fleet_plot("tasks / min", &["tasks_per_minute"]),
         fleet_plot(
             "contacts: robot-caused, person-caused, robot–robot, total",
@@ -85,8 +89,18 @@ pub(crate) fn blueprint() -> rerun::blueprint::Blueprint {
         fleet_plot("min human distance (m)", &["min_human_distance"]),
         fleet_plot("social force", &["social_force"]),
         fleet_plot(
-            "traffic: deadlocks, waiting robots",
-            &["deadlocks", "waiting_robots"],
+            "traffic: deadlocks, gridlocks, waiting robots",
+            &["deadlocks", "gridlocks", "waiting_robots"],
+        ),
+        fleet_plot(
+            "stuck robot-s by what held them",
+            &[
+                "stuck_s_policy",
+                "stuck_s_person",
+                "stuck_s_robot",
+                "stuck_s_layer",
+                "stuck_s_planner",
+            ],
         ),
         fleet_plot(
             "protective stops, extra path (m / min)",

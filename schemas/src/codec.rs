@@ -381,6 +381,18 @@ impl Message for FleetMetrics {
         non_negative("collision_rate", self.collision_rate)?;
         non_negative("svr", self.svr)?;
         non_negative("stuck_robot_s", self.stuck_robot_s)?;
+        if let Some(e) = self.efficiency {
+            non_negative("efficiency", e)?;
+        }
+        if let Some(f) = self.free_flow_tasks_per_min {
+            non_negative("free_flow_tasks_per_min", f)?;
+        }
+        let c = &self.stuck_causes;
+        non_negative("stuck_causes.policy_s", c.policy_s)?;
+        non_negative("stuck_causes.person_s", c.person_s)?;
+        non_negative("stuck_causes.robot_s", c.robot_s)?;
+        non_negative("stuck_causes.layer_s", c.layer_s)?;
+        non_negative("stuck_causes.planner_s", c.planner_s)?;
         bounded("per_robot", self.per_robot.len(), MAX_ROBOTS)?;
         for r in &self.per_robot {
             non_negative("per_robot.collision_rate", r.collision_rate)?;

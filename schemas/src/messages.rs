@@ -317,6 +317,43 @@ pub struct FleetMetrics {
     pub stuck_robot_s: f64,
     /// Per-robot rows.
     pub per_robot: Vec<RobotRow>,
+    /// Fleet efficiency so far: tasks per robot-minute over what one robot alone on the same
+    /// floor does per minute (`world_sim::efficiency`); absent from older senders and while
+    /// it cannot be told.
+    #[serde(default)]
+    pub efficiency: Option<f64>,
+    /// That robot alone's tasks per minute (the free flow); absent as `efficiency` is.
+    #[serde(default)]
+    pub free_flow_tasks_per_min: Option<f64>,
+    /// Gridlocks so far: robots stuck together for a minute, cycle or not; absent from older
+    /// senders.
+    #[serde(default)]
+    pub gridlocks: u64,
+    /// Stuck robot-seconds so far by what held the robot; zeros from older senders.
+    #[serde(default)]
+    pub stuck_causes: StuckCausesMsg,
+    /// Robot–robot contacts so far (onsets, each robot counting its own); absent from older
+    /// senders.
+    #[serde(default)]
+    pub robot_robot_contacts: u64,
+    /// Contacts with walls and shelves so far (onsets); absent from older senders.
+    #[serde(default)]
+    pub wall_contacts: u64,
+}
+
+/// Stuck robot-seconds by what held the robot (`world_sim::stuck::Hold`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct StuckCausesMsg {
+    /// The traffic policy held it.
+    pub policy_s: f64,
+    /// A person or a group was in its way.
+    pub person_s: f64,
+    /// Another robot was in its way.
+    pub robot_s: f64,
+    /// Its safety layer held it, nobody in its way.
+    pub layer_s: f64,
+    /// Nothing visible held it: a planner failure.
+    pub planner_s: f64,
 }
 
 /// What the traffic policy asks of a robot.

@@ -154,7 +154,19 @@ fn traffic_rules_are_enforced() {
     };
     let bytes = rmp_serde::to_vec_named(&old).expect("encodes");
     let m = decode::<FleetMetrics>(&bytes).expect("old metrics decode");
-    assert_eq!((m.deadlocks, m.stuck_robots), (0, 0));
+    assert_eq!((m.deadlocks, m.stuck_robots, m.gridlocks), (0, 0, 0));
+    assert_eq!((m.efficiency, m.free_flow_tasks_per_min), (None, None));
+    assert_eq!(m.stuck_causes, StuckCausesMsg::default());
+    // Negative figures are rejected and named.
+    let mut m = metrics();
+    m.efficiency = Some(-0.1);
+    assert!(matches!(
+        decode::<FleetMetrics>(&encode(&m)),
+        Err(DecodeError::Invalid {
+            field: "efficiency",
+            ..
+        })
+    ));
     assert!(!m.per_robot[0].stuck && m.per_robot[0].waits_on.is_empty());
 }
 
@@ -354,6 +366,18 @@ fn non_finite_numbers_are_rejected_everywhere() {
         let mut m = metrics();
         m.per_robot[0].min_human_distance = Some(bad);
         assert!(decode::<FleetMetrics>(&encode(&m)).is_err());
+        let mut m = metrics();
+        m.efficiency = Some(bad);
+        assert_eq!(
+            decode::<FleetMetrics>(&encode(&m)),
+            Err(DecodeError::NonFinite("efficiency"))
+        );
+        let mut m = metrics();
+        m.stuck_causes.planner_s = bad;
+        assert_eq!(
+            decode::<FleetMetrics>(&encode(&m)),
+            Err(DecodeError::NonFinite("stuck_causes.planner_s"))
+        );
         let mut a = info();
         a.plan_p99_us = bad;
         assert!(decode::<AgentInfo>(&encode(&a)).is_err());

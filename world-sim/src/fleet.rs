@@ -11,7 +11,7 @@
 use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
-use crate::stuck::{self, Places, StuckBreakdown};
+use crate::stuck::{self, Hold, Places, StuckBreakdown, StuckCauses};
 use crate::traffic::{RobotView, TaskView, TrafficEvent, TrafficMonitor, TrafficParams};
 use crate::traffic_policy::{PolicyEvent, PolicyParams, PolicyRobot, TrafficPolicy, route_length};
 use crate::warehouse::{Site, StationKind};
@@ -134,6 +134,10 @@ pub struct Fleet {
     reroutes: u64,
     places: Places,
     stuck_where: StuckBreakdown,
+    stuck_causes: StuckCauses,
+    /// Per robot: whether its safety layer held back the command it drives on this step
+    /// ([`Fleet::set_layer_held`]).
+    layer_held: Vec<bool>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
 }
@@ -178,6 +182,8 @@ impl Fleet {
             route_scratch: vec![Vec::new(); n],
             places,
             stuck_where: StuckBreakdown::default(),
+            stuck_causes: StuckCauses::default(),
+            layer_held: vec![false; n],
             share_intents: true,
         })
     }
@@ -210,6 +216,19 @@ impl Fleet {
     /// Whether robot `i` is held.
     pub fn is_held(&self, i: usize) -> bool {
         self.held[i]
+    }
+
+    /// Tells the fleet whether robot `i`'s safety layer held back the command it drives on
+    /// in the next step (a protective stop or slow-down, or a yield's way out): the stuck
+    /// robot-seconds count it as the cause when nothing else holds the robot
+    /// ([`stuck::Hold::Layer`]). It stays as set until set again.
+    pub fn set_layer_held(&mut self, i: usize, held: bool) {
+        self.layer_held[i] = held;
+    }
+
+    /// Whether robot `i`'s safety layer held back its last command, as last set.
+    pub fn is_layer_held(&self, i: usize) -> bool {
+        self.layer_held[i]
     }
 
     /// Gives every idle, unheld robot a new task: pick at a random shelf face, drop at a
@@ -570,13 +589,52 @@ impl Fleet {
             if self.traffic.is_stuck(i) {
                 let who = stuck::company(i, p, people, &robots);
                 self.stuck_where.add(self.places.of(p), who, self.world.dt);
+                let hold = self.hold(i);
+                self.stuck_causes.add(hold, self.world.dt);
             }
+        }
+    }
+
+    /// What holds stuck robot `i` now ([`stuck::Hold`]).
+    fn hold(&self, i: usize) -> Hold {
+        use crate::traffic_policy::Constraint;
+        let held_by_policy = self
+            .policy
+            .as_ref()
+            .is_some_and(|p| !matches!(p.constraint(i), Constraint::Free | Constraint::Lane(_)));
+        let robot = &self.world.robots[i];
+        let person = || {
+            stuck::in_the_way(
+                robot.state.position,
+                robot.state.radius,
+                robot.goal,
+                &self.world.humans.crowd.positions,
+                self.world.humans.radius,
+                &self.traffic.params,
+                &self.world.map,
+            )
+        };
+        if held_by_policy {
+            Hold::Policy
+        } else if person() {
+            Hold::Person
+        } else if !self.traffic.waits_on(i).is_empty() {
+            Hold::Robot
+        } else if self.layer_held[i] {
+            Hold::Layer
+        } else {
+            Hold::Planner
         }
     }
 
     /// Stuck robot-seconds so far, by place and by who stood next to the robot.
     pub fn stuck_where(&self) -> StuckBreakdown {
         self.stuck_where
+    }
+
+    /// Stuck robot-seconds so far, by what held the robot.
+    pub fn stuck_causes(&self) -> StuckCauses {
+        self.stuck_causes
     }
 
     /// The traffic monitor: stuck robots, who waits on whom, deadlocks.

@@ -8,6 +8,7 @@
 
 pub mod crowd;
 pub mod dataset;
+pub mod efficiency;
 pub mod episode;
 pub mod fleet;
 pub mod impact;

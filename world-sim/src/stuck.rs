@@ -1,9 +1,12 @@
-//! Where stuck robots stand and who stands next to them: the fleet's stuck robot-seconds
-//! (`crate::traffic`) split by place (aisle, cross-aisle, near a station, corridor) and by
-//! company (a person next to it, else another robot, else nobody). It answers where a fleet
-//! jams and whether people or robots are in the way.
+//! Where stuck robots stand, who stands next to them and what holds them: the fleet's stuck
+//! robot-seconds (`crate::traffic`) split by place (aisle, cross-aisle, near a station,
+//! corridor), by company (a person next to it, else another robot, else nobody) and by cause
+//! ([`Hold`]: the traffic policy, a person in its way, a robot in its way, the safety layer,
+//! or nothing visible). It answers where a fleet jams and why.
 
+use crate::traffic::TrafficParams;
 use crate::warehouse::{Segment, Site};
+use agent::map::StaticMap;
 use agent::math::{Real, Vec2};
 use serde::{Deserialize, Serialize};
 
@@ -122,6 +125,83 @@ pub fn company(i: usize, p: Vec2, people: &[Vec2], robots: &[Vec2]) -> Company {
     }
 }
 
+/// What holds a stuck robot: the first of these that applies, in this order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Hold {
+    /// The traffic policy: it waits for a segment or a station, gives way or backs off.
+    Policy,
+    /// A person, or a group, in its way ([`in_the_way`]).
+    Person,
+    /// Another robot in its way: it waits on one (`TrafficMonitor::waits_on`).
+    Robot,
+    /// Its safety layer: the command it drove on was stopped, slowed in the protective field
+    /// or replaced by a way out, with nobody in its way.
+    Layer,
+    /// Nothing visible: its way is clear, nobody holds it, and it still makes no progress (a
+    /// planner failure).
+    Planner,
+}
+
+/// Stuck robot-seconds by what held the robot.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct StuckCauses {
+    /// Held by the traffic policy.
+    pub policy_s: Real,
+    /// A person or group in the way.
+    pub person_s: Real,
+    /// A robot in the way.
+    pub robot_s: Real,
+    /// Held by the safety layer, nobody in the way.
+    pub layer_s: Real,
+    /// Nothing visible.
+    pub planner_s: Real,
+}
+
+impl StuckCauses {
+    /// Adds `dt` seconds of one stuck robot held by `hold`.
+    pub fn add(&mut self, hold: Hold, dt: Real) {
+        *match hold {
+            Hold::Policy => &mut self.policy_s,
+            Hold::Person => &mut self.person_s,
+            Hold::Robot => &mut self.robot_s,
+            Hold::Layer => &mut self.layer_s,
+            Hold::Planner => &mut self.planner_s,
+        } += dt;
+    }
+
+    /// All of them.
+    pub fn total(&self) -> Real {
+        self.policy_s + self.person_s + self.robot_s + self.layer_s + self.planner_s
+    }
+}
+
+/// Whether one of `people` (of radius `person_radius`) is in the way of a robot at `p` of
+/// `radius` that drives toward `toward`, as the traffic monitor finds robots in each other's
+/// way: in sight, within [`TrafficParams::blocking_gap_m`] surface to surface, and within
+/// [`TrafficParams::blocking_cone_rad`] of the direction to `toward` (any direction when
+/// `toward` is under the robot's body).
+pub fn in_the_way(
+    p: Vec2,
+    radius: Real,
+    toward: Vec2,
+    people: &[Vec2],
+    person_radius: Real,
+    params: &TrafficParams,
+    map: &StaticMap,
+) -> bool {
+    let reach = params.blocking_gap_m + radius + person_radius;
+    let ahead = toward - p;
+    let heading = (ahead.norm() > radius).then(|| ahead.normalize());
+    let cos_cone = params.blocking_cone_rad.cos();
+    people.iter().any(|&q| {
+        let d = q - p;
+        let dist = d.norm();
+        dist <= reach
+            && heading.is_none_or(|h| dist == 0.0 || d.dot(&h) >= cos_cone * dist)
+            && map.line_of_sight(p, q)
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -153,6 +233,32 @@ mod tests {
         let places = Places::new(&hallway);
         assert_eq!(places.of(vec2(3.0, 1.5)), Place::Station);
         assert_eq!(places.of(vec2(20.0, 1.5)), Place::Corridor);
+    }
+
+    /// A person ahead and close is in the way; one behind, one too far, one behind a shelf
+    /// is not; with the goal under the robot, any close person is.
+    #[test]
+    fn people_in_the_way() {
+        let params = TrafficParams::default();
+        let open = StaticMap::empty();
+        let (p, east) = (vec2(0.0, 0.0), vec2(10.0, 0.0));
+        let way = |q: Vec2, map: &StaticMap, toward: Vec2| {
+            in_the_way(p, 0.4, toward, &[q], 0.3, &params, map)
+        };
+        assert!(way(vec2(1.5, 0.3), &open, east));
+        assert!(!way(vec2(-1.5, 0.0), &open, east));
+        assert!(!way(vec2(1.8, 0.0), &open, east));
+        let shelf = StaticMap::new(vec![agent::map::Obstacle::Wall(
+            vec2(1.0, -2.0),
+            vec2(1.0, 2.0),
+        )])
+        .expect("wall");
+        assert!(!way(vec2(1.5, 0.0), &shelf, east));
+        assert!(way(vec2(-1.5, 0.0), &open, vec2(0.1, 0.0)));
+        let mut c = StuckCauses::default();
+        c.add(Hold::Person, 0.1);
+        c.add(Hold::Planner, 0.2);
+        assert_eq!((c.person_s, c.planner_s, c.total()), (0.1, 0.2, 0.1 + 0.2));
     }
 
     /// A person next to a robot counts first, then a robot; the robot itself never does.

@@ -18,6 +18,14 @@
 //!   robots stopping for a moment face to face, are not deadlocks). A deadlock is counted once,
 //!   however its set regroups (a bystander joining and leaving it), until its members have all
 //!   been out of the wait-for cycles.
+//! - A **gridlock** is robots stuck together, cycle or not: stuck robots are together when one
+//!   waits on the other, or when they see each other within [`TrafficParams::gridlock_gap_m`]
+//!   (surface to surface), and together by a chain of such links. A set of two or more
+//!   together, every member of which has been in such a set for
+//!   [`TrafficParams::gridlock_after_s`], is a gridlock; like a deadlock, it is counted once
+//!   however it regroups, until its members have all come apart. A robot is stuck only after
+//!   [`TrafficParams::stuck_after_s`] without progress, so a gridlock's robots have made none
+//!   for at least the sum of the two. A deadlock whose robots are stuck is also a gridlock.
 //!
 //! The monitor is pure bookkeeping: positions in, events out, no clock but the simulation's.
 
@@ -44,6 +52,14 @@ pub struct TrafficParams {
     pub intent_horizon_s: Real,
     /// A cycle is a deadlock once every member has been in one this long (s). 10 s.
     pub deadlock_after_s: Real,
+    /// Stuck robots this close, surface to surface and in sight of each other, are stuck
+    /// together (m). 2 m: a robot's length of floor between them, too little for a person
+    /// and a robot to pass side by side in an aisle.
+    pub gridlock_gap_m: Real,
+    /// Robots stuck together are a gridlock once every member has been so this long (s).
+    /// 60 s: added to the 30 s without progress that makes a robot stuck, a minute and a half
+    /// in which none of them got anywhere.
+    pub gridlock_after_s: Real,
 }
 
 impl Default for TrafficParams {
@@ -56,6 +72,8 @@ impl Default for TrafficParams {
             blocking_cone_rad: 60.0_f64.to_radians(),
             intent_horizon_s: 2.0,
             deadlock_after_s: 10.0,
+            gridlock_gap_m: 2.0,
+            gridlock_after_s: 60.0,
         }
     }
 }
@@ -107,6 +125,11 @@ pub enum TrafficEvent {
         /// The robots, ascending.
         robots: Vec<usize>,
     },
+    /// A set of robots became gridlocked: stuck together, cycle or not.
+    Gridlock {
+        /// The robots, ascending.
+        robots: Vec<usize>,
+    },
 }
 
 /// Totals over a run.
@@ -122,6 +145,12 @@ pub struct TrafficTotals {
     pub stuck_robot_s: Real,
     /// Most robots stuck at once.
     pub max_stuck: usize,
+    /// Gridlocks that began.
+    #[serde(default)]
+    pub gridlocks: u64,
+    /// Robot-seconds spent gridlocked.
+    #[serde(default)]
+    pub gridlocked_robot_s: Real,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -146,6 +175,11 @@ pub struct TrafficMonitor {
     /// cycles since (the cycle may regroup, a bystander joining and leaving it: still the same
     /// deadlock).
     in_deadlock: Vec<bool>,
+    /// Per robot: since when it has been stuck together with another, if it is.
+    together_since: Vec<Option<Real>>,
+    gridlocked: Vec<Vec<usize>>,
+    /// Per robot: in a gridlock that began and that it has not come out of since.
+    in_gridlock: Vec<bool>,
     totals: TrafficTotals,
 }
 
@@ -161,6 +195,9 @@ impl TrafficMonitor {
             cycles: Vec::new(),
             deadlocked: Vec::new(),
             in_deadlock: vec![false; robots],
+            together_since: vec![None; robots],
+            gridlocked: Vec::new(),
+            in_gridlock: vec![false; robots],
             totals: TrafficTotals::default(),
         }
     }
@@ -179,6 +216,7 @@ impl TrafficMonitor {
         self.track_progress(now, dt, robots, &mut events);
         self.build_graph(robots, map, extra);
         self.find_deadlocks(now, dt, &mut events);
+        self.find_gridlocks(now, dt, robots, map, &mut events);
         events
     }
 
@@ -323,6 +361,95 @@ impl TrafficMonitor {
         self.deadlocked = deadlocked;
     }
 
+    fn find_gridlocks(
+        &mut self,
+        now: Real,
+        dt: Real,
+        robots: &[RobotView<'_>],
+        map: &StaticMap,
+        events: &mut Vec<TrafficEvent>,
+    ) {
+        let p = self.params;
+        let sets = self.stuck_together(robots, map);
+        let mut together = vec![false; robots.len()];
+        for &i in sets.iter().flatten() {
+            together[i] = true;
+        }
+        for (since, &now_together) in self.together_since.iter_mut().zip(&together) {
+            *since = match (*since, now_together) {
+                (_, false) => None,
+                (None, true) => Some(now),
+                (kept, true) => kept,
+            };
+        }
+        for (member, since) in self.in_gridlock.iter_mut().zip(&self.together_since) {
+            *member &= since.is_some();
+        }
+        let long = |i: &usize| {
+            self.together_since[*i].is_some_and(|s| now - s >= p.gridlock_after_s - 1e-9)
+        };
+        self.gridlocked = sets.into_iter().filter(|s| s.iter().all(long)).collect();
+        for set in &self.gridlocked {
+            let known = set.iter().any(|&i| self.in_gridlock[i]);
+            for &i in set {
+                self.in_gridlock[i] = true;
+            }
+            if !known {
+                self.totals.gridlocks += 1;
+                events.push(TrafficEvent::Gridlock {
+                    robots: set.clone(),
+                });
+            }
+            self.totals.gridlocked_robot_s += set.len() as Real * dt;
+        }
+    }
+
+    /// The sets of two or more stuck robots linked, by chains, by waiting on each other or by
+    /// standing within [`TrafficParams::gridlock_gap_m`] in sight of each other; each
+    /// ascending, in order of their smallest member.
+    fn stuck_together(&self, robots: &[RobotView<'_>], map: &StaticMap) -> Vec<Vec<usize>> {
+        let stuck: Vec<usize> = (0..robots.len()).filter(|&i| self.stuck[i]).collect();
+        if stuck.len() < 2 {
+            return Vec::new();
+        }
+        // Union-find over the stuck robots (indices into `stuck`).
+        let mut parent: Vec<usize> = (0..stuck.len()).collect();
+        fn root(parent: &mut [usize], mut a: usize) -> usize {
+            while parent[a] != a {
+                parent[a] = parent[parent[a]];
+                a = parent[a];
+            }
+            a
+        }
+        for a in 0..stuck.len() {
+            for b in a + 1..stuck.len() {
+                let (i, j) = (stuck[a], stuck[b]);
+                let (ri, rj) = (&robots[i], &robots[j]);
+                let gap = (ri.position - rj.position).norm() - ri.radius - rj.radius;
+                let linked = self.waits_on[i].contains(&j)
+                    || self.waits_on[j].contains(&i)
+                    || (gap <= self.params.gridlock_gap_m
+                        && map.line_of_sight(ri.position, rj.position));
+                if linked {
+                    let (x, y) = (root(&mut parent, a), root(&mut parent, b));
+                    parent[x.max(y)] = x.min(y);
+                }
+            }
+        }
+        let mut sets: Vec<Vec<usize>> = Vec::new();
+        let mut slot = vec![usize::MAX; stuck.len()];
+        for a in 0..stuck.len() {
+            let r = root(&mut parent, a);
+            if slot[r] == usize::MAX {
+                slot[r] = sets.len();
+                sets.push(Vec::new());
+            }
+            sets[slot[r]].push(stuck[a]);
+        }
+        sets.retain(|s| s.len() >= 2);
+        sets
+    }
+
     /// How long robot `i` has gone without progress toward its goal at time `now` (s): 0
     /// while it makes progress, `None` while it has no task.
     pub fn without_progress(&self, i: usize, now: Real) -> Option<Real> {
@@ -352,6 +479,16 @@ impl TrafficMonitor {
     /// The deadlocked sets now, each ascending.
     pub fn deadlocked(&self) -> &[Vec<usize>] {
         &self.deadlocked
+    }
+
+    /// The gridlocked sets now, each ascending.
+    pub fn gridlocked(&self) -> &[Vec<usize>] {
+        &self.gridlocked
+    }
+
+    /// Whether robot `i` is in a gridlock now.
+    pub fn is_gridlocked(&self, i: usize) -> bool {
+        self.gridlocked.iter().any(|s| s.contains(&i))
     }
 
     /// Totals so far.
@@ -515,6 +652,58 @@ mod tests {
         assert_eq!(monitor.waits_on(1), &[2]);
         assert!(monitor.waits_on(2).is_empty());
         assert_eq!(monitor.totals().deadlocks, 0);
+    }
+
+    /// Three robots in a line, none moving, form no cycle, so no deadlock; stuck from 30 s
+    /// and together (the first step is at 0.1 s, so from 30.1 s), they are one gridlock from
+    /// 90.1 s, counted once. A robot stuck far from
+    /// the others is in none.
+    #[test]
+    fn a_queue_that_never_moves_is_a_gridlock() {
+        let map = StaticMap::empty();
+        let robots = [
+            robot(vec2(0.0, 0.0), vec2(10.0, 0.0), 0, 10.0),
+            robot(vec2(1.2, 0.0), vec2(10.0, 0.0), 2, 8.8),
+            robot(vec2(2.4, 0.0), vec2(10.0, 0.0), 4, 7.6),
+            robot(vec2(30.0, 0.0), vec2(40.0, 0.0), 6, 10.0),
+        ];
+        let mut monitor = TrafficMonitor::new(4, TrafficParams::default());
+        let events = run(&mut monitor, 0.0, 90.0, &robots, &map);
+        assert!(
+            !events
+                .iter()
+                .any(|e| matches!(e, TrafficEvent::Gridlock { .. })),
+            "{events:?}"
+        );
+        assert!(monitor.is_stuck(3));
+        let events = run(&mut monitor, 90.0, 90.1, &robots, &map);
+        assert_eq!(
+            events,
+            vec![TrafficEvent::Gridlock {
+                robots: vec![0, 1, 2]
+            }]
+        );
+        run(&mut monitor, 90.1, 100.0, &robots, &map);
+        let t = monitor.totals();
+        assert_eq!((t.gridlocks, t.deadlocks), (1, 0));
+        assert!(monitor.is_gridlocked(1) && !monitor.is_gridlocked(3));
+        // Three robots for the 100 steps from 90.1 s to 100 s.
+        assert!((t.gridlocked_robot_s - 3.0 * 10.0).abs() < 0.05, "{t:?}");
+    }
+
+    /// Stuck robots on either side of a shelf are not together, however close.
+    #[test]
+    fn a_shelf_between_stuck_robots_keeps_them_apart() {
+        let map =
+            StaticMap::new(vec![Obstacle::Wall(vec2(1.0, -2.0), vec2(1.0, 2.0))]).expect("wall");
+        let robots = [
+            robot(vec2(0.0, 0.0), vec2(0.0, 10.0), 0, 10.0),
+            robot(vec2(2.0, 0.0), vec2(2.0, 10.0), 2, 10.0),
+        ];
+        let mut monitor = TrafficMonitor::new(2, TrafficParams::default());
+        run(&mut monitor, 0.0, 120.0, &robots, &map);
+        assert!(monitor.is_stuck(0) && monitor.is_stuck(1));
+        assert_eq!(monitor.totals().gridlocks, 0);
     }
 
     /// A shelf between two robots hides them from each other: no edge, however close.

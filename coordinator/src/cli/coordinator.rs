@@ -51,6 +51,10 @@ pub struct CoordinatorArgs {
     /// wrong.
     #[arg(long, requires = "state")]
     recover_state: bool,
+    /// The planner the site's agents run: the fleet's efficiency is measured against one robot
+    /// alone on the site with it (the free flow, run in-process at start).
+    #[arg(long, default_value = "pgp+orca")]
+    free_flow_planner: agent::planner::PlannerSpec,
     #[command(flatten)]
     net: NetArgs,
     #[command(flatten)]
@@ -134,6 +138,21 @@ impl CoordinatorArgs {
         config_.seconds = self.seconds;
         config_.journal = journal.as_ref().map(Journal::sink);
         config_.resume = resume;
+        let free = coordinator::fleet::free_flow(
+            &scenario,
+            self.free_flow_planner,
+            self.seconds,
+            fleet.share_intents,
+            fleet.traffic_policy().is_some(),
+        )?;
+        eprintln!(
+            "free flow (one robot alone, {}): {} tasks in {:.0} s, {:.2} per minute",
+            self.free_flow_planner,
+            free.tasks,
+            free.seconds,
+            free.tasks_per_min()
+        );
+        config_.free_flow = Some(free);
         runtime()?.block_on(async {
             let session = zenoh::open(config(&net, Role::Router)?)
                 .await

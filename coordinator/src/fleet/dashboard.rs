@@ -313,14 +313,19 @@ fn traffic_view(fleet: &Fleet) -> TrafficView {
     view
 }
 
-/// The monitor's and the policy's events of the last step, for the log: deadlocks, robots
-/// getting stuck, segments granted and released, retreats, detours.
+/// The monitor's and the policy's events of the last step, for the log: deadlocks, gridlocks,
+/// robots getting stuck, segments granted and released, retreats, detours.
 fn traffic_events(fleet: &Fleet, out: &mut Vec<EventView>) {
     let at = |i: usize| Some(p(fleet.world.robots[i].state.position));
     for e in fleet.traffic_events() {
         match e {
             TrafficEvent::Deadlock { robots } => out.push(EventView {
                 text: format!("deadlock: robots {robots:?} wait on each other"),
+                position: robots.first().and_then(|&i| at(i)),
+                warning: true,
+            }),
+            TrafficEvent::Gridlock { robots } => out.push(EventView {
+                text: format!("gridlock: robots {robots:?} stuck together for a minute"),
                 position: robots.first().and_then(|&i| at(i)),
                 warning: true,
             }),
@@ -586,6 +591,18 @@ impl Observer for DashboardObserver {
         ];
         fleet_metrics.push(("stuck_robots", traffic.stuck.len() as f64));
         fleet_metrics.push(("deadlocks", fleet.traffic().totals().deadlocks as f64));
+        fleet_metrics.push(("gridlocks", fleet.traffic().totals().gridlocks as f64));
+        let causes = fleet.stuck_causes();
+        fleet_metrics.extend([
+            ("stuck_s_policy", causes.policy_s),
+            ("stuck_s_person", causes.person_s),
+            ("stuck_s_robot", causes.robot_s),
+            ("stuck_s_layer", causes.layer_s),
+            ("stuck_s_planner", causes.planner_s),
+        ]);
+        if let Some(e) = status.metrics.as_ref().and_then(|m| m.efficiency) {
+            fleet_metrics.push(("efficiency_pct", 100.0 * e));
+        }
         if let Some(policy) = fleet.traffic_policy() {
             let waiting = (0..fleet.robots())
                 .filter(|&i| {

@@ -13,8 +13,10 @@ use agent::runtime::{AgentConfig, AgentCounters, AgentError, run_agent};
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use world_sim::efficiency::{FreeFlow, efficiency};
 use world_sim::fleet::Fleet;
 use world_sim::scenario::Scenario;
+use world_sim::stuck::StuckCauses;
 use world_sim::traffic::TrafficTotals;
 use world_sim::traffic_policy::{PolicyParams, PolicyTotals, TrafficPolicy};
 
@@ -76,6 +78,22 @@ pub struct DemoReport {
     pub traffic: TrafficTotals,
     /// What the traffic policy did, when on.
     pub policy: Option<PolicyTotals>,
+    /// Stuck robot-seconds by what held the robot.
+    pub stuck_causes: StuckCauses,
+    /// What one robot alone did on the site, for the fleet's efficiency.
+    pub free_flow: FreeFlow,
+}
+
+impl DemoReport {
+    /// The fleet's efficiency: tasks per robot-minute over the free flow's per minute.
+    pub fn efficiency(&self) -> Option<f64> {
+        efficiency(
+            self.status.tasks_done,
+            self.status.robots,
+            self.status.sim_time,
+            &self.free_flow,
+        )
+    }
 }
 
 /// Why a demo could not run.
@@ -99,6 +117,9 @@ pub enum DemoError {
     /// An agent failed.
     #[error(transparent)]
     Agent(#[from] AgentError),
+    /// The free-flow run's thread panicked.
+    #[error("the free-flow run (one robot alone, for the efficiency) failed: {0}")]
+    FreeFlow(String),
     /// An agent's task panicked or was cancelled.
     #[error("agent task: {0}")]
     AgentTask(#[from] tokio::task::JoinError),
@@ -172,7 +193,21 @@ pub async fn run_demo(
         }));
     }
 
+    let free = {
+        let (scenario, planner) = (options.scenario.clone(), options.planner);
+        let (seconds, share, policy) = (
+            options.seconds,
+            options.share_intents,
+            options.traffic_policy,
+        );
+        tokio::task::spawn_blocking(move || {
+            super::free_flow(&scenario, planner, Some(seconds), share, policy)
+        })
+        .await
+        .map_err(|e| DemoError::FreeFlow(e.to_string()))??
+    };
     let mut config = CoordinatorConfig::new(&options.site);
+    config.free_flow = Some(free);
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     config.round_trips = options.round_trips;
@@ -189,6 +224,7 @@ pub async fn run_demo(
             (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),
             fleet.traffic().totals(),
             fleet.traffic_policy().map(TrafficPolicy::totals),
+            fleet.stuck_causes(),
         ));
     };
     let mut observers = (status_line, dashboard);
@@ -203,7 +239,8 @@ pub async fn run_demo(
     }
     drop(presence);
     router.close().await.map_err(DemoError::Close)?;
-    let (fleet_metrics, tasks_done, traffic, policy) = final_fleet.unwrap_or_default();
+    let (fleet_metrics, tasks_done, traffic, policy, stuck_causes) =
+        final_fleet.unwrap_or_default();
     Ok(DemoReport {
         status,
         agents: counters,
@@ -212,6 +249,8 @@ pub async fn run_demo(
         dashboard,
         traffic,
         policy,
+        stuck_causes,
+        free_flow: free,
     })
 }
 
@@ -228,13 +267,16 @@ async fn open_file(path: &std::path::Path) -> Result<zenoh::Session, ConfigError
 pub fn status_line(s: &Status) -> String {
     let m = s.metrics.as_ref();
     format!(
-        "t {:6.1} s | agents {}/{} | tasks {:3} | stuck {} | deadlocks {} | SVR {:.3} | collisions {:.2}% | rtt p50 {:.2} ms p99 {:.2} ms | stale {}",
+        "t {:6.1} s | agents {}/{} | tasks {:3} | efficiency {} | stuck {} | deadlocks {} gridlocks {} | SVR {:.3} | collisions {:.2}% | rtt p50 {:.2} ms p99 {:.2} ms | stale {}",
         s.sim_time,
         s.alive,
         s.robots,
         s.tasks_done,
+        m.and_then(|m| m.efficiency)
+            .map_or_else(|| "-".to_owned(), |e| format!("{:3.0}%", 100.0 * e)),
         m.map_or(0, |m| m.stuck_robots),
         m.map_or(0, |m| m.deadlocks),
+        m.map_or(0, |m| m.gridlocks),
         m.map_or(0.0, |m| m.svr),
         m.map_or(0.0, |m| m.collision_rate * 100.0),
         s.round_trip_ms.0,
@@ -266,6 +308,22 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         s.metrics.as_ref().map_or(0, |m| m.humans),
         s.sim_time
     ));
+    let free = &report.free_flow;
+    out.push_str(&match report.efficiency() {
+        Some(e) => format!(
+            "fleet efficiency {:.0}%: {:.2} tasks per robot-minute, against {:.2} per minute \
+             for one robot alone on the site ({} tasks in {:.0} s, no people)\n",
+            100.0 * e,
+            s.tasks_done as f64 * 60.0 / s.sim_time.max(1e-9) / s.robots.max(1) as f64,
+            free.tasks_per_min(),
+            free.tasks,
+            free.seconds
+        ),
+        None => format!(
+            "fleet efficiency: not defined (one robot alone did {} tasks in {:.0} s)\n",
+            free.tasks, free.seconds
+        ),
+    });
     out.push_str(&format!(
         "tasks done {} | plans {plans} | observation->command round trip p50 {:.2} ms, p99 {:.2} ms | stale-command ticks {} | rejected messages {} (coordinator) {rejected} (agents)\n",
         s.tasks_done, s.round_trip_ms.0, s.round_trip_ms.1, s.stale_commands, s.rejected
@@ -308,9 +366,21 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     ));
     let t = &report.traffic;
     out.push_str(&format!(
-        "traffic: {} deadlocks ({:.0} robot-s deadlocked); {} times a robot got stuck, {:.0} \
-         robot-s stuck, at most {} at once\n",
-        t.deadlocks, t.deadlocked_robot_s, t.stuck_onsets, t.stuck_robot_s, t.max_stuck
+        "traffic: {} deadlocks ({:.0} robot-s deadlocked), {} gridlocks ({:.0} robot-s); {} \
+         times a robot got stuck, {:.0} robot-s stuck, at most {} at once\n",
+        t.deadlocks,
+        t.deadlocked_robot_s,
+        t.gridlocks,
+        t.gridlocked_robot_s,
+        t.stuck_onsets,
+        t.stuck_robot_s,
+        t.max_stuck
+    ));
+    let c = &report.stuck_causes;
+    out.push_str(&format!(
+        "stuck robot-s by what held them: traffic policy {:.0}, a person in the way {:.0}, a \
+         robot in the way {:.0}, the safety layer {:.0}, nothing visible (planner) {:.0}\n",
+        c.policy_s, c.person_s, c.robot_s, c.layer_s, c.planner_s
     ));
     out.push_str(&match &report.policy {
         Some(p) => format!(

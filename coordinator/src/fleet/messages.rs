@@ -7,9 +7,10 @@ use agent::map::{LocalMap, StaticMap};
 use agent::math::{Real, vec2};
 use agent::runtime::wire;
 use schemas::{
-    FleetMetrics, Observation, RobotRow, StationMsg, TaskRef, TaskStage, TrafficConstraint,
-    TrafficMsg,
+    FleetMetrics, Observation, RobotRow, StationMsg, StuckCausesMsg, TaskRef, TaskStage,
+    TrafficConstraint, TrafficMsg,
 };
+use world_sim::efficiency::{FreeFlow, efficiency};
 use world_sim::fleet::{Fleet, Stage};
 use world_sim::traffic_policy::Constraint;
 
@@ -116,7 +117,13 @@ fn unversioned_map(fleet: &Fleet) -> schemas::MapMsg {
 }
 
 /// The fleet metrics frame published once per simulated second.
-pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> FleetMetrics {
+/// `free` is the site's free flow, for the fleet's efficiency.
+pub(super) fn metrics_frame(
+    fleet: &Fleet,
+    links: &[Link],
+    status: &Status,
+    free: Option<&FreeFlow>,
+) -> FleetMetrics {
     let metrics: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
     let per_robot: Vec<RobotRow> = metrics
         .iter()
@@ -142,6 +149,7 @@ pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> F
         })
         .collect();
     let traffic = fleet.traffic().totals();
+    let causes = fleet.stuck_causes();
     let mean = |f: &dyn Fn(&RobotRow) -> Real| {
         if per_robot.is_empty() {
             0.0
@@ -166,6 +174,19 @@ pub(super) fn metrics_frame(fleet: &Fleet, links: &[Link], status: &Status) -> F
         stuck_robots: per_robot.iter().filter(|r| r.stuck).count() as u32,
         stuck_robot_s: traffic.stuck_robot_s,
         per_robot,
+        efficiency: free
+            .and_then(|f| efficiency(status.tasks_done, fleet.robots(), fleet.world.time, f)),
+        free_flow_tasks_per_min: free.map(FreeFlow::tasks_per_min),
+        gridlocks: traffic.gridlocks,
+        stuck_causes: StuckCausesMsg {
+            policy_s: causes.policy_s,
+            person_s: causes.person_s,
+            robot_s: causes.robot_s,
+            layer_s: causes.layer_s,
+            planner_s: causes.planner_s,
+        },
+        robot_robot_contacts: metrics.iter().map(|m| m.robot_robot_contacts).sum(),
+        wall_contacts: metrics.iter().map(|m| m.wall_contacts).sum(),
     }
 }
 

@@ -26,7 +26,7 @@ pub use status::{CoordinatorConfig, CoordinatorError, Event, Observer, Resume, R
 use agent::model::Command;
 use agent::runtime::wire;
 use links::{Link, RoundTrips};
-use schemas::{Channel, FleetMetrics, IntentMsg, Keys, TaskAssignment, decode, encode};
+use schemas::{Channel, FleetMetrics, IntentMsg, Keys, SafetyZone, TaskAssignment, decode, encode};
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -35,6 +35,30 @@ use world_sim::fleet::{Fleet, FleetEvent};
 use zenoh::handlers::{FifoChannelHandler, RingChannelHandler};
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::sample::Sample;
+
+/// The free flow to measure a served fleet's efficiency against (`world_sim::efficiency`):
+/// one robot alone on `scenario`'s site, planning with `planner` under the scenario's safety
+/// layer, with the run's intent sharing and traffic policy, over the run's `seconds` or
+/// [`FREE_FLOW_MAX_S`] if that is shorter or the run has no end (efficiency compares rates).
+/// Runs in-process once per setting (a second or so for 300 s).
+pub fn free_flow(
+    scenario: &world_sim::scenario::Scenario,
+    planner: agent::planner::PlannerSpec,
+    seconds: Option<f64>,
+    share_intents: bool,
+    traffic_policy: bool,
+) -> Result<world_sim::efficiency::FreeFlow, world_sim::fleet::NotAWarehouse> {
+    let options = world_sim::fleet::FleetOptions {
+        share_intents,
+        policy: traffic_policy.then(world_sim::traffic_policy::PolicyParams::default),
+        human_impact_window_s: None,
+    };
+    let seconds = seconds.map_or(FREE_FLOW_MAX_S, |s| s.min(FREE_FLOW_MAX_S));
+    world_sim::efficiency::free_flow(scenario, planner, seconds, options)
+}
+
+/// The longest free-flow run [`free_flow`] makes (simulated s).
+pub const FREE_FLOW_MAX_S: f64 = 600.0;
 
 /// Declares the coordinator's liveliness token of `site` on `session`: agents stop their
 /// robots the moment it is dropped.
@@ -328,7 +352,11 @@ impl Coordinator<'_> {
         let n = self.links.len();
         let mut commands = vec![Command::STOP; n];
         for (i, link) in self.links.iter().enumerate() {
-            match link.fresh_command(self.config.stale_ticks) {
+            let fresh = link.fresh_command(self.config.stale_ticks);
+            let zone = self.status.safety.get(i).copied().unwrap_or_default();
+            let layer_held = matches!(zone, SafetyZone::Protective | SafetyZone::Yield);
+            self.fleet.set_layer_held(i, fresh.is_some() && layer_held);
+            match fresh {
                 Some(command) => commands[i] = command,
                 None if link.alive && self.fleet.job(i).is_some() && link.next_seq > 0 => {
                     self.status.stale_commands += 1;
@@ -381,10 +409,15 @@ impl Coordinator<'_> {
             .filter(|(_, c)| !matches!(c, Command::Velocity(v) if v.x.to_bits() == 0 && v.y.to_bits() == 0))
             .map(|(i, c)| (i as u32, wire::motion(*c)))
             .collect();
+        let layer_held = (0..self.fleet.robots())
+            .filter(|&i| self.fleet.is_layer_held(i))
+            .map(|i| i as u32)
+            .collect();
         journal::TickInput {
             tick: self.status.tick,
             held,
             commands,
+            layer_held,
             intents: std::mem::take(&mut self.journal_intents),
             fingerprint: None,
         }
@@ -492,7 +525,12 @@ impl Coordinator<'_> {
     }
 
     fn metrics_frame(&self) -> FleetMetrics {
-        messages::metrics_frame(&self.fleet, &self.links, &self.status)
+        messages::metrics_frame(
+            &self.fleet,
+            &self.links,
+            &self.status,
+            self.config.free_flow.as_ref(),
+        )
     }
 
     /// Updates the status's derived fields and shows it to the observer.

@@ -35,6 +35,9 @@ pub struct CoordinatorConfig {
     /// many ticks in, with this many tasks done (ticks and `seconds` count from the run's
     /// start).
     pub resume: Option<Resume>,
+    /// What one robot alone does on this site (`world_sim::efficiency`): the metrics frames
+    /// carry the fleet's efficiency against it. `None`: no efficiency.
+    pub free_flow: Option<world_sim::efficiency::FreeFlow>,
 }
 
 /// Where a resumed run picks up.
@@ -58,6 +61,7 @@ impl CoordinatorConfig {
             round_trips: None,
             stagger: 100,
             announce_presence: true,
+            free_flow: None,
             journal: None,
             resume: None,
         }

@@ -13,9 +13,10 @@ use agent::planner::PlannerSpec;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use world_sim::efficiency::{FreeFlow, efficiency, free_flow};
 use world_sim::fleet::{FleetOptions, FleetReport, NotAWarehouse, run_fleet_with};
 use world_sim::scenario::Scenario;
-use world_sim::stuck::StuckBreakdown;
+use world_sim::stuck::{StuckBreakdown, StuckCauses};
 use world_sim::traffic_policy::PolicyParams;
 
 /// People's delay is measured in windows of this length (s), as in the open-space study.
@@ -156,6 +157,36 @@ pub struct TrafficRun {
     /// ... with nobody next to it.
     #[serde(default)]
     pub stuck_alone_s: f64,
+    /// Tasks one robot alone did on the site with the same seed, planner, layer and policy, no
+    /// people (`world_sim::efficiency`; 0 in runs.csv files older than this column, as are
+    /// the ones below).
+    #[serde(default)]
+    pub free_flow_tasks: u64,
+    /// Fleet efficiency: tasks per robot over the free flow's tasks; 0 when the free flow did
+    /// no task.
+    #[serde(default)]
+    pub efficiency: f64,
+    /// Gridlocks that began: robots stuck together for a minute, cycle or not.
+    #[serde(default)]
+    pub gridlocks: u64,
+    /// Robot-seconds gridlocked.
+    #[serde(default)]
+    pub gridlocked_robot_s: f64,
+    /// Stuck robot-seconds held by the traffic policy (`world_sim::stuck::Hold`).
+    #[serde(default)]
+    pub stuck_by_policy_s: f64,
+    /// ... with a person or group in the way.
+    #[serde(default)]
+    pub stuck_by_person_s: f64,
+    /// ... with a robot in the way.
+    #[serde(default)]
+    pub stuck_by_robot_s: f64,
+    /// ... held by the safety layer, nobody in the way.
+    #[serde(default)]
+    pub stuck_by_layer_s: f64,
+    /// ... with nothing visible holding the robot.
+    #[serde(default)]
+    pub stuck_by_planner_s: f64,
 }
 
 fn layer_on() -> bool {
@@ -163,7 +194,7 @@ fn layer_on() -> bool {
 }
 
 impl TrafficRun {
-    fn new(scenario: &str, seed: u64, safety: bool, report: &FleetReport) -> Self {
+    fn new(scenario: &str, seed: u64, safety: bool, report: &FleetReport, free: &FreeFlow) -> Self {
         let sum = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| -> u64 {
             report.robots.iter().map(f).sum()
         };
@@ -213,6 +244,21 @@ impl TrafficRun {
             stuck_next_to_person_s: report.stuck_where.person_s,
             stuck_next_to_robot_s: report.stuck_where.robot_s,
             stuck_alone_s: report.stuck_where.nobody_s,
+            free_flow_tasks: free.tasks,
+            efficiency: efficiency(
+                report.total_tasks(),
+                report.robots.len(),
+                report.seconds,
+                free,
+            )
+            .unwrap_or(0.0),
+            gridlocks: report.traffic.gridlocks,
+            gridlocked_robot_s: report.traffic.gridlocked_robot_s,
+            stuck_by_policy_s: report.stuck_causes.policy_s,
+            stuck_by_person_s: report.stuck_causes.person_s,
+            stuck_by_robot_s: report.stuck_causes.robot_s,
+            stuck_by_layer_s: report.stuck_causes.layer_s,
+            stuck_by_planner_s: report.stuck_causes.planner_s,
         }
     }
 }
@@ -274,6 +320,20 @@ pub struct Cell {
     pub give_ways: f64,
     /// Mean stuck robot-seconds per run by place and company.
     pub stuck_where: StuckBreakdown,
+    /// Mean fleet efficiency over the runs whose free flow did a task (0 when none did).
+    pub efficiency: f64,
+    /// Mean tasks of the free flow (one robot alone) per run.
+    pub free_flow_tasks: f64,
+    /// Runs with at least one gridlock.
+    pub runs_with_gridlock: usize,
+    /// Gridlocks in all runs.
+    pub gridlocks: u64,
+    /// Mean gridlocked robot-seconds per run.
+    pub gridlocked_robot_s: f64,
+    /// Mean stuck robot-seconds per run by what held the robot.
+    pub stuck_causes: StuckCauses,
+    /// Person-caused contacts per robot-hour.
+    pub person_caused_per_robot_hour: f64,
 }
 
 impl TrafficStudy {
@@ -333,7 +393,8 @@ impl TrafficStudy {
                     human_impact_window_s: Some(IMPACT_WINDOW_S),
                 };
                 let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
-                let run = TrafficRun::new(&scenario.name, seed, safety, &report);
+                let free = free_flow(&scenario, self.planner, self.seconds, options)?;
+                let run = TrafficRun::new(&scenario.name, seed, safety, &report, &free);
                 finished(&run);
                 Ok(run)
             })
@@ -421,6 +482,25 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                         robot_s: m(|r| r.stuck_next_to_robot_s),
                         nobody_s: m(|r| r.stuck_alone_s),
                     },
+                    efficiency: mean(
+                        mine.iter()
+                            .filter(|r| r.free_flow_tasks > 0)
+                            .map(|r| r.efficiency),
+                    )
+                    .unwrap_or(0.0),
+                    free_flow_tasks: m(|r| r.free_flow_tasks as f64),
+                    runs_with_gridlock: mine.iter().filter(|r| r.gridlocks > 0).count(),
+                    gridlocks: mine.iter().map(|r| r.gridlocks).sum(),
+                    gridlocked_robot_s: m(|r| r.gridlocked_robot_s),
+                    stuck_causes: StuckCauses {
+                        policy_s: m(|r| r.stuck_by_policy_s),
+                        person_s: m(|r| r.stuck_by_person_s),
+                        robot_s: m(|r| r.stuck_by_robot_s),
+                        layer_s: m(|r| r.stuck_by_layer_s),
+                        planner_s: m(|r| r.stuck_by_planner_s),
+                    },
+                    person_caused_per_robot_hour: m(|r| r.person_caused_contacts as f64)
+                        / robot_hours,
                 });
             }
         }
@@ -431,18 +511,22 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
 /// The summary as a Markdown table.
 pub fn table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | layer | runs | runs with a deadlock | deadlocks | tasks/min | per robot | stuck robot-s | stuck share | people's delay (person-s) | retreats | detours | give-ways |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | runs | efficiency | tasks/min | per robot | alone (tasks) | runs with a deadlock | deadlocks | runs with a gridlock | gridlocks | stuck robot-s | stuck share | people's delay (person-s) | retreats | detours | give-ways |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+            "{} | {} | {:.0}% | {:.2} | {:.3} | {:.1} | {} | {} | {} | {} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.1} | {:.1} |\n",
             row_head(c),
             c.runs,
-            c.runs_with_deadlock,
-            c.deadlocks,
+            100.0 * c.efficiency,
             c.tasks_per_min,
             c.tasks_per_min_per_robot,
+            c.free_flow_tasks,
+            c.runs_with_deadlock,
+            c.deadlocks,
+            c.runs_with_gridlock,
+            c.gridlocks,
             c.stuck_robot_s,
             100.0 * c.stuck_share,
             c.human_delay_s,
@@ -458,12 +542,12 @@ pub fn table(cells: &[Cell]) -> String {
 /// Markdown table (means per run, except where a column says otherwise).
 pub fn contacts_table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | layer | tasks/min | robot-caused | person-caused | robot–robot | walls | total | total per robot-hour | closest (m) | intimate robot-s | people's delay (person-s) | commands changed | yields | mean change (m/s) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | tasks/min | robot-caused | person-caused | robot–robot | walls | total | person-caused per robot-hour | total per robot-hour | closest (m) | intimate robot-s | people's delay (person-s) | commands changed | yields | mean change (m/s) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.2} | {:.1} | {:.1} | {:.1}% | {:.1}% | {:.2} |\n",
+            "{} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} | {:.1}% | {:.1}% | {:.2} |\n",
             row_head(c),
             c.tasks_per_min,
             c.robot_caused_contacts,
@@ -471,6 +555,7 @@ pub fn contacts_table(cells: &[Cell]) -> String {
             c.robot_robot_contacts,
             c.wall_contacts,
             c.total_contacts,
+            c.person_caused_per_robot_hour,
             c.total_per_robot_hour,
             c.min_human_distance_m,
             c.intimate_robot_s,
@@ -495,15 +580,15 @@ fn row_head(c: &Cell) -> String {
     )
 }
 
-/// Where the stuck robot-seconds went, per cell, as a Markdown table: shares by place and by
-/// who stood next to the stuck robot (`world_sim::stuck`).
+/// Where the stuck robot-seconds went, per cell, as a Markdown table: shares by place, by who
+/// stood next to the stuck robot and by what held it (`world_sim::stuck`).
 pub fn stuck_table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | layer | stuck robot-s | in aisles | in cross-aisles | near stations | in corridors | next to a person | next to a robot only | nobody next to it |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | stuck robot-s | in aisles | in cross-aisles | near stations | in corridors | next to a person | next to a robot only | nobody next to it | held by: policy | a person in the way | a robot in the way | the layer | nothing visible |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
-        let w = &c.stuck_where;
+        let (w, h) = (&c.stuck_where, &c.stuck_causes);
         let share = |x: f64| {
             if c.stuck_robot_s > 0.0 {
                 format!("{:.0}%", 100.0 * x / c.stuck_robot_s)
@@ -512,7 +597,7 @@ pub fn stuck_table(cells: &[Cell]) -> String {
             }
         };
         out.push_str(&format!(
-            "{} | {:.0} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "{} | {:.0} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             row_head(c),
             c.stuck_robot_s,
             share(w.aisle_s),
@@ -522,6 +607,11 @@ pub fn stuck_table(cells: &[Cell]) -> String {
             share(w.person_s),
             share(w.robot_s),
             share(w.nobody_s),
+            share(h.policy_s),
+            share(h.person_s),
+            share(h.robot_s),
+            share(h.layer_s),
+            share(h.planner_s),
         ));
     }
     out
@@ -540,7 +630,7 @@ pub fn write_outputs(
     write_json(&out.join("summary.json"), &cells)?;
     let path = out.join("summary.md");
     let summary = format!(
-        "{}\nContacts of every cause, closeness and the safety layer (means per run):\n\n{}\nWhere the stuck robot-seconds went (shares of each cell's mean):\n\n{}",
+        "Efficiency: tasks per robot over one robot alone on the same floor with the same seed and no people (`alone`), mean over runs.\n\n{}\nContacts of every cause, closeness and the safety layer (means per run):\n\n{}\nWhere the stuck robot-seconds went and what held the robots (shares of each cell's mean):\n\n{}",
         table(&cells),
         contacts_table(&cells),
         stuck_table(&cells)
@@ -592,7 +682,7 @@ pub fn write_outputs(
 mod tests {
     use super::*;
 
-    /// One short seed (seed 3) of each site, both ways: every run is there, the summary counts them,
+    /// One short seed (seed 3, 90 s) of each site, both ways: every run is there, the summary counts them,
     /// runs.csv reads back, and earlier runs are reused.
     #[test]
     fn a_smoke_study_runs_both_sites_both_ways() {
@@ -614,9 +704,15 @@ mod tests {
             seeds: 1,
             policies: vec![false, true],
             layers: vec![true],
-            seconds: 30.0,
+            seconds: 90.0,
         };
         let runs = study.execute(&|| {}).expect("fleet sites");
+        // One robot alone does a task in the narrow warehouse in 90 s.
+        assert!(
+            runs.iter()
+                .any(|r| r.scenario == "warehouse-narrow" && r.free_flow_tasks > 0),
+            "{runs:?}"
+        );
         assert_eq!(runs.len(), 4);
         assert!(runs.iter().all(|r| r.seed == 3));
         assert!(
@@ -632,6 +728,19 @@ mod tests {
             let company = r.stuck_next_to_person_s + r.stuck_next_to_robot_s + r.stuck_alone_s;
             assert!((places - r.stuck_robot_s).abs() < 1e-6, "{r:?}");
             assert!((company - r.stuck_robot_s).abs() < 1e-6, "{r:?}");
+        }
+        // ... and by what held the robot, adding up to it too; every run has its free flow.
+        for r in &runs {
+            let held = r.stuck_by_policy_s
+                + r.stuck_by_person_s
+                + r.stuck_by_robot_s
+                + r.stuck_by_layer_s
+                + r.stuck_by_planner_s;
+            assert!((held - r.stuck_robot_s).abs() < 1e-6, "{r:?}");
+            if r.free_flow_tasks > 0 {
+                let e = r.tasks as f64 / r.robots as f64 / r.free_flow_tasks as f64;
+                assert!((r.efficiency - e).abs() < 1e-9, "{r:?}");
+            }
         }
         let cells = summarize(&study, &runs);
         assert_eq!(cells.len(), 4);

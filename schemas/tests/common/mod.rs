@@ -131,6 +131,18 @@ pub fn metrics() -> FleetMetrics {
         deadlocks: 1,
         stuck_robots: 1,
         stuck_robot_s: 31.5,
+        efficiency: Some(0.62),
+        free_flow_tasks_per_min: Some(1.2),
+        gridlocks: 1,
+        stuck_causes: StuckCausesMsg {
+            policy_s: 1.0,
+            person_s: 20.0,
+            robot_s: 0.5,
+            layer_s: 0.0,
+            planner_s: 10.0,
+        },
+        robot_robot_contacts: 2,
+        wall_contacts: 0,
     }
 }
 

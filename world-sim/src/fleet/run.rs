@@ -4,7 +4,7 @@
 use super::{Fleet, NotAWarehouse};
 use crate::metrics::RobotMetrics;
 use crate::scenario::Scenario;
-use crate::stuck::StuckBreakdown;
+use crate::stuck::{StuckBreakdown, StuckCauses};
 use crate::traffic::TrafficTotals;
 use crate::traffic_policy::{PolicyParams, PolicyTotals, TrafficPolicy};
 use agent::guard::Guard;
@@ -12,6 +12,7 @@ use agent::map::LocalMap;
 use agent::math::Real;
 use agent::model::Command;
 use agent::planner::{Plan, PlannerSpec, PlannerStack, PlanningInput};
+use agent::safety::Zone;
 
 /// What an in-process fleet run produced.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,6 +41,8 @@ pub struct FleetReport {
     pub reroutes: u64,
     /// Stuck robot-seconds by place and by who stood next to the robot.
     pub stuck_where: StuckBreakdown,
+    /// Stuck robot-seconds by what held the robot.
+    pub stuck_causes: StuckCauses,
 }
 
 impl FleetReport {
@@ -96,15 +99,24 @@ pub fn drive(
     commands: &mut [Command],
 ) {
     fleet.dispatch();
+    // Robots without a task, or without a layer, are not held by one.
+    let mut held = vec![false; fleet.robots()];
     plan_all(
         fleet,
         stacks,
         commands,
         |i, stack, input| match &mut guards[i] {
-            Some(guard) => guard.plan(stack, input).0,
+            Some(guard) => {
+                let (plan, guarded) = guard.plan(stack, input);
+                held[i] = matches!(guarded.zone, Zone::Protective | Zone::Yield);
+                plan
+            }
             None => stack.plan(input),
         },
     );
+    for (i, &held) in held.iter().enumerate() {
+        fleet.set_layer_held(i, held);
+    }
     fleet.step(commands);
 }
 
@@ -193,5 +205,6 @@ pub fn run_fleet_with(
         policy: fleet.policy.as_ref().map(TrafficPolicy::totals),
         reroutes: fleet.reroutes,
         stuck_where: fleet.stuck_where,
+        stuck_causes: fleet.stuck_causes,
     })
 }

@@ -58,8 +58,9 @@ const TASKS: TableDefinition<u64, &[u8]> = TableDefinition::new("tasks");
 /// Snapshots by the number of ticks run when they were taken.
 const SNAPSHOTS: TableDefinition<u64, &[u8]> = TableDefinition::new("snapshots");
 
-/// The journal's format (2: intents among the inputs, snapshots).
-const FORMAT: u32 = 2;
+/// The journal's format (2: intents among the inputs, snapshots; 3: the layer's holds among
+/// the inputs, snapshots of format 2).
+const FORMAT: u32 = 3;
 
 /// The coordinator snapshots the fleet this often (simulated s).
 pub const SNAPSHOT_EVERY_S: f64 = 30.0;
@@ -181,6 +182,9 @@ pub struct TickInput {
     pub commands: Vec<(u32, Motion)>,
     /// Intents taken from agents since the previous tick's step, in the order they were set.
     pub intents: Vec<IntentInput>,
+    /// Robots whose safety layer held back the command they drove on (a protective stop or
+    /// slow-down, or a yield): the fleet counts what held its stuck robots by it.
+    pub layer_held: Vec<u32>,
     /// The world's fingerprint after this tick's step, every [`FINGERPRINT_EVERY`] ticks.
     pub fingerprint: Option<u64>,
 }

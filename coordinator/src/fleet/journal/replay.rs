@@ -142,6 +142,15 @@ fn run_inputs(
         for intent in &input.intents {
             intent.apply(&mut fleet)?;
         }
+        for i in 0..n {
+            fleet.set_layer_held(i, false);
+        }
+        for &robot in &input.layer_held {
+            if robot as usize >= n {
+                return Err(JournalError::Record(format!("robot {robot} of {n}")));
+            }
+            fleet.set_layer_held(robot as usize, true);
+        }
         commands.fill(agent::model::Command::STOP);
         for &(robot, motion) in &input.commands {
             let slot = commands
