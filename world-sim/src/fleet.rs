@@ -595,6 +595,11 @@ impl Fleet {
         }
     }
 
+    /// What holds robot `i` now, if it is stuck ([`stuck::Hold`]).
+    pub fn stuck_hold(&self, i: usize) -> Option<Hold> {
+        self.traffic.is_stuck(i).then(|| self.hold(i))
+    }
+
     /// What holds stuck robot `i` now ([`stuck::Hold`]).
     fn hold(&self, i: usize) -> Hold {
         use crate::traffic_policy::Constraint;
@@ -675,7 +680,7 @@ impl Fleet {
 }
 
 mod run;
-pub use run::{FleetOptions, FleetReport, drive, plan_all, run_fleet, run_fleet_with};
+pub use run::{FleetOptions, FleetReport, STALLED_M, drive, plan_all, run_fleet, run_fleet_with};
 
 mod snapshot;
 pub use snapshot::{SNAPSHOT_FORMAT, SnapshotError};

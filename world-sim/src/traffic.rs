@@ -438,13 +438,13 @@ impl TrafficMonitor {
         }
         let mut sets: Vec<Vec<usize>> = Vec::new();
         let mut slot = vec![usize::MAX; stuck.len()];
-        for a in 0..stuck.len() {
+        for (a, &i) in stuck.iter().enumerate() {
             let r = root(&mut parent, a);
             if slot[r] == usize::MAX {
                 slot[r] = sets.len();
                 sets.push(Vec::new());
             }
-            sets[slot[r]].push(stuck[a]);
+            sets[slot[r]].push(i);
         }
         sets.retain(|s| s.len() >= 2);
         sets

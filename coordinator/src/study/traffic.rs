@@ -187,6 +187,10 @@ pub struct TrafficRun {
     /// ... with nothing visible holding the robot.
     #[serde(default)]
     pub stuck_by_planner_s: f64,
+    /// Share of person-minutes in which a person moved less than 1 m: people stalled, in a
+    /// jam or short of a goal (`FleetReport::people_stalled_share`).
+    #[serde(default)]
+    pub people_stalled_share: f64,
 }
 
 fn layer_on() -> bool {
@@ -259,6 +263,7 @@ impl TrafficRun {
             stuck_by_robot_s: report.stuck_causes.robot_s,
             stuck_by_layer_s: report.stuck_causes.layer_s,
             stuck_by_planner_s: report.stuck_causes.planner_s,
+            people_stalled_share: report.people_stalled_share,
         }
     }
 }
@@ -334,6 +339,8 @@ pub struct Cell {
     pub stuck_causes: StuckCauses,
     /// Person-caused contacts per robot-hour.
     pub person_caused_per_robot_hour: f64,
+    /// Mean share of person-minutes with a person stalled (moved less than 1 m).
+    pub people_stalled_share: f64,
 }
 
 impl TrafficStudy {
@@ -501,6 +508,7 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                     },
                     person_caused_per_robot_hour: m(|r| r.person_caused_contacts as f64)
                         / robot_hours,
+                    people_stalled_share: m(|r| r.people_stalled_share),
                 });
             }
         }
@@ -511,12 +519,12 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
 /// The summary as a Markdown table.
 pub fn table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | layer | runs | efficiency | tasks/min | per robot | alone (tasks) | runs with a deadlock | deadlocks | runs with a gridlock | gridlocks | stuck robot-s | stuck share | people's delay (person-s) | retreats | detours | give-ways |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | runs | efficiency | tasks/min | per robot | alone (tasks) | runs with a deadlock | deadlocks | runs with a gridlock | gridlocks | stuck robot-s | stuck share | people's delay (person-s) | people stalled | retreats | detours | give-ways |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {} | {:.0}% | {:.2} | {:.3} | {:.1} | {} | {} | {} | {} | {:.0} | {:.0}% | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+            "{} | {} | {:.0}% | {:.2} | {:.3} | {:.1} | {} | {} | {} | {} | {:.0} | {:.0}% | {:.1} | {:.0}% | {:.1} | {:.1} | {:.1} |\n",
             row_head(c),
             c.runs,
             100.0 * c.efficiency,
@@ -530,6 +538,7 @@ pub fn table(cells: &[Cell]) -> String {
             c.stuck_robot_s,
             100.0 * c.stuck_share,
             c.human_delay_s,
+            100.0 * c.people_stalled_share,
             c.retreats,
             c.detours,
             c.give_ways,
@@ -630,7 +639,7 @@ pub fn write_outputs(
     write_json(&out.join("summary.json"), &cells)?;
     let path = out.join("summary.md");
     let summary = format!(
-        "Efficiency: tasks per robot over one robot alone on the same floor with the same seed and no people (`alone`), mean over runs.\n\n{}\nContacts of every cause, closeness and the safety layer (means per run):\n\n{}\nWhere the stuck robot-seconds went and what held the robots (shares of each cell's mean):\n\n{}",
+        "Efficiency: tasks per robot over one robot alone on the same floor with the same seed and no people (`alone`), mean over runs. People stalled: share of person-minutes in which a person moved less than 1 m.\n\n{}\nContacts of every cause, closeness and the safety layer (means per run):\n\n{}\nWhere the stuck robot-seconds went and what held the robots (shares of each cell's mean):\n\n{}",
         table(&cells),
         contacts_table(&cells),
         stuck_table(&cells)

@@ -43,7 +43,15 @@ pub struct FleetReport {
     pub stuck_where: StuckBreakdown,
     /// Stuck robot-seconds by what held the robot.
     pub stuck_causes: StuckCauses,
+    /// The people's health as a crowd: the share of person-minutes (whole minutes of the
+    /// run) in which a person moved less than [`STALLED_M`], i.e. stood where they were.
+    /// People in these worlds always have somewhere to go, so a stalled person is stuck (in
+    /// a jam, or short of a goal the walls keep them from), robots or not.
+    pub people_stalled_share: Real,
 }
+
+/// A person who moves less than this in a minute has stalled (m).
+pub const STALLED_M: Real = 1.0;
 
 impl FleetReport {
     /// Tasks completed by the whole fleet.
@@ -174,8 +182,21 @@ pub fn run_fleet_with(
     let mut guards = crate::episode::guards(scenario, fleet.robots());
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut commands = vec![Command::STOP; fleet.robots()];
-    for _ in 0..steps {
+    let minute = (60.0 / fleet.world.dt).round() as u64;
+    let mut minute_ago = fleet.world.humans.crowd.positions.clone();
+    let (mut stalled, mut person_minutes) = (0_usize, 0_usize);
+    for k in 1..=steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
+        if k % minute == 0 {
+            let now = &fleet.world.humans.crowd.positions;
+            stalled += now
+                .iter()
+                .zip(&minute_ago)
+                .filter(|(p, q)| (*p - *q).norm() < STALLED_M)
+                .count();
+            person_minutes += now.len();
+            minute_ago.clone_from(now);
+        }
     }
     Ok(FleetReport {
         seconds: fleet.world.time,
@@ -206,5 +227,10 @@ pub fn run_fleet_with(
         reroutes: fleet.reroutes,
         stuck_where: fleet.stuck_where,
         stuck_causes: fleet.stuck_causes,
+        people_stalled_share: if person_minutes > 0 {
+            stalled as Real / person_minutes as Real
+        } else {
+            0.0
+        },
     })
 }

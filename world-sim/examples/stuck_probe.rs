@@ -1,0 +1,139 @@
+//! What stuck robots are doing: runs one fleet (policy on, layer as the scenario says) and,
+//! every 5 s, prints each stuck robot's cause, place, speed, distance to the point it drives
+//! to, the nearest person and robot, and its traffic constraint; then the totals by cause.
+//!
+//!     cargo run --release -p world-sim --example stuck_probe -- warehouse-narrow 20 1 [300 [ROBOT]]
+//!
+//! With ROBOT, also that robot's position, velocity, goal, waypoint and route left every
+//! second.
+
+use agent::model::Command;
+use agent::planner::{PlannerSpec, PlannerStack};
+use world_sim::fleet::{Fleet, drive};
+use world_sim::scenario::Scenario;
+use world_sim::traffic_policy::PolicyParams;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let name = args.first().map_or("warehouse-narrow", String::as_str);
+    let robots: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(20);
+    let seed: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1);
+    let seconds: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(300.0);
+    // A robot to follow every second (the fifth argument).
+    let watch: Option<usize> = args.get(4).and_then(|a| a.parse().ok());
+    let mut scenario = Scenario::builtin(name).expect("a built-in scenario");
+    scenario.seed = seed;
+    scenario.set_fleet_size(Some(robots), None);
+    let planner: PlannerSpec = "pgp+orca".parse().expect("known");
+    let mut fleet = Fleet::new(&scenario).expect("a fleet site");
+    fleet.set_traffic_policy(Some(PolicyParams::default()));
+    let destinations = fleet.world.people_destinations();
+    let mut stacks: Vec<PlannerStack> = (0..robots)
+        .map(|_| {
+            let mut s = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
+            s.set_record_fan(false);
+            s.set_destinations(&destinations);
+            s
+        })
+        .collect();
+    let mut guards = world_sim::episode::guards(&scenario, robots);
+    let mut commands = vec![Command::STOP; robots];
+    let steps = (seconds / fleet.world.dt).round() as u64;
+    let mut minute_ago = fleet.world.humans.crowd.positions.clone();
+    for k in 1..=steps {
+        drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
+        if let Some(i) = watch
+            && k % 10 == 0
+        {
+            let r = &fleet.world.robots[i];
+            let crowd = &fleet.world.humans.crowd;
+            let near: Vec<String> = (0..crowd.len())
+                .filter(|&h| (crowd.positions[h] - r.state.position).norm() < 3.0)
+                .map(|h| {
+                    let (q, v, g) = (crowd.positions[h], crowd.velocities[h], crowd.goals[h]);
+                    format!(
+                        "#{h} ({:.1},{:.1} v {:.1},{:.1} goal {:.1},{:.1})",
+                        q.x, q.y, v.x, v.y, g.x, g.y
+                    )
+                })
+                .collect();
+            println!("    people within 3 m: {}", near.join(" "));
+            println!(
+                "t {:5.1} robot {i} at ({:5.2},{:5.2}) v ({:5.2},{:5.2}) goal ({:5.2},{:5.2}) waypoint {:?} remaining {:.1} reroutes {}",
+                fleet.world.time,
+                r.state.position.x,
+                r.state.position.y,
+                r.state.velocity.x,
+                r.state.velocity.y,
+                r.goal.x,
+                r.goal.y,
+                fleet.job(i).and_then(|j| j.waypoint()).map(|w| (w.x, w.y)),
+                fleet.job(i).map_or(0.0, |j| j.remaining(r.state.position)),
+                fleet.reroutes(),
+            );
+        }
+        if k % 600 == 0 {
+            // People who moved less than 1 m in the last minute.
+            let crowd = &fleet.world.humans.crowd;
+            let still: Vec<String> = (0..crowd.len())
+                .filter(|&h| (crowd.positions[h] - minute_ago[h]).norm() < 1.0)
+                .map(|h| {
+                    let (q, g) = (crowd.positions[h], crowd.goals[h]);
+                    format!("#{h} ({:.1},{:.1} goal {:.1},{:.1})", q.x, q.y, g.x, g.y)
+                })
+                .collect();
+            println!(
+                "t {:5.0} people who moved < 1 m in the last minute: {} {}",
+                fleet.world.time,
+                still.len(),
+                still.join(" ")
+            );
+            minute_ago.clone_from(&crowd.positions);
+        }
+        if k % 50 != 0 {
+            continue;
+        }
+        for i in 0..robots {
+            let Some(hold) = fleet.stuck_hold(i) else {
+                continue;
+            };
+            let r = &fleet.world.robots[i];
+            let p = r.state.position;
+            let nearest = |qs: &mut dyn Iterator<Item = agent::math::Vec2>| {
+                qs.map(|q| (q - p).norm()).fold(f64::INFINITY, f64::min)
+            };
+            let person = nearest(&mut fleet.world.humans.crowd.positions.iter().copied());
+            let robot = nearest(
+                &mut (0..robots)
+                    .filter(|&j| j != i)
+                    .map(|j| fleet.world.robots[j].state.position),
+            );
+            let constraint = fleet
+                .traffic_policy()
+                .map(|t| format!("{:?}", t.constraint(i)))
+                .unwrap_or_default();
+            println!(
+                "t {:5.0} robot {i:2} {hold:?} at ({:5.1},{:5.1}) speed {:.2} to goal {:4.1} m layer {} person {:4.1} m robot {:4.1} m {constraint}",
+                fleet.world.time,
+                p.x,
+                p.y,
+                r.state.velocity.norm(),
+                (r.goal - p).norm(),
+                fleet.is_layer_held(i),
+                person,
+                robot,
+            );
+        }
+    }
+    let c = fleet.stuck_causes();
+    println!(
+        "tasks {} | stuck robot-s by cause: policy {:.0} person {:.0} robot {:.0} layer {:.0} planner {:.0} | gridlocks {}",
+        (0..robots).map(|i| fleet.tasks_done(i)).sum::<u64>(),
+        c.policy_s,
+        c.person_s,
+        c.robot_s,
+        c.layer_s,
+        c.planner_s,
+        fleet.traffic().totals().gridlocks
+    );
+}
