@@ -190,6 +190,11 @@ pub struct Humans {
     /// Grid spacing of the `"field"` table (m).
     #[serde(default = "default_wall_field_spacing")]
     pub wall_field_spacing_m: Real,
+    /// On a fleet site (a warehouse, a fleet hallway): a group none of whose members has come
+    /// 0.5 m nearer its goal for this long (s) gives that goal up and picks a new one, as on
+    /// arriving (`World`'s goal rule). Absent: a group keeps its goal until it arrives.
+    #[serde(default)]
+    pub regoal_stalled_s: Option<Real>,
 }
 
 /// How walls push people (`humans.walls`).
@@ -512,6 +517,14 @@ impl Scenario {
         if !(h.wall_field_spacing_m >= 0.01 && h.wall_field_spacing_m <= 1.0) {
             return bad("humans.wall_field_spacing_m", "must be in [0.01, 1] m");
         }
+        if h.regoal_stalled_s
+            .is_some_and(|t| !(t > 0.0 && t.is_finite()))
+        {
+            return bad(
+                "humans.regoal_stalled_s",
+                "must be a positive number of seconds",
+            );
+        }
         let r = &self.robot;
         for (field, value) in [
             ("robot.radius_m", r.radius_m),
@@ -722,6 +735,29 @@ mod tests {
         assert!(err.contains("walls") && err.contains("points"), "{err}");
         let err = with("wall_field_spacing_m = 0.0").unwrap_err().to_string();
         assert!(err.contains("humans.wall_field_spacing_m"), "{err}");
+    }
+
+    /// Fleet sites' people give up stalled goals after 20 s; open stages have no such rule;
+    /// a bad time is refused with the field's name.
+    #[test]
+    fn regoal_after_a_stall_is_set_on_fleet_sites_and_checked() {
+        for name in [
+            "warehouse",
+            "warehouse-narrow",
+            "hallway-fleet",
+            "warehouse-large",
+        ] {
+            let s = Scenario::builtin(name).expect("valid");
+            assert_eq!(s.humans.regoal_stalled_s, Some(20.0), "{name}");
+        }
+        let s = Scenario::builtin("open-space").expect("valid");
+        assert_eq!(s.humans.regoal_stalled_s, None);
+        let text = default_text().replace(
+            "react_to_robots = true",
+            "react_to_robots = true\nregoal_stalled_s = -1.0",
+        );
+        let err = Scenario::from_toml(&text, "t").unwrap_err().to_string();
+        assert!(err.contains("humans.regoal_stalled_s"), "{err}");
     }
 
     /// A scenario for `n` people on an open stage at `density`, sized to fit them.

@@ -76,6 +76,10 @@ pub struct World {
     people_to_stations: bool,
     /// Per group: the waypoints after its current goal (warehouse routes).
     routes: Vec<VecDeque<Vec2>>,
+    /// On a fleet site with `humans.regoal_stalled_s`: that time, and per group its nearest
+    /// distance to its goal so far and when it last came 0.5 m nearer.
+    #[serde(default)]
+    regoal_stalled: Option<(Real, Vec<(Real, Real)>)>,
     /// In a laned hallway, each person's lane (its y) and the hallway's length: people stay
     /// on their lane line while inside it. Empty otherwise.
     lanes: Vec<Real>,
@@ -188,7 +192,29 @@ impl World {
             let arrived = group
                 .iter()
                 .any(|&i| (crowd.goals[i] - crowd.positions[i]).norm() < reach);
-            if arrived {
+            // Stalled: none nearer its goal by STALL_PROGRESS_M for the set time. The
+            // group gives its goal, and its route, up.
+            let stalled = self
+                .regoal_stalled
+                .as_mut()
+                .is_some_and(|(after, progress)| {
+                    let nearest = group
+                        .iter()
+                        .map(|&i| (crowd.goals[i] - crowd.positions[i]).norm())
+                        .fold(Real::INFINITY, Real::min);
+                    let (best, since) = &mut progress[g];
+                    if nearest <= *best - STALL_PROGRESS_M {
+                        (*best, *since) = (nearest, self.time);
+                    }
+                    self.time - *since >= *after
+                });
+            if stalled {
+                self.routes[g].clear();
+            }
+            if arrived || stalled {
+                if let Some((_, progress)) = &mut self.regoal_stalled {
+                    progress[g] = (Real::INFINITY, self.time);
+                }
                 let here = crowd.positions[group[0]];
                 let stations = self.site.as_ref().filter(|_| self.people_to_stations);
                 let goal = match (stations, self.routes[g].pop_front()) {
@@ -219,6 +245,9 @@ impl World {
         }
     }
 }
+
+/// A group has come nearer its goal when it is this much nearer than its nearest so far (m).
+const STALL_PROGRESS_M: Real = 0.5;
 
 /// People keep this far from a hallway's open ends (m); robots start and stop there too.
 const END_MARGIN_M: Real = 0.5;

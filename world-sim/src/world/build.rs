@@ -192,6 +192,7 @@ impl World {
             interaction_range: h.interaction_range_m,
             ..SfParams::default()
         };
+        let groups_len = groups.len();
         let crowd = Crowd::new(positions, velocities, goals, groups, &sf);
         // Indexed: a warehouse has tens of thousands of wall points, and a person feels only
         // those within the obstacle threshold (exact, see `Walls::indexed`).
@@ -218,6 +219,10 @@ impl World {
             stage_max: max,
             goal_rule: layout.goals,
             people_to_stations: layout.people_to_stations,
+            regoal_stalled: h
+                .regoal_stalled_s
+                .filter(|_| site.is_some())
+                .map(|after| (after, vec![(Real::INFINITY, 0.0); groups_len])),
             site,
             routes,
             lanes: Vec::new(),

@@ -256,3 +256,48 @@ fn a_laned_hallway_has_everyone_walking_one_way_in_their_lane() {
     hall.lanes = Some(10);
     assert!(s.validate("test").is_err());
 }
+
+/// In the fleet hallway, a goal a few tenths of a metre from a wall is one the wall force keeps
+/// a person from reaching: without `regoal_stalled_s` people pile up short of such goals and
+/// stand there; with it, a group that has not come nearer for 20 s picks another goal, and
+/// people keep walking. The rule acts only on fleet sites: an open stage is the same world
+/// either way.
+#[test]
+fn people_give_up_goals_they_stall_short_of_on_fleet_sites() {
+    let standing = |regoal: Option<Real>| {
+        let mut s = Scenario::builtin("hallway-fleet").expect("valid");
+        s.set_fleet_size(Some(1), None);
+        s.humans.regoal_stalled_s = regoal;
+        let mut w = World::from_scenario(&s);
+        let mut start = w.humans.crowd.positions.clone();
+        let mut stalled = 0;
+        for k in 1..=3000 {
+            w.step(&[Command::STOP]);
+            if k % 600 == 0 {
+                let now = &w.humans.crowd.positions;
+                stalled += now
+                    .iter()
+                    .zip(&start)
+                    .filter(|(p, q)| (*p - *q).norm() < 1.0)
+                    .count();
+                start.clone_from(now);
+            }
+        }
+        stalled
+    };
+    let (kept, given_up) = (standing(None), standing(Some(20.0)));
+    assert!(
+        given_up * 3 < kept,
+        "stalled person-minutes: {kept} kept, {given_up} given up"
+    );
+    let run = |regoal: Option<Real>| {
+        let mut s = scenario(0.3, 2);
+        s.humans.regoal_stalled_s = regoal;
+        let mut w = World::open_space(&s);
+        for _ in 0..300 {
+            w.step(&[Command::STOP]);
+        }
+        w.humans.crowd.positions
+    };
+    assert_eq!(run(None), run(Some(20.0)));
+}
