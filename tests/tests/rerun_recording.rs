@@ -64,6 +64,9 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         &rrd,
     );
     assert!(stdout.contains("dashboard: "), "{stdout}");
+    // The summary leads with the fleet's efficiency against one robot alone.
+    assert!(stdout.contains("fleet efficiency "), "{stdout}");
+    assert!(!stdout.contains("fleet efficiency: not defined"), "{stdout}");
 
     let cli = rerun_cli();
     let verify = Command::new(&cli)
@@ -90,6 +93,9 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/metrics/svr/fleet",
         "/metrics/collision_rate/fleet",
         "/metrics/tasks_per_minute/fleet",
+        "/metrics/efficiency_pct/fleet",
+        "/metrics/gridlocks/fleet",
+        "/metrics/stuck_s_planner/fleet",
         "/metrics/svr/robot/0",
         "/metrics/min_human_distance/robot/2",
         "/metrics/human_delay_s_per_min/fleet",

@@ -141,7 +141,6 @@ impl CoordinatorArgs {
         let free = coordinator::fleet::free_flow(
             &scenario,
             self.free_flow_planner,
-            self.seconds,
             fleet.share_intents,
             fleet.traffic_policy().is_some(),
         )?;

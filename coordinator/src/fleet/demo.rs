@@ -195,14 +195,8 @@ pub async fn run_demo(
 
     let free = {
         let (scenario, planner) = (options.scenario.clone(), options.planner);
-        let (seconds, share, policy) = (
-            options.seconds,
-            options.share_intents,
-            options.traffic_policy,
-        );
-        tokio::task::spawn_blocking(move || {
-            super::free_flow(&scenario, planner, Some(seconds), share, policy)
-        })
+        let (share, policy) = (options.share_intents, options.traffic_policy);
+        tokio::task::spawn_blocking(move || super::free_flow(&scenario, planner, share, policy))
         .await
         .map_err(|e| DemoError::FreeFlow(e.to_string()))??
     };

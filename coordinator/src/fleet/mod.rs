@@ -38,13 +38,12 @@ use zenoh::sample::Sample;
 
 /// The free flow to measure a served fleet's efficiency against (`world_sim::efficiency`):
 /// one robot alone on `scenario`'s site, planning with `planner` under the scenario's safety
-/// layer, with the run's intent sharing and traffic policy, over the run's `seconds` or
-/// [`FREE_FLOW_MAX_S`] if that is shorter or the run has no end (efficiency compares rates).
-/// Runs in-process once per setting (a second or so for 300 s).
+/// layer, with the run's intent sharing and traffic policy, over [`FREE_FLOW_S`] whatever
+/// the run's length (efficiency compares rates, and a short run's own length may leave the
+/// robot alone no task to finish). Runs in-process, about a second.
 pub fn free_flow(
     scenario: &world_sim::scenario::Scenario,
     planner: agent::planner::PlannerSpec,
-    seconds: Option<f64>,
     share_intents: bool,
     traffic_policy: bool,
 ) -> Result<world_sim::efficiency::FreeFlow, world_sim::fleet::NotAWarehouse> {
@@ -53,12 +52,11 @@ pub fn free_flow(
         policy: traffic_policy.then(world_sim::traffic_policy::PolicyParams::default),
         human_impact_window_s: None,
     };
-    let seconds = seconds.map_or(FREE_FLOW_MAX_S, |s| s.min(FREE_FLOW_MAX_S));
-    world_sim::efficiency::free_flow(scenario, planner, seconds, options)
+    world_sim::efficiency::free_flow(scenario, planner, FREE_FLOW_S, options)
 }
 
-/// The longest free-flow run [`free_flow`] makes (simulated s).
-pub const FREE_FLOW_MAX_S: f64 = 600.0;
+/// How long the free flow of a served fleet runs (simulated s).
+pub const FREE_FLOW_S: f64 = 600.0;
 
 /// Declares the coordinator's liveliness token of `site` on `session`: agents stop their
 /// robots the moment it is dropped.
