@@ -66,7 +66,10 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
     assert!(stdout.contains("dashboard: "), "{stdout}");
     // The summary leads with the fleet's efficiency against one robot alone.
     assert!(stdout.contains("fleet efficiency "), "{stdout}");
-    assert!(!stdout.contains("fleet efficiency: not defined"), "{stdout}");
+    assert!(
+        !stdout.contains("fleet efficiency: not defined"),
+        "{stdout}"
+    );
 
     let cli = rerun_cli();
     let verify = Command::new(&cli)

@@ -197,8 +197,8 @@ pub async fn run_demo(
         let (scenario, planner) = (options.scenario.clone(), options.planner);
         let (share, policy) = (options.share_intents, options.traffic_policy);
         tokio::task::spawn_blocking(move || super::free_flow(&scenario, planner, share, policy))
-        .await
-        .map_err(|e| DemoError::FreeFlow(e.to_string()))??
+            .await
+            .map_err(|e| DemoError::FreeFlow(e.to_string()))??
     };
     let mut config = CoordinatorConfig::new(&options.site);
     config.free_flow = Some(free);
