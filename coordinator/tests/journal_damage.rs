@@ -282,7 +282,7 @@ fn an_empty_file_a_text_file_and_an_older_format_are_named_as_such() {
     older.format = 1;
     write_journal(&dir, &older, 20);
     let e = error(&dir);
-    assert!(e.contains("format 1") && e.contains("reads 2"), "{e}");
+    assert!(e.contains("format 1") && e.contains("reads 3"), "{e}");
     let Err(e) = Journal::open(&dir, &header) else {
         panic!("an older journal is not gone on with");
     };
