@@ -47,10 +47,16 @@ fn traffic(c: &mut Criterion) {
     let mut early = fleet(200);
     g.bench_function("step-200-robots", |b| b.iter(|| early.update_traffic()));
     let mut late = fleet(1200);
-    let stuck = (0..late.robots()).filter(|&i| late.traffic().is_stuck(i)).count();
+    let stuck = (0..late.robots())
+        .filter(|&i| late.traffic().is_stuck(i))
+        .count();
     eprintln!(
         "after 120 s: {stuck} robots stuck, {} in gridlocks",
-        late.traffic().gridlocked().iter().map(Vec::len).sum::<usize>()
+        late.traffic()
+            .gridlocked()
+            .iter()
+            .map(Vec::len)
+            .sum::<usize>()
     );
     g.bench_function("step-200-robots-120s", |b| b.iter(|| late.update_traffic()));
     g.finish();
