@@ -157,17 +157,17 @@ fn traffic_rules_are_enforced() {
     assert_eq!((m.deadlocks, m.stuck_robots, m.gridlocks), (0, 0, 0));
     assert_eq!((m.efficiency, m.free_flow_tasks_per_min), (None, None));
     assert_eq!(m.stuck_causes, StuckCausesMsg::default());
+    assert!(!m.per_robot[0].stuck && m.per_robot[0].waits_on.is_empty());
     // Negative figures are rejected and named.
-    let mut m = metrics();
-    m.efficiency = Some(-0.1);
+    let mut negative = metrics();
+    negative.efficiency = Some(-0.1);
     assert!(matches!(
-        decode::<FleetMetrics>(&encode(&m)),
+        decode::<FleetMetrics>(&encode(&negative)),
         Err(DecodeError::Invalid {
             field: "efficiency",
             ..
         })
     ));
-    assert!(!m.per_robot[0].stuck && m.per_robot[0].waits_on.is_empty());
 }
 
 #[test]
