@@ -5,7 +5,9 @@
 //! runs on each site (pgp+orca under its layer, the traffic policy on), as in the fleet
 //! studies' one-robot cells.
 //!
-//!     cargo run --release -p world-sim --example crowd_stalls -- [SEEDS [SECONDS]]
+//!     cargo run --release -p world-sim --example crowd_stalls -- [SEEDS [SECONDS [TIMES]]]
+//!
+//! TIMES: the goal-giving-up times to compare with never, comma-separated (default `20`).
 
 use agent::model::Command;
 use agent::planner::{PlannerSpec, PlannerStack};
@@ -24,12 +26,18 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let seeds: u64 = args.first().and_then(|a| a.parse().ok()).unwrap_or(10);
     let seconds: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(300.0);
+    let times: Vec<f64> = args
+        .get(2)
+        .map_or("20", String::as_str)
+        .split(',')
+        .map(|t| t.trim().parse().expect("TIMES: seconds, comma-separated"))
+        .collect();
     println!(
         "| site | goal given up after | person-time < 0.1 m/s | 10 s windows moved < 1 m | mean speed (m/s) |"
     );
     println!("|---|---|---:|---:|---:|");
     for name in ["warehouse", "warehouse-narrow", "hallway-fleet"] {
-        for regoal in [None, Some(20.0)] {
+        for regoal in std::iter::once(None).chain(times.iter().copied().map(Some)) {
             let (mut slow, mut steps, mut stalled, mut windows, mut speed) = (0, 0, 0, 0, 0.0);
             for seed in 1..=seeds {
                 let mut scenario = Scenario::builtin(name).expect("built in");
