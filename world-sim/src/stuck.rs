@@ -4,7 +4,7 @@
 //! ([`Hold`]: the traffic policy, a person in its way, a robot in its way, the safety layer,
 //! or nothing visible). It answers where a fleet jams and why.
 
-use crate::traffic::TrafficParams;
+use crate::traffic::{TrafficParams, ahead_within};
 use crate::warehouse::{Segment, Site};
 use agent::map::StaticMap;
 use agent::math::{Real, Vec2};
@@ -193,13 +193,9 @@ pub fn in_the_way(
     let ahead = toward - p;
     let heading = (ahead.norm() > radius).then(|| ahead.normalize());
     let cos_cone = params.blocking_cone_rad.cos();
-    people.iter().any(|&q| {
-        let d = q - p;
-        let dist = d.norm();
-        dist <= reach
-            && heading.is_none_or(|h| dist == 0.0 || d.dot(&h) >= cos_cone * dist)
-            && map.line_of_sight(p, q)
-    })
+    people
+        .iter()
+        .any(|&q| ahead_within(p, heading, q, reach, cos_cone) && map.line_of_sight(p, q))
 }
 
 #[cfg(test)]
