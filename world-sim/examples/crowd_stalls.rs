@@ -10,17 +10,16 @@
 //! TIMES: the goal-giving-up times to compare with never, comma-separated (default `20`).
 
 use agent::model::Command;
-use agent::planner::{PlannerSpec, PlannerStack};
-use world_sim::fleet::{Fleet, drive};
+use agent::planner::PlannerSpec;
+use world_sim::fleet::{Fleet, Stalls, drive, stacks};
 use world_sim::scenario::Scenario;
 use world_sim::traffic_policy::PolicyParams;
 
 /// Person-steps slower than this are standing (m/s).
 const STANDING: f64 = 0.1;
-/// Windows of this many seconds ...
+/// Windows of this many seconds in which a person moved less than `STALLED_M` (1 m) are
+/// stalled.
 const WINDOW_S: f64 = 10.0;
-/// ... in which a person moved less than this are stalled (m).
-const WINDOW_M: f64 = 1.0;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -67,22 +66,13 @@ fn run(scenario: &Scenario, seconds: f64) -> (usize, usize, usize, usize, f64) {
     let planner: PlannerSpec = "pgp+orca".parse().expect("known");
     let mut fleet = Fleet::new(scenario).expect("a fleet site");
     fleet.set_traffic_policy(Some(PolicyParams::default()));
-    let destinations = fleet.world.people_destinations();
-    let mut stacks: Vec<PlannerStack> = (0..fleet.robots())
-        .map(|_| {
-            let mut s = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
-            s.set_record_fan(false);
-            s.set_destinations(&destinations);
-            s
-        })
-        .collect();
+    let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
     let mut guards = world_sim::episode::guards(scenario, fleet.robots());
     let mut commands = vec![Command::STOP; fleet.robots()];
     let steps = (seconds / fleet.world.dt).round() as u64;
-    let window = (WINDOW_S / fleet.world.dt).round() as u64;
-    let mut start = fleet.world.humans.crowd.positions.clone();
+    let mut stalls = Stalls::new(&fleet, WINDOW_S);
     let mut out = (0, 0, 0, 0, 0.0);
-    for k in 1..=steps {
+    for _ in 0..steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
         let crowd = &fleet.world.humans.crowd;
         for v in &crowd.velocities {
@@ -90,12 +80,9 @@ fn run(scenario: &Scenario, seconds: f64) -> (usize, usize, usize, usize, f64) {
             out.1 += 1;
             out.4 += v.norm();
         }
-        if k % window == 0 {
-            for (p, q) in crowd.positions.iter().zip(&start) {
-                out.2 += usize::from((p - q).norm() < WINDOW_M);
-                out.3 += 1;
-            }
-            start.clone_from(&crowd.positions);
+        if let Some(still) = stalls.record(&fleet) {
+            out.2 += still.len();
+            out.3 += fleet.world.humans.crowd.len();
         }
     }
     out

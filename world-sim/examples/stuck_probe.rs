@@ -8,8 +8,8 @@
 //! second.
 
 use agent::model::Command;
-use agent::planner::{PlannerSpec, PlannerStack};
-use world_sim::fleet::{Fleet, drive};
+use agent::planner::PlannerSpec;
+use world_sim::fleet::{Fleet, Stalls, drive, stacks};
 use world_sim::scenario::Scenario;
 use world_sim::traffic_policy::PolicyParams;
 
@@ -27,19 +27,11 @@ fn main() {
     let planner: PlannerSpec = "pgp+orca".parse().expect("known");
     let mut fleet = Fleet::new(&scenario).expect("a fleet site");
     fleet.set_traffic_policy(Some(PolicyParams::default()));
-    let destinations = fleet.world.people_destinations();
-    let mut stacks: Vec<PlannerStack> = (0..robots)
-        .map(|_| {
-            let mut s = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
-            s.set_record_fan(false);
-            s.set_destinations(&destinations);
-            s
-        })
-        .collect();
+    let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
     let mut guards = world_sim::episode::guards(&scenario, robots);
     let mut commands = vec![Command::STOP; robots];
     let steps = (seconds / fleet.world.dt).round() as u64;
-    let mut minute_ago = fleet.world.humans.crowd.positions.clone();
+    let mut stalls = Stalls::new(&fleet, 60.0);
     for k in 1..=steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
         if let Some(i) = watch
@@ -72,12 +64,12 @@ fn main() {
                 fleet.reroutes(),
             );
         }
-        if k % 600 == 0 {
+        if let Some(still) = stalls.record(&fleet) {
             // People who moved less than 1 m in the last minute.
             let crowd = &fleet.world.humans.crowd;
-            let still: Vec<String> = (0..crowd.len())
-                .filter(|&h| (crowd.positions[h] - minute_ago[h]).norm() < 1.0)
-                .map(|h| {
+            let still: Vec<String> = still
+                .iter()
+                .map(|&h| {
                     let (q, g) = (crowd.positions[h], crowd.goals[h]);
                     format!("#{h} ({:.1},{:.1} goal {:.1},{:.1})", q.x, q.y, g.x, g.y)
                 })
@@ -88,7 +80,6 @@ fn main() {
                 still.len(),
                 still.join(" ")
             );
-            minute_ago.clone_from(&crowd.positions);
         }
         if k % 50 != 0 {
             continue;

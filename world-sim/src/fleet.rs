@@ -680,7 +680,10 @@ impl Fleet {
 }
 
 mod run;
-pub use run::{FleetOptions, FleetReport, STALLED_M, drive, plan_all, run_fleet, run_fleet_with};
+pub use run::{
+    FleetOptions, FleetReport, STALLED_M, Stalls, drive, plan_all, run_fleet, run_fleet_with,
+    stacks,
+};
 
 mod snapshot;
 pub use snapshot::{SNAPSHOT_FORMAT, SnapshotError};

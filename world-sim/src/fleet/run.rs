@@ -9,7 +9,7 @@ use crate::traffic::TrafficTotals;
 use crate::traffic_policy::{PolicyParams, PolicyTotals, TrafficPolicy};
 use agent::guard::Guard;
 use agent::map::LocalMap;
-use agent::math::Real;
+use agent::math::{Real, Vec2};
 use agent::model::Command;
 use agent::planner::{Plan, PlannerSpec, PlannerStack, PlanningInput};
 use agent::safety::Zone;
@@ -50,8 +50,72 @@ pub struct FleetReport {
     pub people_stalled_share: Real,
 }
 
-/// A person who moves less than this in a minute has stalled (m).
+/// A person who moves less than this in a window of [`Stalls`] has stalled (m).
 pub const STALLED_M: Real = 1.0;
+
+/// One planner stack per robot of `fleet`, as its agent would run it: `planner` capped at
+/// `max_speed`, fans not recorded, the people's destinations known where the world knows them.
+pub fn stacks(fleet: &Fleet, planner: PlannerSpec, max_speed: Real) -> Vec<PlannerStack> {
+    let destinations = fleet.world.people_destinations();
+    (0..fleet.robots())
+        .map(|_| {
+            let mut stack = PlannerStack::with_max_speed(planner, max_speed);
+            stack.set_record_fan(false);
+            stack.set_destinations(&destinations);
+            stack
+        })
+        .collect()
+}
+
+/// Counts people who stall: in consecutive windows of a fixed length, those who moved less
+/// than [`STALLED_M`] from where the window began.
+#[derive(Debug, Clone)]
+pub struct Stalls {
+    window: u64,
+    steps: u64,
+    start: Vec<Vec2>,
+    stalled: usize,
+    windows: usize,
+}
+
+impl Stalls {
+    /// Windows of `window_s` simulated seconds from `fleet`'s present.
+    pub fn new(fleet: &Fleet, window_s: Real) -> Self {
+        Self {
+            window: ((window_s / fleet.world.dt).round() as u64).max(1),
+            steps: 0,
+            start: fleet.world.humans.crowd.positions.clone(),
+            stalled: 0,
+            windows: 0,
+        }
+    }
+
+    /// Takes the fleet after one more step; when that closes a window, returns the people
+    /// (indices) who stalled in it.
+    pub fn record(&mut self, fleet: &Fleet) -> Option<Vec<usize>> {
+        self.steps += 1;
+        if !self.steps.is_multiple_of(self.window) {
+            return None;
+        }
+        let now = &fleet.world.humans.crowd.positions;
+        let still: Vec<usize> = (0..now.len())
+            .filter(|&h| (now[h] - self.start[h]).norm() < STALLED_M)
+            .collect();
+        self.stalled += still.len();
+        self.windows += now.len();
+        self.start.clone_from(now);
+        Some(still)
+    }
+
+    /// The share of person-windows closed so far in which the person stalled (0 before any).
+    pub fn share(&self) -> Real {
+        if self.windows > 0 {
+            self.stalled as Real / self.windows as Real
+        } else {
+            0.0
+        }
+    }
+}
 
 impl FleetReport {
     /// Tasks completed by the whole fleet.
@@ -170,33 +234,14 @@ pub fn run_fleet_with(
     if let Some(window) = options.human_impact_window_s {
         fleet.measure_human_impact(window);
     }
-    let destinations = fleet.world.people_destinations();
-    let mut stacks: Vec<PlannerStack> = (0..fleet.robots())
-        .map(|_| {
-            let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
-            stack.set_record_fan(false);
-            stack.set_destinations(&destinations);
-            stack
-        })
-        .collect();
+    let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
     let mut guards = crate::episode::guards(scenario, fleet.robots());
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut commands = vec![Command::STOP; fleet.robots()];
-    let minute = (60.0 / fleet.world.dt).round() as u64;
-    let mut minute_ago = fleet.world.humans.crowd.positions.clone();
-    let (mut stalled, mut person_minutes) = (0_usize, 0_usize);
-    for k in 1..=steps {
+    let mut stalls = Stalls::new(&fleet, 60.0);
+    for _ in 0..steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
-        if k % minute == 0 {
-            let now = &fleet.world.humans.crowd.positions;
-            stalled += now
-                .iter()
-                .zip(&minute_ago)
-                .filter(|(p, q)| (*p - *q).norm() < STALLED_M)
-                .count();
-            person_minutes += now.len();
-            minute_ago.clone_from(now);
-        }
+        stalls.record(&fleet);
     }
     Ok(FleetReport {
         seconds: fleet.world.time,
@@ -227,10 +272,6 @@ pub fn run_fleet_with(
         reroutes: fleet.reroutes,
         stuck_where: fleet.stuck_where,
         stuck_causes: fleet.stuck_causes,
-        people_stalled_share: if person_minutes > 0 {
-            stalled as Real / person_minutes as Real
-        } else {
-            0.0
-        },
+        people_stalled_share: stalls.share(),
     })
 }
