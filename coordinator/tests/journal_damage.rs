@@ -4,7 +4,9 @@
 //! written in another format version. Reading it (`gapfleet replay`), replaying it and opening
 //! it to go on (`gapfleet coordinator --state`) each give a clear error that names the file,
 //! or read and replay it correctly; none panics. A journal whose newest commit is damaged is
-//! refused at start-up and goes on from the commit before with `--recover-state`.
+//! refused at start-up and goes on with `--recover-state`: from the commit before, or, when
+//! the run closed it cleanly (no commit before is kept), from the newest intact snapshot file
+//! beside it.
 
 use agent::model::Command;
 use agent::planner::PlannerStack;
@@ -35,18 +37,31 @@ fn source() -> ScenarioSource {
 fn write_journal(dir: &Path, header: &Header, ticks: u64) -> u64 {
     let scenario = header.scenario.scenario().expect("a fleet site");
     let journal = Journal::create(dir, header).expect("a journal");
-    let sink = journal.sink();
     let mut fleet = Fleet::new(&scenario).expect("a warehouse");
     fleet.share_intents = header.share_intents;
     fleet.set_traffic_policy(Some(Default::default()));
+    let fleet = drive(&journal, &scenario, fleet, 0..ticks);
+    journal.finish().expect("written");
+    journal::fingerprint(&fleet)
+}
+
+/// Runs `fleet` through `ticks` with `pgp+orca` stacks under their layers, journaling each
+/// tick through `journal` and ending it there; returns the fleet.
+fn drive(
+    journal: &Journal,
+    scenario: &world_sim::scenario::Scenario,
+    mut fleet: Fleet,
+    ticks: std::ops::Range<u64>,
+) -> Fleet {
+    let sink = journal.sink();
     let n = fleet.robots();
     let mut stacks: Vec<PlannerStack> = (0..n)
         .map(|_| PlannerStack::new("pgp+orca".parse().expect("known")))
         .collect();
-    let mut guards = world_sim::episode::guards(&scenario, n);
+    let mut guards = world_sim::episode::guards(scenario, n);
     let mut commands = vec![Command::STOP; n];
     let snapshot_every = (journal::SNAPSHOT_EVERY_S / scenario.dt_s).round() as u64;
-    for tick in 0..ticks {
+    for tick in ticks.clone() {
         // Which robots' layers held their commands back, journaled as the coordinator does.
         let mut layer_held = vec![false; n];
         plan_all(
@@ -107,16 +122,13 @@ fn write_journal(dir: &Path, header: &Header, ticks: u64) -> u64 {
             std::thread::sleep(std::time::Duration::from_millis(250));
         }
     }
-    let print = journal::fingerprint(&fleet);
     sink.end(End {
-        ticks,
-        fingerprint: print,
+        ticks: ticks.end,
+        fingerprint: journal::fingerprint(&fleet),
         tasks_done: (0..n).map(|i| fleet.tasks_done(i)).sum(),
         lost: 0,
     });
-    drop(sink);
-    assert_eq!(journal.finish().expect("written"), ticks);
-    print
+    fleet
 }
 
 /// A small deterministic generator (SplitMix64) for the damage.
@@ -289,20 +301,22 @@ fn an_empty_file_a_text_file_and_an_older_format_are_named_as_such() {
     assert!(e.to_string().contains("format 1"), "{e}");
 }
 
-/// A journal damaged in its newest commit after the run closed it cleanly: nothing of it can
-/// be trusted (the store keeps no earlier commit past a clean close). `replay` and the
-/// coordinator's start name the file and what is wrong; `--recover-state`
-/// (`journal::recover`) keeps the damaged file beside the new journal the run then begins.
-#[test]
-fn a_damaged_journal_is_kept_and_a_new_one_begun_beside_it() {
-    let header = Header::new("damage-test", source(), true, true);
-    let dir = temp_dir("recover");
-    write_journal(&dir, &header, 700);
+/// A journal of 700 ticks in a new folder `name`, closed cleanly, then damaged in its newest
+/// commit: nothing of it can be trusted (the store keeps no earlier commit past a clean
+/// close). Returns the folder, the intact journal as read before the damage, and the damaged
+/// bytes.
+fn damaged_after_a_clean_close(
+    name: &str,
+    header: &Header,
+) -> (PathBuf, journal::Recorded, Vec<u8>) {
+    let dir = temp_dir(name);
+    write_journal(&dir, header, 700);
     let file = journal::database(&dir);
     let before = std::fs::read(&file).expect("the journal");
     // One more commit, as a restart makes (the header again, the end record taken out).
-    let (journal, _) = Journal::open(&dir, &header).expect("goes on");
+    let (journal, _) = Journal::open(&dir, header).expect("goes on");
     journal.finish().expect("closed");
+    let intact = read(&dir).expect("intact");
     let after = std::fs::read(&file).expect("the journal");
     // A byte of a page that commit wrote (past the file's header page).
     let at = (4096..after.len())
@@ -319,12 +333,100 @@ fn a_damaged_journal_is_kept_and_a_new_one_begun_beside_it() {
     );
     // Reading never writes the file.
     assert_eq!(std::fs::read(&file).expect("the file"), damaged);
-    let Err(e) = Journal::open(&dir, &header) else {
+    let Err(e) = Journal::open(&dir, header) else {
         panic!("a damaged journal is not gone on with");
     };
     let e = e.to_string();
     assert!(e.contains(&file.display().to_string()), "{e}");
+    (dir, intact, damaged)
+}
 
+/// `replay` and the coordinator's start name the damaged file and what is wrong;
+/// `--recover-state` (`journal::recover`) keeps it beside a new journal that begins at the
+/// newest intact snapshot file. The run goes on from there exactly where the damaged one was
+/// then, and the new journal replays bit for bit from its start.
+#[test]
+fn a_damaged_journal_goes_on_from_the_newest_intact_snapshot_file() {
+    let header = Header::new("damage-test", source(), true, true);
+    let (dir, intact, damaged) = damaged_after_a_clean_close("snapshot", &header);
+    // Snapshots every 300 ticks: the files of 300 and 600 are beside the journal.
+    let newest = journal::snapshot_files::newest_intact(&dir).expect("snapshot files");
+    assert_eq!(newest.ticks, 600);
+    let at_600 = intact.ticks[599].fingerprint.expect("fingerprinted");
+
+    let recovery = journal::recover(&dir).expect("recovered");
+    let Recovery::FromSnapshot {
+        kept,
+        snapshot,
+        ticks,
+        what,
+    } = recovery
+    else {
+        panic!("{recovery:?}");
+    };
+    assert_eq!((ticks, &snapshot), (600, &newest.path));
+    assert!(what.contains("damaged on disk"), "{what}");
+    assert_eq!(std::fs::read(&kept).expect("kept"), damaged);
+
+    // The coordinator's restart: the run resumes at tick 600 as it stood then.
+    let (journal, recorded) = Journal::open(&dir, &header).expect("the new journal");
+    let recorded = recorded.expect("it begins at the snapshot");
+    assert_eq!((recorded.first_tick(), recorded.ticks_run()), (600, 600));
+    assert!(recorded.events[0].event.contains("snapshot of tick 600"));
+    let resumed = journal::resume(&recorded).expect("resumes");
+    assert_eq!((resumed.from, resumed.ticks), (600, 600));
+    assert_eq!(journal::fingerprint(&resumed.fleet), at_600);
+
+    // It goes on for 100 ticks; the new journal replays from its start, checked.
+    let scenario = header.scenario.scenario().expect("a fleet site");
+    let fleet = drive(&journal, &scenario, resumed.fleet, 600..700);
+    journal.finish().expect("written");
+    let recorded = read(&dir).expect("the new journal");
+    assert_eq!(recorded.integrity, Integrity::Intact);
+    assert_eq!((recorded.first_tick(), recorded.ticks.len()), (600, 100));
+    let replayed = replay(&recorded, |_, _| {}).expect("replays");
+    assert_eq!(
+        (replayed.from, replayed.ticks, replayed.checked),
+        (600, 700, 1)
+    );
+    assert_eq!(replayed.fingerprint, journal::fingerprint(&fleet));
+    assert_eq!(replayed.tasks_checked, recorded.tasks.len() as u64);
+    // The damaged file stays where it was put.
+    assert_eq!(std::fs::read(&kept).expect("kept"), damaged);
+}
+
+/// When the newest snapshot file is damaged too, the one before it is taken.
+#[test]
+fn a_damaged_snapshot_file_is_passed_over_for_the_one_before() {
+    let header = Header::new("damage-test", source(), true, true);
+    let (dir, intact, _) = damaged_after_a_clean_close("snapshot-older", &header);
+    let newest = journal::snapshot_files::newest_intact(&dir).expect("snapshot files");
+    let mut bytes = std::fs::read(&newest.path).expect("the file");
+    let middle = bytes.len() / 2;
+    bytes[middle] ^= 0x01;
+    std::fs::write(&newest.path, bytes).expect("written");
+    let recovery = journal::recover(&dir).expect("recovered");
+    assert!(
+        matches!(recovery, Recovery::FromSnapshot { ticks: 300, .. }),
+        "{recovery:?}"
+    );
+    let (journal, recorded) = Journal::open(&dir, &header).expect("the new journal");
+    let resumed = journal::resume(&recorded.expect("begun")).expect("resumes");
+    assert_eq!(resumed.ticks, 300);
+    assert_eq!(
+        journal::fingerprint(&resumed.fleet),
+        intact.ticks[299].fingerprint.expect("fingerprinted")
+    );
+    journal.finish().expect("closed");
+}
+
+/// With no snapshot file beside it either, the damaged journal is kept beside a new one that
+/// the run begins anew.
+#[test]
+fn a_damaged_journal_without_snapshot_files_is_kept_and_a_new_one_begun_beside_it() {
+    let header = Header::new("damage-test", source(), true, true);
+    let (dir, _, damaged) = damaged_after_a_clean_close("recover", &header);
+    std::fs::remove_dir_all(journal::snapshot_files::folder(&dir)).expect("removed");
     let recovery = journal::recover(&dir).expect("recovered");
     let Recovery::Kept { kept, what } = recovery else {
         panic!("{recovery:?}");

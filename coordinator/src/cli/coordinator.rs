@@ -46,9 +46,9 @@ pub struct CoordinatorArgs {
     #[arg(long, value_name = "DIR")]
     state: Option<std::path::PathBuf>,
     /// With --state: if its journal is damaged, keep the damaged file beside it
-    /// (`state.redb.damaged`) and go on from its newest intact commit, or begin a new journal
-    /// when none is intact. Without this flag a damaged journal stops the start, with what is
-    /// wrong.
+    /// (`state.redb.damaged`) and go on from its newest intact commit or from the newest intact
+    /// snapshot file in DIR/snapshots (whichever is further on), or begin a new journal when
+    /// neither exists. Without this flag a damaged journal stops the start, with what is wrong.
     #[arg(long, requires = "state")]
     recover_state: bool,
     /// The planner the site's agents run: the fleet's efficiency is measured against one robot
@@ -83,6 +83,18 @@ impl CoordinatorArgs {
                             "journal damaged: kept at {}; going on from its newest intact \
                              commit ({ticks} ticks)",
                             kept.display()
+                        ),
+                        journal::Recovery::FromSnapshot {
+                            kept,
+                            snapshot,
+                            ticks,
+                            what,
+                        } => eprintln!(
+                            "journal damaged ({what}): kept at {}; a new journal begins at the \
+                             newest intact snapshot, {} ({ticks} ticks), and the run goes on \
+                             from it",
+                            kept.display(),
+                            snapshot.display()
                         ),
                         journal::Recovery::Kept { kept, what } => eprintln!(
                             "journal damaged beyond repair ({what}): kept at {}; beginning a \
@@ -138,20 +150,33 @@ impl CoordinatorArgs {
         config_.seconds = self.seconds;
         config_.journal = journal.as_ref().map(Journal::sink);
         config_.resume = resume;
-        let free = coordinator::fleet::free_flow(
-            &scenario,
-            self.free_flow_planner,
-            fleet.share_intents,
-            fleet.traffic_policy().is_some(),
-        )?;
-        eprintln!(
-            "free flow (one robot alone, {}): {} tasks in {:.0} s, {:.2} per minute",
-            self.free_flow_planner,
-            free.tasks,
-            free.seconds,
-            free.tasks_per_min()
-        );
-        config_.free_flow = Some(free);
+        // The free flow (one robot alone, for the efficiency) is measured beside the run, so
+        // that a start or a restart does not wait for it; efficiency shows once it is in.
+        {
+            let (slot, planner) = (config_.free_flow.clone(), self.free_flow_planner);
+            let (scenario, share, policy) = (
+                scenario.clone(),
+                fleet.share_intents,
+                fleet.traffic_policy().is_some(),
+            );
+            std::thread::Builder::new()
+                .name("free-flow".to_owned())
+                .spawn(move || {
+                    match coordinator::fleet::free_flow(&scenario, planner, share, policy) {
+                        Ok(free) => {
+                            eprintln!(
+                                "free flow (one robot alone, {planner}): {} tasks in {:.0} s, \
+                                 {:.2} per minute",
+                                free.tasks,
+                                free.seconds,
+                                free.tasks_per_min()
+                            );
+                            let _ = slot.set(free);
+                        }
+                        Err(e) => eprintln!("free flow not measured, no efficiency: {e}"),
+                    }
+                })?;
+        }
         runtime()?.block_on(async {
             let session = zenoh::open(config(&net, Role::Router)?)
                 .await

@@ -29,7 +29,7 @@ impl ReplayArgs {
         let recorded = read(&self.dir)?;
         let h = &recorded.header;
         println!(
-            "site {:?}, scenario {} ({} robots, {} people overridden), {} ticks recorded{}",
+            "site {:?}, scenario {} ({} robots, {} people overridden), {} ticks recorded{}{}",
             h.site,
             h.scenario.name,
             h.scenario
@@ -39,6 +39,12 @@ impl ReplayArgs {
                 .humans
                 .map_or("not".to_owned(), |n| n.to_string()),
             recorded.ticks.len(),
+            match recorded.first_tick() {
+                0 => String::new(),
+                first => format!(
+                    " from tick {first} (the journal begins at a snapshot, recovered after damage)"
+                ),
+            },
             match &recorded.end {
                 Some(end) => format!(", ended cleanly after {} ticks", end.ticks),
                 None => ", no clean end (the coordinator stopped without one)".to_owned(),
@@ -48,7 +54,7 @@ impl ReplayArgs {
             println!(
                 "warning: the journal was damaged on disk: its newest commit does not verify; \
                  the one before does, and it is intact up to tick {} (the file is unchanged)",
-                recorded.ticks.len()
+                recorded.ticks_run()
             );
         }
         if let Some(end) = &recorded.end
@@ -110,10 +116,17 @@ impl ReplayArgs {
             );
         }
         println!(
-            "replayed {} ticks: {} tasks done, fingerprint {:016x}; {} fingerprints and {} \
+            "replayed {} ticks{}: {} tasks done, fingerprint {:016x}; {} fingerprints and {} \
              snapshots on the way, the final fingerprint and the ledger's {} tasks match the \
              recorded run",
-            replayed.ticks,
+            replayed.ticks - replayed.from,
+            match replayed.from {
+                0 => String::new(),
+                from => format!(
+                    " from the snapshot of tick {from} to tick {}",
+                    replayed.ticks
+                ),
+            },
             replayed.tasks_done,
             replayed.fingerprint,
             replayed.checked,

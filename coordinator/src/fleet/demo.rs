@@ -201,7 +201,7 @@ pub async fn run_demo(
             .map_err(|e| DemoError::FreeFlow(e.to_string()))??
     };
     let mut config = CoordinatorConfig::new(&options.site);
-    config.free_flow = Some(free);
+    let _ = config.free_flow.set(free);
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     config.round_trips = options.round_trips;

@@ -40,7 +40,7 @@ use zenoh::sample::Sample;
 /// one robot alone on `scenario`'s site, planning with `planner` under the scenario's safety
 /// layer, with the run's intent sharing and traffic policy, over [`FREE_FLOW_S`] whatever
 /// the run's length (efficiency compares rates, and a short run's own length may leave the
-/// robot alone no task to finish). Runs in-process, about a second.
+/// robot alone no task to finish). Runs in-process, about a second on an idle machine.
 pub fn free_flow(
     scenario: &world_sim::scenario::Scenario,
     planner: agent::planner::PlannerSpec,
@@ -527,7 +527,7 @@ impl Coordinator<'_> {
             &self.fleet,
             &self.links,
             &self.status,
-            self.config.free_flow.as_ref(),
+            self.config.free_flow.get(),
         )
     }
 
@@ -628,9 +628,19 @@ pub async fn run_coordinator(
         }
     }
     if let Some(journal) = &c.config.journal {
+        // The world as the journal's records leave it: held flags changed since the last
+        // tick (robots held at a start with no tick after it, say) are in no record yet.
+        let now: Vec<bool> = (0..n).map(|i| c.fleet.is_held(i)).collect();
+        for (i, &held) in c.journal_held.iter().enumerate() {
+            c.fleet.set_held(i, held);
+        }
+        let fingerprint = journal::fingerprint(&c.fleet);
+        for (i, held) in now.into_iter().enumerate() {
+            c.fleet.set_held(i, held);
+        }
         journal.end(journal::End {
             ticks: c.status.tick,
-            fingerprint: journal::fingerprint(&c.fleet),
+            fingerprint,
             tasks_done: c.status.tasks_done,
             lost: 0,
         });

@@ -2,6 +2,7 @@
 //! configured, what it reports, what can happen and what can fail.
 
 use schemas::FleetMetrics;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 use world_sim::fleet::{Fleet, FleetEvent};
 
@@ -36,8 +37,10 @@ pub struct CoordinatorConfig {
     /// start).
     pub resume: Option<Resume>,
     /// What one robot alone does on this site (`world_sim::efficiency`): the metrics frames
-    /// carry the fleet's efficiency against it. `None`: no efficiency.
-    pub free_flow: Option<world_sim::efficiency::FreeFlow>,
+    /// carry the fleet's efficiency against it once it is set. It may be set while the run
+    /// goes on (`gapfleet coordinator` measures it in the background, so that a restart is not
+    /// held up by it); empty: no efficiency.
+    pub free_flow: Arc<OnceLock<world_sim::efficiency::FreeFlow>>,
 }
 
 /// Where a resumed run picks up.
@@ -61,7 +64,7 @@ impl CoordinatorConfig {
             round_trips: None,
             stagger: 100,
             announce_presence: true,
-            free_flow: None,
+            free_flow: Arc::default(),
             journal: None,
             resume: None,
         }

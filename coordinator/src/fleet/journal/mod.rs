@@ -13,7 +13,9 @@
 //! of the fleet, which it stores as a snapshot ([`Fleet::snapshot`]; the newest
 //! [`KEPT_SNAPSHOTS`] are kept): a restart restores the newest and replays only the ticks
 //! after it ([`resume`]); `gapfleet replay` re-runs from tick 0 and checks every snapshot it
-//! passes, byte for byte.
+//! passes, byte for byte. Each snapshot is also written to a checked file beside the journal
+//! ([`snapshot_files`]): when the journal is damaged past repair, [`recover`] begins a new one
+//! at the newest intact snapshot file, and that journal replays from there.
 //!
 //! The task ledger keeps a line per task, by its id (unique on the site: ids count on from
 //! the snapshot across restarts): the robot, the stations, and the ticks it was assigned,
@@ -43,6 +45,7 @@ use world_sim::scenario::Scenario;
 mod ledger;
 mod read;
 mod replay;
+pub mod snapshot_files;
 
 use ledger::task_of;
 pub use ledger::{TaskRecord, ledger_step};
@@ -57,6 +60,9 @@ const EVENTS: TableDefinition<u64, &[u8]> = TableDefinition::new("events");
 const TASKS: TableDefinition<u64, &[u8]> = TableDefinition::new("tasks");
 /// Snapshots by the number of ticks run when they were taken.
 const SNAPSHOTS: TableDefinition<u64, &[u8]> = TableDefinition::new("snapshots");
+/// Where a journal begun from a snapshot file begins: one row, the ticks run then → the fleet's
+/// snapshot. Absent in a journal that begins at tick 0.
+const START: TableDefinition<u64, &[u8]> = TableDefinition::new("start");
 
 /// The journal's format (2: intents among the inputs, snapshots; 3: the layer's holds among
 /// the inputs, snapshots of format 2).
@@ -327,8 +333,21 @@ pub enum Recovery {
         /// Ticks in the restored journal.
         ticks: u64,
     },
-    /// Nothing of it was intact: the damaged file was kept at `kept`, and a run on the folder
-    /// begins a new journal.
+    /// The damaged file was kept at `kept`, and a new journal begins at the newest intact
+    /// snapshot file beside it, `snapshot`, taken after `ticks` ticks: a run resumes from it,
+    /// and the new journal replays from there.
+    FromSnapshot {
+        /// Where the damaged file is now.
+        kept: PathBuf,
+        /// The snapshot file.
+        snapshot: PathBuf,
+        /// Ticks run when it was taken.
+        ticks: u64,
+        /// What was wrong with the journal.
+        what: String,
+    },
+    /// Nothing of it was intact, nor any snapshot file: the damaged file was kept at `kept`,
+    /// and a run on the folder begins a new journal.
     Kept {
         /// Where the damaged file is now.
         kept: PathBuf,
@@ -338,9 +357,10 @@ pub enum Recovery {
 }
 
 /// Makes a damaged journal in `dir` one a run can go on from: the damaged file is kept beside
-/// it (`state.redb.damaged`, or `.damaged-2`, …) and replaced by its newest intact commit, or
-/// by nothing when none is intact (the next run begins a new journal). An intact journal is
-/// left as it is.
+/// it (`state.redb.damaged`, or `.damaged-2`, …) and replaced by whichever is further on of its
+/// newest intact commit and a new journal beginning at the newest intact snapshot file (the
+/// commit when they tie: it keeps the run from tick 0), or by nothing when neither exists (the
+/// next run begins a new journal). An intact journal is left as it is.
 pub fn recover(dir: &Path) -> Result<Recovery, JournalError> {
     let path = database(dir);
     if !path.exists() {
@@ -358,21 +378,88 @@ pub fn recover(dir: &Path) -> Result<Recovery, JournalError> {
         path: path.clone(),
         source,
     };
+    let snapshot = snapshot_files::newest_intact(dir);
+    let from_snapshot = |kept: PathBuf, what: String, file: snapshot_files::SnapshotFile| {
+        std::fs::rename(&path, &kept).map_err(io)?;
+        begin_at_snapshot(&path, &file, &kept)?;
+        Ok(Recovery::FromSnapshot {
+            kept,
+            snapshot: file.path,
+            ticks: file.ticks,
+            what,
+        })
+    };
     match checked {
         Ok((_, Integrity::Intact, _)) => Ok(Recovery::Intact),
         Ok((db, Integrity::Recovered, copy)) => {
-            let ticks = read_db(&db, &path)?.ticks.len() as u64;
+            let recorded = read_db(&db, &path)?;
+            let ticks = recorded.ticks_run();
             drop(db);
-            std::fs::rename(&path, &kept).map_err(io)?;
-            std::fs::copy(&copy, &path).map_err(io)?;
-            Ok(Recovery::Restored { kept, ticks })
+            match snapshot {
+                Some(file) if file.ticks > ticks && file.header == recorded.header => {
+                    let what = format!(
+                        "its newest commit does not verify; the one before does, with {ticks} ticks"
+                    );
+                    from_snapshot(kept, what, file)
+                }
+                _ => {
+                    std::fs::rename(&path, &kept).map_err(io)?;
+                    std::fs::copy(&copy, &path).map_err(io)?;
+                    Ok(Recovery::Restored { kept, ticks })
+                }
+            }
         }
-        Err(JournalError::Damaged { what, .. }) => {
-            std::fs::rename(&path, &kept).map_err(io)?;
-            Ok(Recovery::Kept { kept, what })
-        }
+        Err(JournalError::Damaged { what, .. }) => match snapshot {
+            Some(file) => from_snapshot(kept, what, file),
+            None => {
+                std::fs::rename(&path, &kept).map_err(io)?;
+                Ok(Recovery::Kept { kept, what })
+            }
+        },
         Err(e) => Err(e),
     }
+}
+
+/// Writes a new journal at `path` that begins at the snapshot `file` (its run's header, the
+/// snapshot as where it starts, and an event saying so).
+fn begin_at_snapshot(
+    path: &Path,
+    file: &snapshot_files::SnapshotFile,
+    kept: &Path,
+) -> Result<(), JournalError> {
+    // The snapshot must restore in its run's scenario before a journal is begun on it.
+    let scenario = file.header.scenario.scenario()?;
+    let fleet = Fleet::restore(&scenario, &file.fleet)
+        .map_err(|e| JournalError::Record(format!("snapshot file {}: {e}", file.path.display())))?;
+    let db = redb::Database::create(path).map_err(db_err(path, "create"))?;
+    let txn = db.begin_write().map_err(db_err(path, "begin"))?;
+    {
+        let mut meta = txn.open_table(META).map_err(db_err(path, "open meta"))?;
+        meta.insert("header", pack(&file.header).as_slice())
+            .map_err(db_err(path, "write header"))?;
+        let mut start = txn.open_table(START).map_err(db_err(path, "open start"))?;
+        start
+            .insert(file.ticks, file.fleet.as_slice())
+            .map_err(db_err(path, "write start"))?;
+        let mut events = txn
+            .open_table(EVENTS)
+            .map_err(db_err(path, "open events"))?;
+        let event = EventRecord {
+            tick: file.ticks,
+            sim_time: fleet.world.time,
+            event: format!(
+                "journal begun at the snapshot of tick {} ({}); the damaged journal is kept at {}",
+                file.ticks,
+                file.path.display(),
+                kept.display()
+            ),
+        };
+        events
+            .insert(0, pack(&event).as_slice())
+            .map_err(db_err(path, "write event"))?;
+    }
+    txn.commit().map_err(db_err(path, "commit"))?;
+    Ok(())
 }
 
 /// The coordinator's end of the journal: cheap to clone, never blocks.
@@ -452,8 +539,19 @@ impl Journal {
                 JournalError::Damaged { path, what } => JournalError::Damaged {
                     path,
                     what: format!(
-                        "{what}. Nothing was changed. To keep it beside a new journal, start \
-                         again with --recover-state"
+                        "{what}. Nothing was changed. {}",
+                        match snapshot_files::newest_intact(dir) {
+                            Some(file) => format!(
+                                "To keep it beside a new journal that begins at the newest \
+                                 intact snapshot file ({}, {} ticks), start again with \
+                                 --recover-state",
+                                file.path.display(),
+                                file.ticks
+                            ),
+                            None => "To keep it beside a new journal, start again with \
+                                     --recover-state"
+                                .to_owned(),
+                        }
                     ),
                 },
                 e => e,
@@ -465,7 +563,7 @@ impl Journal {
                         "damaged on disk: its newest commit does not verify (the one before \
                          does, with {} ticks). Nothing was changed. To go on from that one, \
                          keeping the damaged file beside it, start again with --recover-state",
-                        recorded.ticks.len()
+                        recorded.ticks_run()
                     ),
                 });
             }
@@ -473,6 +571,13 @@ impl Journal {
         } else {
             None
         };
+        if recorded.is_none() {
+            // A new journal: snapshot files of one no longer here are not its own.
+            snapshot_files::clear(dir).map_err(|source| JournalError::Io {
+                path: snapshot_files::folder(dir),
+                source,
+            })?;
+        }
         let db = redb::Database::create(&path).map_err(db_err(&path, "create"))?;
         let recorded = if let Some(recorded) = recorded {
             if recorded.header != *header {
@@ -501,9 +606,10 @@ impl Journal {
         txn.commit().map_err(db_err(&path, "commit"))?;
         let first_event = recorded.as_ref().map_or(0, |r| r.events.len() as u64);
         let (tx, rx) = sync_channel(QUEUE);
+        let (dir_, header_) = (dir.to_path_buf(), header.clone());
         let writer = std::thread::Builder::new()
             .name("journal".to_owned())
-            .spawn(move || write_loop(&db, &path, &rx, first_event))
+            .spawn(move || write_loop(&db, &path, (&dir_, &header_), &rx, first_event))
             .map_err(|source| JournalError::Io {
                 path: dir.to_path_buf(),
                 source,
@@ -551,10 +657,12 @@ impl Journal {
 fn write_loop(
     db: &redb::Database,
     path: &Path,
+    (dir, header): (&Path, &Header),
     rx: &Receiver<Record>,
     first_event: u64,
 ) -> Result<u64, JournalError> {
     let mut ticks = 0;
+    let mut failed_files = 0u64;
     let mut events = first_event;
     while let Ok(first) = rx.recv() {
         let mut batch = vec![first];
@@ -606,9 +714,21 @@ fn write_loop(
                         }
                     }
                     Record::Snapshot(at, fleet) => {
+                        let bytes = fleet.snapshot();
                         snapshots
-                            .insert(at, fleet.snapshot().as_slice())
+                            .insert(at, bytes.as_slice())
                             .map_err(db_err(path, "write snapshot"))?;
+                        // The copy beside the journal; the journal itself loses nothing
+                        // if it fails.
+                        if let Err(e) = snapshot_files::write(dir, header, at, &bytes) {
+                            failed_files += 1;
+                            if agent::runtime::log_rejection(failed_files) {
+                                tracing::warn!(
+                                    failed = failed_files,
+                                    "snapshot file of tick {at} not written: {e}"
+                                );
+                            }
+                        }
                         while snapshots.len().map_err(db_err(path, "count snapshots"))?
                             > KEPT_SNAPSHOTS as u64
                         {

@@ -7,7 +7,10 @@ use super::*;
 pub struct Recorded {
     /// What the run was.
     pub header: Header,
-    /// Its inputs, tick by tick, as far as they were committed.
+    /// Where it begins, when it was begun at a snapshot file ([`recover`]): the ticks run then,
+    /// and the fleet's snapshot. None for a journal that begins at tick 0.
+    pub start: Option<(u64, Vec<u8>)>,
+    /// Its inputs, tick by tick from where it begins, as far as they were committed.
     pub ticks: Vec<TickInput>,
     /// Its event log.
     pub events: Vec<EventRecord>,
@@ -19,6 +22,18 @@ pub struct Recorded {
     pub tasks: Vec<TaskRecord>,
     /// What the check of the file found.
     pub integrity: Integrity,
+}
+
+impl Recorded {
+    /// The tick its first record is for: 0, or the ticks run at its start snapshot.
+    pub fn first_tick(&self) -> u64 {
+        self.start.as_ref().map_or(0, |(at, _)| *at)
+    }
+
+    /// Ticks the run had run at its last committed record.
+    pub fn ticks_run(&self) -> u64 {
+        self.first_tick() + self.ticks.len() as u64
+    }
 }
 
 /// What the check of a journal's file found, when it could be read at all.
@@ -143,6 +158,14 @@ pub(super) fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, Jour
     let ticks = rows(&txn, TICKS, &path)?;
     let events = rows(&txn, EVENTS, &path)?;
     let tasks = rows(&txn, TASKS, &path)?;
+    let start = match txn.open_table(START) {
+        Ok(table) => table
+            .first()
+            .map_err(db_err(&path, "read start"))?
+            .map(|(at, bytes)| (at.value(), bytes.value().to_vec())),
+        Err(redb::TableError::TableDoesNotExist(_)) => None,
+        Err(e) => return Err(db_err(&path, "open start")(e)),
+    };
     let snapshots = match txn.open_table(SNAPSHOTS) {
         Ok(table) => table
             .iter()
@@ -157,6 +180,7 @@ pub(super) fn read_db(db: &redb::Database, path: &Path) -> Result<Recorded, Jour
     };
     Ok(Recorded {
         header,
+        start,
         ticks,
         events,
         end,

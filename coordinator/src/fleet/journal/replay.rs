@@ -1,5 +1,6 @@
-//! Re-running a journal in-process: from tick 0 (`gapfleet replay`, checking fingerprints,
-//! snapshots and the ledger), or from its newest snapshot (a restart).
+//! Re-running a journal in-process: from where it begins (`gapfleet replay`, checking
+//! fingerprints, snapshots and the ledger; tick 0, or the snapshot a recovered journal begins
+//! at), or from its newest snapshot (a restart).
 
 use super::*;
 
@@ -51,7 +52,8 @@ fn tasks_done(fleet: &Fleet) -> u64 {
 /// What a replay found.
 #[derive(Debug)]
 pub struct Replayed {
-    /// The tick it started from: 0, or the restored snapshot's.
+    /// The tick it started from: 0, or the restored snapshot's (the journal's start snapshot
+    /// included).
     pub from: u64,
     /// Ticks the run is at after it: the journal's (those re-run are `ticks - from`).
     pub ticks: u64,
@@ -61,7 +63,8 @@ pub struct Replayed {
     pub checked: u64,
     /// Snapshots passed on the way and found equal to the replayed fleet, byte for byte.
     pub snapshots_checked: u64,
-    /// Ledger lines found equal to the replay's (a replay from tick 0 checks them all).
+    /// Ledger lines found equal to the replay's (a replay from where the journal begins checks
+    /// them all).
     pub tasks_checked: u64,
     /// Tasks done.
     pub tasks_done: u64,
@@ -69,24 +72,35 @@ pub struct Replayed {
     pub fleet: Fleet,
 }
 
-/// Re-runs a recorded run in-process from tick 0: builds its scenario, applies each tick's
-/// held flags, intents and commands, steps and dispatches as the coordinator did. A
-/// fingerprint or snapshot that differs from the recorded one is an error naming the tick.
+/// Re-runs a recorded run in-process from where its journal begins (tick 0, or its start
+/// snapshot): builds its scenario, applies each tick's held flags, intents and commands, steps
+/// and dispatches as the coordinator did. A fingerprint or snapshot that differs from the
+/// recorded one is an error naming the tick.
 pub fn replay(
     recorded: &Recorded,
     on_tick: impl FnMut(&Fleet, &[FleetEvent]),
 ) -> Result<Replayed, JournalError> {
-    let fleet = new_fleet(recorded)?;
-    run_inputs(fleet, 0, recorded, true, on_tick)
+    let fleet = match &recorded.start {
+        Some((at, bytes)) => {
+            let scenario = recorded.header.scenario.scenario()?;
+            Fleet::restore(&scenario, bytes).map_err(|e| {
+                JournalError::Record(format!(
+                    "the snapshot the journal begins at (tick {at}): {e}"
+                ))
+            })?
+        }
+        None => new_fleet(recorded)?,
+    };
+    run_inputs(fleet, recorded.first_tick(), recorded, true, on_tick)
 }
 
 /// The run's state at the end of its journal, for a restart: the newest snapshot restored,
 /// then the ticks after it re-run (all of them if there is no snapshot, or none restores).
 pub fn resume(recorded: &Recorded) -> Result<Replayed, JournalError> {
     let scenario = recorded.header.scenario.scenario()?;
-    let ticks = recorded.ticks.len() as u64;
+    let ticks = recorded.ticks_run();
     for (at, bytes) in recorded.snapshots.iter().rev() {
-        if *at > ticks {
+        if *at > ticks || *at < recorded.first_tick() {
             tracing::warn!(at, ticks, "snapshot past the journal's ticks: not used");
             continue;
         }
@@ -124,10 +138,17 @@ fn run_inputs(
     let mut snapshots = recorded.snapshots.iter().peekable();
     let (mut checked, mut snapshots_checked) = (0, 0);
     let mut commands = vec![agent::model::Command::STOP; n];
-    // The ledger as the replay makes it (from tick 0 only: a snapshot's tasks began before it).
+    // The ledger as the replay makes it (from where the journal begins only: the writer began
+    // it there too; a later snapshot's tasks began before it).
     let mut ledger = std::collections::BTreeMap::<u64, TaskRecord>::new();
-    for (k, input) in recorded.ticks.iter().enumerate().skip(from as usize) {
-        if input.tick != k as u64 {
+    let first = recorded.first_tick();
+    let skip = from.checked_sub(first).ok_or_else(|| {
+        JournalError::State(format!(
+            "tick {from} is before the journal's first, {first}"
+        ))
+    })?;
+    for (k, input) in (first..).zip(&recorded.ticks).skip(skip as usize) {
+        if input.tick != k {
             return Err(JournalError::State(format!(
                 "tick {} is missing (the record after it is tick {})",
                 k, input.tick
@@ -177,7 +198,7 @@ fn run_inputs(
             }
             checked += 1;
         }
-        let ran = k as u64 + 1;
+        let ran = k + 1;
         while snapshots.next_if(|(at, _)| *at < ran).is_some() {}
         if check_snapshots && let Some((_, bytes)) = snapshots.next_if(|(at, _)| *at == ran) {
             same_as_snapshot(&fleet, &scenario, bytes, ran)?;
@@ -186,7 +207,7 @@ fn run_inputs(
     }
     let print = fingerprint(&fleet);
     if let Some(end) = &recorded.end
-        && end.ticks == recorded.ticks.len() as u64
+        && end.ticks == recorded.ticks_run()
         && end.fingerprint != print
     {
         return Err(JournalError::State(format!(
@@ -195,7 +216,7 @@ fn run_inputs(
         )));
     }
     let mut tasks_checked = 0;
-    if from == 0 {
+    if from == first {
         for line in &recorded.tasks {
             let replayed = ledger.get(&line.task);
             if replayed != Some(line) {
@@ -209,7 +230,7 @@ fn run_inputs(
     }
     Ok(Replayed {
         from,
-        ticks: recorded.ticks.len() as u64,
+        ticks: recorded.ticks_run(),
         fingerprint: print,
         checked,
         snapshots_checked,
