@@ -7,12 +7,14 @@
 //! - [`codec`]: [`encode`] and [`decode`]. Decoding is strict: a size limit per message type, the
 //!   version check, then structural checks (finite numbers, bounded list lengths, positive radii),
 //!   each failure a typed [`DecodeError`]. Network input is untrusted; nothing here panics on it.
+//! - [`fuzzing`]: the oracle both fuzzers check: decode as every type, round-trip what decodes.
 //! - [`keys`]: [`Keys`] builds every key expression under `gapfleet/<site>/…`; no other code
 //!   formats keys.
 //!
 //! `schemas/README.md` documents the same contract for clients in other languages.
 
 pub mod codec;
+pub mod fuzzing;
 pub mod keys;
 pub mod messages;
 

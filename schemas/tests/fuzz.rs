@@ -325,71 +325,82 @@ fn damage(bytes: &mut Vec<u8>, rng: &mut Rng) {
     }
 }
 
-/// Decodes `bytes` as `M`; what decodes must survive a round trip unchanged.
-fn check<M: Message + PartialEq + std::fmt::Debug>(bytes: &[u8]) -> Result<bool, String> {
-    match decode::<M>(bytes) {
-        Ok(m) => {
-            let again = decode::<M>(&encode(&m))
-                .map_err(|e| format!("{m:?} decoded, but its encoding does not: {e}"))?;
-            if again != m {
-                return Err(format!("{m:?} came back as {again:?}"));
-            }
-            Ok(true)
-        }
-        Err(_) => Ok(false),
-    }
-}
-
 /// Decodes `bytes` as every message type; Err names the first problem (a panic included).
 fn decode_all(bytes: &[u8]) -> Result<u32, String> {
-    let outcome = catch_unwind(AssertUnwindSafe(|| -> Result<u32, String> {
-        let ok = [
-            check::<Observation>(bytes)?,
-            check::<IntentMsg>(bytes)?,
-            check::<CommandMsg>(bytes)?,
-            check::<TaskAssignment>(bytes)?,
-            check::<AgentInfo>(bytes)?,
-            check::<FanMsg>(bytes)?,
-            check::<TrafficMsg>(bytes)?,
-            check::<FleetMetrics>(bytes)?,
-            check::<MapMsg>(bytes)?,
-        ];
-        Ok(ok.iter().filter(|&&b| b).count() as u32)
-    }));
-    outcome.unwrap_or_else(|panic| {
-        let what = panic
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-            .unwrap_or_default();
-        Err(format!("panicked: {what}"))
-    })
+    catch_unwind(AssertUnwindSafe(|| fuzzing::decode_as_every_type(bytes))).unwrap_or_else(
+        |panic| {
+            let what = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+                .unwrap_or_default();
+            Err(format!("panicked: {what}"))
+        },
+    )
 }
 
 fn corpus_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-corpus")
 }
 
-/// The seeds: every sample message, and every file of the committed corpus.
-fn seeds() -> Vec<Vec<u8>> {
-    let mut seeds = vec![
-        encode(&observation()),
-        encode(&intent()),
-        encode(&command()),
-        encode(&task()),
-        encode(&info()),
-        encode(&fan()),
-        encode(&traffic()),
-        encode(&metrics()),
-        encode(&map()),
-    ];
-    let mut files: Vec<_> = std::fs::read_dir(corpus_dir())
+/// The sample messages, by name.
+fn samples() -> [(&'static str, Vec<u8>); 9] {
+    [
+        ("observation", encode(&observation())),
+        ("intent", encode(&intent())),
+        ("command", encode(&command())),
+        ("task", encode(&task())),
+        ("info", encode(&info())),
+        ("fan", encode(&fan())),
+        ("traffic", encode(&traffic())),
+        ("metrics", encode(&metrics())),
+        ("map", encode(&map())),
+    ]
+}
+
+/// The files in `dir` (of the committed corpora), sorted; those named `*.msgpack` only when
+/// `msgpack_only`.
+fn files_in(dir: &std::path::Path, msgpack_only: bool) -> Vec<std::path::PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
         .map(|d| d.filter_map(|e| e.ok()).map(|e| e.path()).collect())
         .unwrap_or_default();
     files.sort();
-    files.retain(|f| f.extension().is_some_and(|e| e == "msgpack"));
-    seeds.extend(files.iter().filter_map(|f| std::fs::read(f).ok()));
+    files.retain(|f| !msgpack_only || f.extension().is_some_and(|e| e == "msgpack"));
+    files
+}
+
+/// The seeds: every sample message, every file of the committed hand-made corpus, and every
+/// input the coverage-guided fuzzer kept (`schemas/fuzz/corpus/`).
+fn seeds() -> Vec<Vec<u8>> {
+    let mut seeds: Vec<Vec<u8>> = samples().into_iter().map(|(_, b)| b).collect();
+    let afl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus");
+    let files = files_in(&corpus_dir(), true)
+        .into_iter()
+        .chain(files_in(&afl, false));
+    seeds.extend(files.filter_map(|f| std::fs::read(f).ok()));
     seeds
+}
+
+/// The AFL++ harness starts from the sample messages, written to `schemas/fuzz/seeds/`. They
+/// are kept equal to the samples here; `GAPFLEET_WRITE_AFL_SEEDS=1` writes them anew.
+#[test]
+fn the_afl_seeds_are_the_sample_messages() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds");
+    let write = std::env::var("GAPFLEET_WRITE_AFL_SEEDS").is_ok_and(|v| v == "1");
+    for (name, bytes) in samples() {
+        let path = dir.join(format!("sample-{name}.msgpack"));
+        if write {
+            std::fs::write(&path, &bytes).expect("seed written");
+        }
+        let committed = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(
+            committed,
+            bytes,
+            "{} is stale: rerun with GAPFLEET_WRITE_AFL_SEEDS=1",
+            path.display()
+        );
+    }
+    assert_eq!(files_in(&dir, true).len(), 9, "only the samples are seeds");
 }
 
 #[test]

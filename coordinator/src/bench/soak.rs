@@ -21,6 +21,12 @@ pub struct SoakWindow {
     pub ticks: u64,
     /// Resident memory at the window's end (MiB; Linux `/proc`, 0 elsewhere).
     pub rss_mib: f64,
+    /// Of it, anonymous memory (MiB): the allocator's heaps and arenas, thread stacks, Zenoh's
+    /// buffers. What the rest is: the binary's and libraries' pages, read in as code runs.
+    pub anon_mib: f64,
+    /// Threads of the process at the window's end. A new thread may get an allocator arena
+    /// of its own, which shows as a step in anonymous memory.
+    pub threads: u32,
     /// What the simulation holds at the window's end: the size of the fleet's snapshot (KiB).
     /// Steady while the world's state does not grow, whatever the process's memory does.
     pub state_kib: f64,
@@ -63,46 +69,90 @@ pub struct Soak {
     pub windows: Vec<SoakWindow>,
     /// Resident memory growth from the end of the first window to the end of the last, %.
     pub rss_growth_percent: f64,
-    /// The run's second half against its first (warm-up), by windows; `None` under 2 windows.
-    pub halves: Option<Halves>,
+    /// The run after its warm-up against the warm-up; `None` when no window closed after the
+    /// warm-up ended.
+    pub after_warm_up: Option<AfterWarmUp>,
+    /// Tasks the fleet finished.
+    pub tasks: u64,
+    /// Contact onsets of every cause (with people, robots, walls; each robot counts its own).
+    pub contacts: u64,
+    /// Of them, contacts with people the robots caused.
+    pub robot_caused_contacts: u64,
 }
 
-/// A soak's second half against its first. The first half is taken as the warm-up: a rule
-/// fixed in advance, so that where warm-up ends is not picked after looking at the curve.
+/// A soak after its warm-up against the warm-up. The warm-up is the run's first `warm_up` of
+/// wall time (600 s from the command line): a rule fixed in advance, so that where it ends is
+/// not picked after looking at the curve.
 #[derive(Debug, Clone, serde::Serialize)]
-pub struct Halves {
-    /// Resident memory growth from the end of the first half to the end of the run, %.
+pub struct AfterWarmUp {
+    /// Wall seconds at the end of the window that closed the warm-up (the first to close at or
+    /// after it).
+    pub from_wall_s: f64,
+    /// Resident memory then (MiB).
+    pub rss_start_mib: f64,
+    /// Resident memory at the end of the run (MiB).
+    pub rss_end_mib: f64,
+    /// The most resident memory of any window after the warm-up (MiB).
+    pub rss_peak_mib: f64,
+    /// Growth from the end of the warm-up to the end of the run, %.
     pub rss_growth_percent: f64,
-    /// The median of the first half's windows' p99 (ms).
-    pub p99_first_ms: f64,
-    /// The median of the second half's windows' p99 (ms).
-    pub p99_second_ms: f64,
+    /// Growth from the end of the warm-up to the peak after it, %.
+    pub rss_peak_growth_percent: f64,
+    /// The median of the warm-up's windows' p99 (ms).
+    pub p99_warm_up_ms: f64,
+    /// The median of the later windows' p99 (ms).
+    pub p99_after_ms: f64,
 }
 
-impl Halves {
-    /// Splits `windows` at the middle (the first half has ⌊n/2⌋ windows).
-    pub fn of(windows: &[SoakWindow]) -> Option<Self> {
-        if windows.len() < 2 {
-            return None;
-        }
-        let (first, second) = windows.split_at(windows.len() / 2);
+impl AfterWarmUp {
+    /// Splits `windows` after the first that closes at or after `warm_up_s` wall seconds.
+    pub fn of(windows: &[SoakWindow], warm_up_s: f64) -> Option<Self> {
+        let cut = windows.iter().position(|w| w.wall_s >= warm_up_s)? + 1;
+        let (warm_up, after) = windows.split_at(cut);
+        let last = after.last()?;
         let median_p99 = |ws: &[SoakWindow]| {
             let mut p: Vec<f64> = ws.iter().map(|w| w.p99_ms).collect();
             p.sort_by(f64::total_cmp);
             p[(p.len() - 1) / 2]
         };
-        let start = first.last()?.rss_mib;
-        let end = second.last()?.rss_mib;
-        Some(Self {
-            rss_growth_percent: if start > 0.0 {
-                (end / start - 1.0) * 100.0
+        let start = warm_up.last()?;
+        let peak = after.iter().map(|w| w.rss_mib).fold(f64::MIN, f64::max);
+        let growth = |to: f64| {
+            if start.rss_mib > 0.0 {
+                (to / start.rss_mib - 1.0) * 100.0
             } else {
                 0.0
-            },
-            p99_first_ms: median_p99(first),
-            p99_second_ms: median_p99(second),
+            }
+        };
+        Some(Self {
+            from_wall_s: start.wall_s,
+            rss_start_mib: start.rss_mib,
+            rss_end_mib: last.rss_mib,
+            rss_peak_mib: peak,
+            rss_growth_percent: growth(last.rss_mib),
+            rss_peak_growth_percent: growth(peak),
+            p99_warm_up_ms: median_p99(warm_up),
+            p99_after_ms: median_p99(after),
         })
     }
+}
+
+/// The process's memory, read from Linux `/proc`: resident and anonymous (MiB), and threads.
+/// Zeros where there is no `/proc`.
+pub fn memory() -> (f64, f64, u32) {
+    let kib = |text: &str, key: &str| -> f64 {
+        text.lines()
+            .find_map(|l| l.strip_prefix(key)?.split_whitespace().next()?.parse().ok())
+            .unwrap_or(0.0)
+    };
+    let rollup = std::fs::read_to_string("/proc/self/smaps_rollup").unwrap_or_default();
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let threads = kib(&status, "Threads:") as u32;
+    let rss = match kib(&rollup, "Rss:") {
+        0.0 => rss_mib(),
+        kib => kib / 1024.0,
+    };
+    (rss, kib(&rollup, "Anonymous:") / 1024.0, threads)
 }
 
 /// Resident memory of this process (MiB), from `/proc/self/statm`; 0 where there is none.
@@ -127,6 +177,7 @@ pub async fn bench_soak(
     ticks: u64,
     speed: f64,
     window: Duration,
+    warm_up: Duration,
     shutdown: impl Future<Output = ()>,
     mut on_window: impl FnMut(&SoakWindow),
 ) -> Result<Soak> {
@@ -168,13 +219,13 @@ pub async fn bench_soak(
     let pending_end = pending.clone();
     let mut next_cut = started + window;
     let windows_in = windows.clone();
-    let last_rss = Arc::new(Mutex::new(0.0f64));
+    let last_rss = Arc::new(Mutex::new((0.0f64, 0.0f64, 0u32)));
     let last_rss_in = last_rss.clone();
     let last_state = Arc::new(Mutex::new(0.0f64));
     let last_state_in = last_state.clone();
     let on_status = move |s: &crate::fleet::Status, fleet: &world_sim::fleet::Fleet| {
         if let Ok(mut r) = last_rss_in.lock() {
-            *r = rss_mib();
+            *r = memory();
         }
         if Instant::now() < next_cut {
             return;
@@ -188,10 +239,13 @@ pub async fn bench_soak(
             .lock()
             .map(|mut p| std::mem::take(&mut *p))
             .unwrap_or_default();
+        let (rss_mib, anon_mib, threads) = memory();
         let w = SoakWindow {
             wall_s: started.elapsed().as_secs_f64(),
             ticks: s.tick,
-            rss_mib: rss_mib(),
+            rss_mib,
+            anon_mib,
+            threads,
             state_kib,
             round_trips: trips.len(),
             p50_ms: percentile(&mut trips, 0.5) / 1000.0,
@@ -212,10 +266,13 @@ pub async fn bench_soak(
         .map(|mut p| std::mem::take(&mut *p))
         .unwrap_or_default();
     if !trips.is_empty() {
+        let (rss_mib, anon_mib, threads) = last_rss.lock().map_or((0.0, 0.0, 0), |r| *r);
         windows.push(SoakWindow {
             wall_s: started.elapsed().as_secs_f64(),
             ticks: report.status.tick,
-            rss_mib: last_rss.lock().map_or(0.0, |r| *r),
+            rss_mib,
+            anon_mib,
+            threads,
             state_kib: last_state.lock().map_or(0.0, |k| *k),
             round_trips: trips.len(),
             p50_ms: percentile(&mut trips, 0.5) / 1000.0,
@@ -247,9 +304,20 @@ pub async fn bench_soak(
         superseded: sum(|c| &c.superseded),
         stale_commands: s.stale_commands,
         rejected: s.rejected,
-        halves: Halves::of(&windows),
+        after_warm_up: AfterWarmUp::of(&windows, warm_up.as_secs_f64()),
         windows,
         rss_growth_percent: growth,
+        tasks: report.tasks_done.iter().sum(),
+        contacts: report
+            .fleet_metrics
+            .iter()
+            .map(world_sim::metrics::RobotMetrics::total_contacts)
+            .sum(),
+        robot_caused_contacts: report
+            .fleet_metrics
+            .iter()
+            .map(|m| m.robot_caused_contacts)
+            .sum(),
     })
 }
 
@@ -262,6 +330,8 @@ mod tests {
             wall_s: 0.0,
             ticks: 0,
             rss_mib,
+            anon_mib: rss_mib / 2.0,
+            threads: 8,
             state_kib: 1.0,
             round_trips: 1,
             p50_ms: 1.0,
@@ -270,19 +340,35 @@ mod tests {
     }
 
     #[test]
-    fn halves_split_at_the_middle() {
-        assert!(Halves::of(&[window(100.0, 1.0)]).is_none());
-        // Five windows: the first half is the first two, its memory ends at 120 MiB.
+    fn the_warm_up_ends_with_the_window_that_closes_it() {
+        let at = |wall_s, rss_mib, p99_ms| SoakWindow {
+            wall_s,
+            ..window(rss_mib, p99_ms)
+        };
+        // No window closes after 600 s.
+        assert!(AfterWarmUp::of(&[at(300.0, 100.0, 1.0), at(600.0, 101.0, 1.0)], 600.0).is_none());
         let ws = [
-            window(100.0, 9.0),
-            window(120.0, 3.0),
-            window(121.0, 4.0),
-            window(119.0, 8.0),
-            window(123.0, 5.0),
+            at(300.0, 100.0, 9.0),
+            at(610.0, 120.0, 3.0), // closes the warm-up
+            at(910.0, 126.0, 4.0),
+            at(1210.0, 119.0, 8.0),
+            at(1510.0, 123.0, 5.0),
         ];
-        let h = Halves::of(&ws).expect("two halves");
-        assert!((h.rss_growth_percent - 2.5).abs() < 1e-12);
-        assert_eq!(h.p99_first_ms, 3.0); // lower median of {9, 3}
-        assert_eq!(h.p99_second_ms, 5.0); // median of {4, 8, 5}
+        let a = AfterWarmUp::of(&ws, 600.0).expect("windows after the warm-up");
+        assert_eq!(a.from_wall_s, 610.0);
+        assert!((a.rss_growth_percent - 2.5).abs() < 1e-12);
+        assert!((a.rss_peak_growth_percent - 5.0).abs() < 1e-12);
+        assert_eq!(a.rss_peak_mib, 126.0);
+        assert_eq!(a.p99_warm_up_ms, 3.0); // lower median of {9, 3}
+        assert_eq!(a.p99_after_ms, 5.0); // median of {4, 8, 5}
+    }
+
+    #[test]
+    fn memory_is_read_from_proc() {
+        let (rss, anon, threads) = memory();
+        if std::path::Path::new("/proc/self/smaps_rollup").exists() {
+            assert!(rss > 0.0 && anon > 0.0 && anon <= rss, "{rss} {anon}");
+            assert!(threads >= 1);
+        }
     }
 }

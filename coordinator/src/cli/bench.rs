@@ -101,6 +101,10 @@ pub enum Bench {
         /// Wall seconds per window.
         #[arg(long, default_value_t = 60.0, value_parser = positive)]
         window_s: f64,
+        /// Wall seconds of warm-up: memory growth and the p99 are compared from the end of the
+        /// window that closes it.
+        #[arg(long, default_value_t = 600.0, value_parser = positive)]
+        warm_up_s: f64,
         /// Every agent's planner stack. The soak watches the fleet's plumbing (transport,
         /// coordinator, memory); a lighter planner runs more ticks in the same time.
         #[arg(long, default_value = "pgp+orca")]
@@ -228,6 +232,7 @@ impl Bench {
                 ticks,
                 speed,
                 window_s,
+                warm_up_s,
                 planner,
                 json,
             } => {
@@ -235,15 +240,17 @@ impl Bench {
                 let scenario = warehouse_large(agents, humans)?;
                 if !json {
                     println!(
-                        "  wall s     ticks   RSS MiB  state KiB   round trips   p50 ms   p99 ms"
+                        "  wall s     ticks   RSS MiB  anon MiB  threads  state KiB   round trips   p50 ms   p99 ms"
                     );
                 }
                 let row = |w: &coordinator::bench::soak::SoakWindow| {
                     println!(
-                        "{:8.0} {:9} {:9.1} {:10.1} {:13} {:8.2} {:8.2}",
+                        "{:8.0} {:9} {:9.1} {:9.1} {:8} {:10.1} {:13} {:8.2} {:8.2}",
                         w.wall_s,
                         w.ticks,
                         w.rss_mib,
+                        w.anon_mib,
+                        w.threads,
                         w.state_kib,
                         w.round_trips,
                         w.p50_ms,
@@ -257,6 +264,7 @@ impl Bench {
                     ticks,
                     speed,
                     std::time::Duration::from_secs_f64(window_s),
+                    std::time::Duration::from_secs_f64(warm_up_s),
                     agent::runtime::shutdown_signal(),
                     |w| {
                         if !json {
@@ -290,13 +298,26 @@ impl Bench {
                     "resident memory from the first window to the last: {:+.1} %",
                     soak.rss_growth_percent
                 );
-                if let Some(h) = &soak.halves {
-                    println!(
-                        "second half against the first (the warm-up): resident memory {:+.1} %, \
-                         median window p99 {:.2} ms against {:.2} ms",
-                        h.rss_growth_percent, h.p99_second_ms, h.p99_first_ms
-                    );
+                match &soak.after_warm_up {
+                    Some(a) => println!(
+                        "after the warm-up (from {:.0} wall s): resident memory {:.1} → {:.1} MiB \
+                         ({:+.1} %; peak {:.1} MiB, {:+.1} %), median window p99 {:.2} ms \
+                         against {:.2} ms in the warm-up",
+                        a.from_wall_s,
+                        a.rss_start_mib,
+                        a.rss_end_mib,
+                        a.rss_growth_percent,
+                        a.rss_peak_mib,
+                        a.rss_peak_growth_percent,
+                        a.p99_after_ms,
+                        a.p99_warm_up_ms
+                    ),
+                    None => println!("no window closed after the {warm_up_s:.0} s warm-up"),
                 }
+                println!(
+                    "the fleet: {} tasks done, {} contacts of every cause ({} robot-caused)",
+                    soak.tasks, soak.contacts, soak.robot_caused_contacts
+                );
                 Ok(())
             }
             Bench::World {

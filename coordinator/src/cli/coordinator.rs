@@ -52,7 +52,8 @@ pub struct CoordinatorArgs {
     #[arg(long, requires = "state")]
     recover_state: bool,
     /// The planner the site's agents run: the fleet's efficiency is measured against one robot
-    /// alone on the site with it (the free flow, run in-process at start).
+    /// alone on the site with it (the free flow, run in-process beside the run; efficiency
+    /// shows once it is in).
     #[arg(long, default_value = "pgp+orca")]
     free_flow_planner: agent::planner::PlannerSpec,
     #[command(flatten)]
