@@ -50,6 +50,9 @@ log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
 cargo test --workspace --locked 2>&1 | tee "$log" || status=$?
+# Coverage-guided fuzzing of schemas::decode (AFL++, through cargo-afl), a short run: a crash
+# fails the tests. The hour-long run and its figures: schemas/README.md.
+bash schemas/fuzz/run.sh 60 || status=$?
 # One closing line for the whole workspace (cargo ends on the doc-test summary otherwise).
 awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed/) p += $(i-1); if ($i ~ /^failed/) f += $(i-1); if ($i ~ /^ignored/) s += $(i-1) } }
      END { printf "gapfleet: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"

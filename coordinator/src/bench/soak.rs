@@ -6,7 +6,6 @@ use super::BenchError;
 use crate::fleet::RoundTrip;
 use crate::fleet::demo::{DemoOptions, Transport, run_demo};
 use agent::planner::PlannerSpec;
-use agent::runtime::percentile;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -155,6 +154,87 @@ pub fn memory() -> (f64, f64, u32) {
     (rss, kib(&rollup, "Anonymous:") / 1024.0, threads)
 }
 
+/// Round trips of a window, counted in fixed buckets: the soak's own memory stays the same
+/// however many round trips a window holds (a list of them grew with the load, and its growth
+/// would be read as the fleet's).
+#[derive(Debug, Clone)]
+pub struct Histogram {
+    /// Counts per [`Histogram::BUCKET_US`] bucket; the last also counts everything slower.
+    counts: Vec<u32>,
+    total: usize,
+    max_us: u32,
+}
+
+impl Histogram {
+    /// Bucket width (µs).
+    pub const BUCKET_US: u32 = 10;
+    /// Buckets: 10 µs each up to 1 s, the last open-ended.
+    const BUCKETS: usize = 100_000;
+
+    /// An empty histogram; its one allocation, made here.
+    pub fn new() -> Self {
+        Self {
+            counts: vec![0; Self::BUCKETS],
+            total: 0,
+            max_us: 0,
+        }
+    }
+
+    /// Counts a round trip of `us` microseconds.
+    pub fn record(&mut self, us: u32) {
+        let b = ((us / Self::BUCKET_US) as usize).min(Self::BUCKETS - 1);
+        self.counts[b] = self.counts[b].saturating_add(1);
+        self.total += 1;
+        self.max_us = self.max_us.max(us);
+    }
+
+    /// Round trips counted.
+    pub fn len(&self) -> usize {
+        self.total
+    }
+
+    /// Whether none are counted.
+    pub fn is_empty(&self) -> bool {
+        self.total == 0
+    }
+
+    /// The nearest-rank quantile `q` ∈ (0, 1] (ms): the upper edge of its bucket (10 µs
+    /// resolution), or the slowest round trip when it falls in the open-ended last bucket; 0
+    /// when empty.
+    pub fn quantile_ms(&self, q: f64) -> f64 {
+        if self.total == 0 {
+            return 0.0;
+        }
+        let rank = ((q * self.total as f64).ceil() as usize).clamp(1, self.total);
+        let mut seen = 0usize;
+        for (b, &c) in self.counts.iter().enumerate() {
+            seen += c as usize;
+            if seen >= rank {
+                let edge = if b == Self::BUCKETS - 1 {
+                    self.max_us
+                } else {
+                    (b as u32 + 1) * Self::BUCKET_US
+                };
+                return f64::from(edge.min(self.max_us)) / 1000.0;
+            }
+        }
+        f64::from(self.max_us) / 1000.0
+    }
+
+    /// Empties it, keeping its memory.
+    pub fn clear(&mut self) {
+        self.counts.fill(0);
+        self.total = 0;
+        self.max_us = 0;
+    }
+}
+
+impl Default for Histogram {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// Resident memory of this process (MiB), from `/proc/self/statm`; 0 where there is none.
 pub fn rss_mib() -> f64 {
     let pages = std::fs::read_to_string("/proc/self/statm")
@@ -199,7 +279,7 @@ pub async fn bench_soak(
     };
     let started = Instant::now();
     let windows = Arc::new(Mutex::new(Vec::<SoakWindow>::new()));
-    let pending = Arc::new(Mutex::new(Vec::<u32>::new()));
+    let pending = Arc::new(Mutex::new(Histogram::new()));
     // Round trips are gathered as they come and cut into windows by the status callback.
     let gather = {
         let pending = pending.clone();
@@ -211,7 +291,7 @@ pub async fn bench_soak(
                     .as_micros()
                     .min(u128::from(u32::MAX)) as u32;
                 if let Ok(mut p) = pending.lock() {
-                    p.push(us);
+                    p.record(us);
                 }
             }
         })
@@ -235,9 +315,13 @@ pub async fn bench_soak(
             *k = state_kib;
         }
         next_cut += window;
-        let mut trips = pending
+        let (round_trips, p50_ms, p99_ms) = pending
             .lock()
-            .map(|mut p| std::mem::take(&mut *p))
+            .map(|mut p| {
+                let cut = (p.len(), p.quantile_ms(0.5), p.quantile_ms(0.99));
+                p.clear();
+                cut
+            })
             .unwrap_or_default();
         let (rss_mib, anon_mib, threads) = memory();
         let w = SoakWindow {
@@ -247,9 +331,9 @@ pub async fn bench_soak(
             anon_mib,
             threads,
             state_kib,
-            round_trips: trips.len(),
-            p50_ms: percentile(&mut trips, 0.5) / 1000.0,
-            p99_ms: percentile(&mut trips, 0.99) / 1000.0,
+            round_trips,
+            p50_ms,
+            p99_ms,
         };
         on_window(&w);
         if let Ok(mut ws) = windows_in.lock() {
@@ -261,10 +345,7 @@ pub async fn bench_soak(
     let mut windows = windows.lock().map(|w| w.clone()).unwrap_or_default();
     // The last (partial) window, with the memory the run held at its last status (by now
     // the sessions are closed).
-    let mut trips = pending_end
-        .lock()
-        .map(|mut p| std::mem::take(&mut *p))
-        .unwrap_or_default();
+    let trips = pending_end.lock().map(|p| p.clone()).unwrap_or_default();
     if !trips.is_empty() {
         let (rss_mib, anon_mib, threads) = last_rss.lock().map_or((0.0, 0.0, 0), |r| *r);
         windows.push(SoakWindow {
@@ -275,8 +356,8 @@ pub async fn bench_soak(
             threads,
             state_kib: last_state.lock().map_or(0.0, |k| *k),
             round_trips: trips.len(),
-            p50_ms: percentile(&mut trips, 0.5) / 1000.0,
-            p99_ms: percentile(&mut trips, 0.99) / 1000.0,
+            p50_ms: trips.quantile_ms(0.5),
+            p99_ms: trips.quantile_ms(0.99),
         });
     }
     let growth = match (windows.first(), windows.last()) {
@@ -361,6 +442,32 @@ mod tests {
         assert_eq!(a.rss_peak_mib, 126.0);
         assert_eq!(a.p99_warm_up_ms, 3.0); // lower median of {9, 3}
         assert_eq!(a.p99_after_ms, 5.0); // median of {4, 8, 5}
+    }
+
+    #[test]
+    fn the_histogram_gives_nearest_rank_quantiles_to_its_bucket() {
+        let mut h = Histogram::new();
+        assert_eq!(h.quantile_ms(0.99), 0.0);
+        for us in 1..=1000 {
+            h.record(us * 10); // 10 µs … 10 ms
+        }
+        assert_eq!(h.len(), 1000);
+        assert!(
+            (h.quantile_ms(0.5) - 5.0).abs() < 0.011,
+            "{}",
+            h.quantile_ms(0.5)
+        );
+        assert!(
+            (h.quantile_ms(0.99) - 9.9).abs() < 0.011,
+            "{}",
+            h.quantile_ms(0.99)
+        );
+        // Past a second: the slowest round trip itself.
+        h.record(3_000_000);
+        assert_eq!(h.quantile_ms(1.0), 3000.0);
+        h.clear();
+        assert!(h.is_empty());
+        assert_eq!(h.counts.len(), Histogram::BUCKETS);
     }
 
     #[test]
