@@ -1,12 +1,15 @@
 //! gapfleet's planner core: everything a robot needs to decide how to move among people,
-//! as pure functions of what it perceives.
+//! as pure functions of what it perceives, and, behind the default `runtime` feature, the
+//! agent that runs it on a robot over Zenoh ([`runtime`]).
 //!
 //! A long-term planner, the Probabilistic Gap Planner ([`pgp`]), picks a subgoal towards gaps
-//! in the crowd; a short-term planner ([`dwa`], [`orca`], [`social_force`]) drives towards it.
-//! [`planner::PlannerStack`] composes them behind one interface.
+//! in the crowd; a short-term planner drives towards it: [`dwa`], [`orca`], [`social_force`],
+//! foIGP ([`igp`]), peek-and-pass ([`pnp`]) or anticipatory Social Force ([`asfm`]).
+//! [`planner::PlannerStack`] composes them behind one interface, and [`guard::Guard`] puts the
+//! safety layer ([`safety`]) under it.
 //!
-//! Nothing here knows about Zenoh, Tokio, Rerun, clocks or unseeded randomness: the same
-//! input gives the same output, bit for bit.
+//! Outside [`runtime`], nothing here knows about Zenoh, Tokio, Rerun, clocks or unseeded
+//! randomness: the same input gives the same output, bit for bit.
 
 pub mod asfm;
 pub mod dwa;

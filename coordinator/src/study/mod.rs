@@ -1,9 +1,19 @@
-//! Batch studies with the planners in-process, one module per study: the PGP paper's
-//! open-space study ([`open_space`], its rows and `runs.csv` in [`runs`], summarised by
-//! [`summary`]), planners in recorded
-//! pedestrians' places ([`replay`], the foIGP paper's protocol) and a warehouse fleet with and
-//! without shared intents ([`intent_sharing`]); their statistics ([`stats`]) and figures
-//! ([`plots`]). Every study's output depends only on its inputs, never on the thread count.
+//! Batch studies with the planners in-process, one module per study:
+//! - [`open_space`]: the PGP paper's open-space study (its rows and `runs.csv` in [`runs`],
+//!   summarised by [`summary`]);
+//! - [`replay`]: planners in recorded pedestrians' places (the foIGP paper's protocol);
+//! - [`intent_sharing`]: a warehouse fleet with and without shared intents;
+//! - [`hallway`] and [`laned`]: the peek-and-pass paper's hallway (Fig. 6) and laned crowd
+//!   (Fig. 4);
+//! - [`anticipatory`]: the anticipatory Social Force paper's two-body experiment;
+//! - [`estimates`]: anticipatory Social Force's avoidance estimates on recorded and simulated
+//!   crowds;
+//! - [`traffic`]: fleet sizes × traffic policy × safety layer on the fleet sites, with fleet
+//!   efficiency, stuck time by cause, gridlocks and deadlocks.
+//!
+//! Shared by them: statistics ([`stats`]), figures ([`plots`]), output folders ([`output`]) and
+//! CSV fields ([`csv_fields`]). Every study's output depends only on its inputs, never on the
+//! thread count.
 //!
 //! Behind the default-on cargo feature `studies`: a coordinator built without it
 //! (`--no-default-features`) links no plotting, font or CSV, and has no `gapfleet experiment`.
