@@ -31,28 +31,20 @@ fn rule(id: String, messages: &[&str], flow: &str, keys: Vec<String>) -> Value {
     })
 }
 
-/// The `access_control` block for `site` with robots 0..robots and `observers`.
-pub fn access_control(site: &str, robots: u32, observers: &[String]) -> Value {
-    // The site name was checked by the caller; an unusable one gives an empty prefix here and
-    // a list that allows nothing.
-    let keys = Keys::new(site).ok();
-    let prefix = keys
-        .as_ref()
-        .map_or(String::new(), |k| k.prefix().to_owned());
+/// The `access_control` block for the site of `keys` with robots 0..robots and `observers`.
+pub fn access_control(keys: &Keys, robots: u32, observers: &[String]) -> Value {
+    let prefix = keys.prefix();
     let mut rules = Vec::new();
     let mut subjects = Vec::new();
     let mut policies = Vec::new();
     for id in 0..robots {
         let name = format!("robot-{id}");
         let robot = |channels: &[Channel]| -> Vec<String> {
-            channels
-                .iter()
-                .map(|&c| keys.as_ref().map_or(String::new(), |k| k.robot(id, c)))
-                .collect()
+            channels.iter().map(|&c| keys.robot(id, c)).collect()
         };
-        let alive = keys.as_ref().map_or(String::new(), |k| k.alive(id));
-        let coordinator = format!("{prefix}/coordinator");
-        let map = format!("{prefix}/map");
+        let alive = keys.alive(id);
+        let coordinator = keys.coordinator();
+        let map = keys.map();
         let mut ids = Vec::new();
         let mut add = |suffix: &str, messages: &[&str], flow: &str, keys: Vec<String>| {
             let id = format!("{name}-{suffix}");
@@ -64,10 +56,7 @@ pub fn access_control(site: &str, robots: u32, observers: &[String]) -> Value {
         // channel with one wildcard (`robot/*/cmd`), which a rule naming robot N's key alone
         // would not let through.
         add("sends", &["put"], "ingress", robot(&ROBOT_SENDS));
-        let every: Vec<String> = ROBOT_SENDS
-            .iter()
-            .map(|&c| keys.as_ref().map_or(String::new(), |k| k.every_robot(c)))
-            .collect();
+        let every: Vec<String> = ROBOT_SENDS.iter().map(|&c| keys.every_robot(c)).collect();
         add("sends-to", &["declare_subscriber"], "egress", every);
         add(
             "receives",

@@ -279,7 +279,8 @@ pub fn init(dir: &Path, spec: &SiteSpec) -> Result<SitePaths, SiteError> {
     let dictionary_path = dir.join("credentials.txt");
     write(&dictionary_path, &dictionary, true)?;
 
-    let access = acl::access_control(&spec.site, spec.robots, &spec.observers);
+    let keys = Keys::new(&spec.site).map_err(|e| SiteError::Spec(e.to_string()))?;
+    let access = acl::access_control(&keys, spec.robots, &spec.observers);
     let listen = spec.listen.as_deref().unwrap_or(&spec.endpoint);
     for (identity, password) in &credentials {
         let tls = Tls {
