@@ -53,7 +53,8 @@ fn anticipatory_smoke_is_complete_committed_and_thread_count_independent() {
     }
 
     let study = study();
-    let out = std::env::temp_dir().join(format!("gapfleet-anticipatory-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let out = tmp.path().join("out");
     let cells = write_outputs(&out, &study, &rows).expect("outputs written");
     assert_eq!(cells, summarize(&study, &rows));
     assert_eq!(cells.len(), 2 * 3);
@@ -70,7 +71,6 @@ fn anticipatory_smoke_is_complete_committed_and_thread_count_independent() {
             .unwrap_or(0);
         assert!(len > 0, "{file} written");
     }
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]

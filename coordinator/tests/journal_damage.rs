@@ -20,11 +20,12 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use world_sim::fleet::{Fleet, plan_all};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gapfleet-damage-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a temporary folder");
-    dir
+/// A folder named `name` in a temporary folder removed when it is dropped.
+fn temp_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join(name);
+    std::fs::create_dir_all(&dir).expect("a folder");
+    (tmp, dir)
 }
 
 fn source() -> ScenarioSource {
@@ -217,14 +218,14 @@ fn exercise(dir: &Path, header: &Header, print: u64, outcomes: &mut Outcomes) {
 #[test]
 fn damaged_journals_give_clear_errors_and_never_panic() {
     let header = Header::new("damage-test", source(), true, true);
-    let original = temp_dir("original");
+    let (_original_tmp, original) = temp_dir("original");
     let print = write_journal(&original, &header, 700);
     let bytes = std::fs::read(journal::database(&original)).expect("the journal");
     let recorded = read(&original).expect("intact");
     assert_eq!(recorded.integrity, Integrity::Intact);
     assert!(!recorded.snapshots.is_empty() && !recorded.tasks.is_empty());
 
-    let trial = temp_dir("trial");
+    let (_trial_tmp, trial) = temp_dir("trial");
     // A copy as it was written reads and replays as the original does.
     std::fs::write(journal::database(&trial), &bytes).expect("written");
     let mut intact = Outcomes::default();
@@ -272,7 +273,7 @@ fn damaged_journals_give_clear_errors_and_never_panic() {
 #[test]
 fn an_empty_file_a_text_file_and_an_older_format_are_named_as_such() {
     let header = Header::new("damage-test", source(), true, true);
-    let dir = temp_dir("kinds");
+    let (_tmp, dir) = temp_dir("kinds");
     let file = journal::database(&dir);
     let error = |dir: &Path| read(dir).expect_err("not a journal").to_string();
 
@@ -303,13 +304,13 @@ fn an_empty_file_a_text_file_and_an_older_format_are_named_as_such() {
 
 /// A journal of 700 ticks in a new folder `name`, closed cleanly, then damaged in its newest
 /// commit: nothing of it can be trusted (the store keeps no earlier commit past a clean
-/// close). Returns the folder, the intact journal as read before the damage, and the damaged
-/// bytes.
+/// close). Returns the temporary folder (removed when dropped), the journal's folder in it,
+/// the intact journal as read before the damage, and the damaged bytes.
 fn damaged_after_a_clean_close(
     name: &str,
     header: &Header,
-) -> (PathBuf, journal::Recorded, Vec<u8>) {
-    let dir = temp_dir(name);
+) -> (tempfile::TempDir, PathBuf, journal::Recorded, Vec<u8>) {
+    let (tmp, dir) = temp_dir(name);
     write_journal(&dir, header, 700);
     let file = journal::database(&dir);
     let before = std::fs::read(&file).expect("the journal");
@@ -338,7 +339,7 @@ fn damaged_after_a_clean_close(
     };
     let e = e.to_string();
     assert!(e.contains(&file.display().to_string()), "{e}");
-    (dir, intact, damaged)
+    (tmp, dir, intact, damaged)
 }
 
 /// `replay` and the coordinator's start name the damaged file and what is wrong;
@@ -348,7 +349,7 @@ fn damaged_after_a_clean_close(
 #[test]
 fn a_damaged_journal_goes_on_from_the_newest_intact_snapshot_file() {
     let header = Header::new("damage-test", source(), true, true);
-    let (dir, intact, damaged) = damaged_after_a_clean_close("snapshot", &header);
+    let (_tmp, dir, intact, damaged) = damaged_after_a_clean_close("snapshot", &header);
     // Snapshots every 300 ticks: the files of 300 and 600 are beside the journal.
     let newest = journal::snapshot_files::newest_intact(&dir).expect("snapshot files");
     assert_eq!(newest.ticks, 600);
@@ -399,7 +400,7 @@ fn a_damaged_journal_goes_on_from_the_newest_intact_snapshot_file() {
 #[test]
 fn a_damaged_snapshot_file_is_passed_over_for_the_one_before() {
     let header = Header::new("damage-test", source(), true, true);
-    let (dir, intact, _) = damaged_after_a_clean_close("snapshot-older", &header);
+    let (_tmp, dir, intact, _) = damaged_after_a_clean_close("snapshot-older", &header);
     let newest = journal::snapshot_files::newest_intact(&dir).expect("snapshot files");
     let mut bytes = std::fs::read(&newest.path).expect("the file");
     let middle = bytes.len() / 2;
@@ -425,7 +426,7 @@ fn a_damaged_snapshot_file_is_passed_over_for_the_one_before() {
 #[test]
 fn a_damaged_journal_without_snapshot_files_is_kept_and_a_new_one_begun_beside_it() {
     let header = Header::new("damage-test", source(), true, true);
-    let (dir, _, damaged) = damaged_after_a_clean_close("recover", &header);
+    let (_tmp, dir, _, damaged) = damaged_after_a_clean_close("recover", &header);
     std::fs::remove_dir_all(journal::snapshot_files::folder(&dir)).expect("removed");
     let recovery = journal::recover(&dir).expect("recovered");
     let Recovery::Kept { kept, what } = recovery else {

@@ -30,7 +30,8 @@ fn rows(csv: &Path) -> Vec<String> {
 
 #[test]
 fn an_interrupted_study_goes_on_from_the_runs_it_saved() {
-    let base = std::env::temp_dir().join(format!("gapfleet-traffic-cli-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let base = tmp.path().join("study");
     let (first, second) = (base.join("first"), base.join("second"));
     let done = traffic(&first, &[]);
     assert!(
@@ -70,7 +71,6 @@ fn an_interrupted_study_goes_on_from_the_runs_it_saved() {
     let again = rows(&second.join("runs.csv"));
     // Seed 1 taken from the saved row, seed 2 run afresh, the same bits as before.
     assert_eq!(again, [all[0].clone(), seed_1, all[2].clone()]);
-    std::fs::remove_dir_all(&base).expect("removable");
 }
 
 #[test]

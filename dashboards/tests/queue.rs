@@ -28,7 +28,8 @@ fn frame(tick: u64) -> Frame {
 
 #[test]
 fn a_burst_of_frames_is_logged_or_counted_never_lost() {
-    let dir = std::env::temp_dir().join(format!("gapfleet-dash-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join("rrd");
     std::fs::create_dir_all(&dir).expect("temp dir");
     let rrd = dir.join("burst.rrd");
     let sinks = Sinks {
@@ -56,5 +57,4 @@ fn a_burst_of_frames_is_logged_or_counted_never_lost() {
         std::fs::metadata(&rrd).is_ok_and(|m| m.len() > 0),
         "the recording was written"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

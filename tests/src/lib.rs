@@ -129,3 +129,40 @@ pub fn warehouse(robots: usize, humans: usize) -> world_sim::scenario::Scenario 
     w.humans = humans;
     scenario
 }
+
+/// Asks `ready` every 10 ms until it gives `Some`, for at most `timeout`; None if it never
+/// did. Every test waits for a condition this way or with [`recv_until`].
+pub fn wait_until<T>(
+    timeout: std::time::Duration,
+    mut ready: impl FnMut() -> Option<T>,
+) -> Option<T> {
+    let deadline = std::time::Instant::now() + timeout;
+    loop {
+        if let Some(value) = ready() {
+            return Some(value);
+        }
+        if std::time::Instant::now() >= deadline {
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
+
+/// Receives from `rx` until an item satisfies `wanted`, for at most `timeout`: that item, or
+/// None (the time ran out, or every sender went). Items that do not satisfy it are shown to
+/// `wanted` and dropped.
+pub fn recv_until<T>(
+    rx: &std::sync::mpsc::Receiver<T>,
+    timeout: std::time::Duration,
+    mut wanted: impl FnMut(&T) -> bool,
+) -> Option<T> {
+    let deadline = std::time::Instant::now() + timeout;
+    while let Some(left) = deadline.checked_duration_since(std::time::Instant::now()) {
+        match rx.recv_timeout(left) {
+            Ok(item) if wanted(&item) => return Some(item),
+            Ok(_) => {}
+            Err(_) => return None,
+        }
+    }
+    None
+}

@@ -60,15 +60,8 @@ fn coordinator(router: &str, args: &[&str]) -> (Proc, mpsc::Receiver<String>) {
 
 /// Waits for a line with `what`; returns it.
 fn wait_line(rx: &mpsc::Receiver<String>, what: &str, timeout: Duration) -> String {
-    let deadline = Instant::now() + timeout;
-    while let Some(left) = deadline.checked_duration_since(Instant::now()) {
-        match rx.recv_timeout(left) {
-            Ok(line) if line.contains(what) => return line,
-            Ok(_) => {}
-            Err(_) => break,
-        }
-    }
-    panic!("no line with {what:?} within {timeout:?}");
+    gapfleet_tests::recv_until(rx, timeout, |line| line.contains(what))
+        .unwrap_or_else(|| panic!("no line with {what:?} within {timeout:?}"))
 }
 
 #[test]
@@ -84,8 +77,8 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
             .spawn()
             .unwrap_or_else(|e| panic!("{zenohd}: {e}; tests/run.sh installs zenohd 1.10.2")),
     );
-    let state = std::env::temp_dir().join(format!("gapfleet-restart-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&state);
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let state = tmp.path().join("state");
     let keys = Keys::new(SITE).expect("valid");
     let rt = gapfleet_tests::runtime();
     // The test's eyes: a client of the router, watching every command.
@@ -137,17 +130,14 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
     // The map each agent holds, from its heartbeats (once a second).
     let maps_held = |wanted: &dyn Fn(u32) -> bool| -> Vec<u32> {
         let mut held = vec![0u32; ROBOTS as usize];
-        let deadline = Instant::now() + Duration::from_secs(15);
-        while held.iter().any(|&v| !wanted(v)) && Instant::now() < deadline {
-            match infos.try_recv() {
-                Ok(Some(sample)) => {
-                    if let Ok(info) = decode::<AgentInfo>(&sample.payload().to_bytes()) {
-                        held[info.robot_id as usize] = info.map_version;
-                    }
+        gapfleet_tests::wait_until(Duration::from_secs(15), || {
+            while let Ok(Some(sample)) = infos.try_recv() {
+                if let Ok(info) = decode::<AgentInfo>(&sample.payload().to_bytes()) {
+                    held[info.robot_id as usize] = info.map_version;
                 }
-                _ => std::thread::sleep(Duration::from_millis(20)),
             }
-        }
+            held.iter().all(|&v| wanted(v)).then_some(())
+        });
         held
     };
     let first_maps = maps_held(&|v| v != 0);
@@ -268,7 +258,6 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
         2,
         "{stdout}"
     );
-    let _ = std::fs::remove_dir_all(&state);
 
     // 4. Another scenario, another map: the same agents fetch it.
     let (_third, lines) = coordinator(

@@ -12,10 +12,11 @@ fn dataset(path: &str) -> PathBuf {
         .join(path)
 }
 
-fn out_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gapfleet-eth-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+/// A folder named `name` (not yet there) in a temporary folder removed when it is dropped.
+fn out_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join(name);
+    (tmp, dir)
 }
 
 #[test]
@@ -25,7 +26,7 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
         ("ETH/seq_eth", "partial", "eth"),
         ("UCY/zara01", "full", "replay"),
     ] {
-        let out = out_dir(kind);
+        let (_tmp, out) = out_dir(kind);
         let status = Command::new(binary("gapfleet"))
             .args(["experiment", command, "--dataset"])
             .arg(dataset(set))
@@ -81,7 +82,6 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
         assert!(md.contains("| foigp | 3 | 0 |"), "{md}");
         let png = std::fs::read(out.join("safety_vs_path.png")).expect("figure");
         assert!(png.starts_with(b"\x89PNG"));
-        let _ = std::fs::remove_dir_all(&out);
     }
 }
 
@@ -96,10 +96,10 @@ fn bad_input_gets_a_clear_error() {
         assert!(!out.status.success(), "{args:?} should fail");
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let missing = out_dir("missing");
+    let (_missing_tmp, missing) = out_dir("missing");
     let err = run(&["--dataset", &missing.display().to_string()]);
     assert!(err.contains("obsmat.txt"), "{err}");
-    let bad = out_dir("bad");
+    let (_bad_tmp, bad) = out_dir("bad");
     std::fs::create_dir_all(&bad).expect("temp dir");
     std::fs::write(
         bad.join("obsmat.txt"),
@@ -116,7 +116,6 @@ fn bad_input_gets_a_clear_error() {
     assert!(err.contains("\"rrt\""), "{err}");
     let err = run(&["--dataset", &eth, "--runs", "some"]);
     assert!(err.contains("partial or full"), "{err}");
-    let _ = std::fs::remove_dir_all(&bad);
 }
 
 #[test]

@@ -34,22 +34,6 @@ struct Snapshot {
     busy: Vec<bool>,
 }
 
-fn wait_for<T>(
-    rx: &mpsc::Receiver<T>,
-    timeout: Duration,
-    mut pred: impl FnMut(&T) -> bool,
-) -> Option<T> {
-    let deadline = Instant::now() + timeout;
-    while let Some(left) = deadline.checked_duration_since(Instant::now()) {
-        match rx.recv_timeout(left) {
-            Ok(item) if pred(&item) => return Some(item),
-            Ok(_) => {}
-            Err(_) => return None,
-        }
-    }
-    None
-}
-
 #[test]
 fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
     let rt = gapfleet_tests::runtime();
@@ -123,7 +107,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
         .map(|id| AgentProcess::spawn(id, &endpoint, SITE, "pgp+orca"))
         .collect();
     let mut joined = std::collections::BTreeSet::new();
-    wait_for(&events, Duration::from_secs(30), |(_, e)| {
+    gapfleet_tests::recv_until(&events, Duration::from_secs(30), |(_, e)| {
         if let Event::Joined(id) = e {
             joined.insert(*id);
         }
@@ -131,7 +115,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
     })
     .unwrap_or_else(|| panic!("only {joined:?} joined"));
     let mut done = 0;
-    wait_for(&events, Duration::from_secs(90), |(_, e)| {
+    gapfleet_tests::recv_until(&events, Duration::from_secs(90), |(_, e)| {
         done += u32::from(matches!(e, Event::TaskDone { .. }));
         done >= 3
     })
@@ -147,10 +131,11 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
     // 2. Kill agent 3: noticed within 1 s, robot stops and is flagged, others carry on.
     let killed_at = Instant::now();
     agents[3].signal("KILL");
-    let (noticed_at, event) = wait_for(&events, Duration::from_secs(5), |(_, e)| {
-        matches!(e, Event::Crashed(3) | Event::Left(3))
-    })
-    .expect("the coordinator notices the killed agent");
+    let (noticed_at, event) =
+        gapfleet_tests::recv_until(&events, Duration::from_secs(5), |(_, e)| {
+            matches!(e, Event::Crashed(3) | Event::Left(3))
+        })
+        .expect("the coordinator notices the killed agent");
     let delay = noticed_at.duration_since(killed_at);
     println!("killed agent 3 noticed after {delay:?} as {event:?}");
     assert_eq!(event, Event::Crashed(3), "no safe stop came first: a crash");
@@ -164,7 +149,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
         "robot 3 stopped (speed {})",
         snap.speeds[3]
     );
-    let others = wait_for(
+    let others = gapfleet_tests::recv_until(
         &events,
         Duration::from_secs(90),
         |(_, e)| matches!(e, Event::TaskDone { robot, .. } if *robot != 3),
@@ -176,7 +161,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
 
     // 3. Restart agent 3: it rejoins and its robot works again.
     agents[3] = AgentProcess::spawn(3, &endpoint, SITE, "pgp+orca");
-    wait_for(&events, Duration::from_secs(30), |(_, e)| {
+    gapfleet_tests::recv_until(&events, Duration::from_secs(30), |(_, e)| {
         *e == Event::Joined(3)
     })
     .expect("agent 3 rejoins");
@@ -203,28 +188,25 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
         })
         .expect("put");
     }
-    let deadline = Instant::now() + Duration::from_secs(5);
     let mut seen = None;
-    let info = loop {
-        if let Some(info) = latest_info(&info_sub) {
-            if info.rejected >= 50 && info.plans > plans_before {
-                break info;
-            }
-            seen = Some(info);
+    let info = gapfleet_tests::wait_until(Duration::from_secs(5), || {
+        let info = latest_info(&info_sub)?;
+        if info.rejected >= 50 && info.plans > plans_before {
+            return Some(info);
         }
-        assert!(
-            Instant::now() < deadline,
-            "agent 5's newest report after 5 s: {seen:?} (planned {plans_before} before)"
-        );
-        std::thread::sleep(Duration::from_millis(100));
-    };
+        seen = Some(info);
+        None
+    })
+    .unwrap_or_else(|| {
+        panic!("agent 5's newest report after 5 s: {seen:?} (planned {plans_before} before)")
+    });
     println!("agent 5 after garbage: {info:?}");
     assert!(agents[5].running(), "agent 5 survived the garbage");
 
     // 5. SIGTERM agent 7 while the coordinator runs: it safe-stops, withdraws its token and
     //    exits, and the coordinator classes that as a clean leave, not a crash.
     agents[LEAVER as usize].signal("TERM");
-    let (_, event) = wait_for(&events, Duration::from_secs(5), |(_, e)| {
+    let (_, event) = gapfleet_tests::recv_until(&events, Duration::from_secs(5), |(_, e)| {
         matches!(e, Event::Crashed(LEAVER) | Event::Left(LEAVER))
     })
     .expect("the coordinator notices agent 7 leaving");

@@ -10,18 +10,13 @@
 use coordinator::fleet::demo::{DemoOptions, Transport, run_demo};
 use coordinator::fleet::journal::{Header, Journal, ScenarioSource, read, replay, resume};
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("gapfleet-journal-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
 #[test]
 fn a_recorded_demo_replays_bit_for_bit() {
     let source =
         ScenarioSource::builtin("warehouse", Some(4), Some(20), Some(3)).expect("built in");
     let scenario = source.scenario().expect("a fleet site");
-    let dir = temp_dir("demo");
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join("demo");
     let journal =
         Journal::create(&dir, &Header::new("journal-test", source, true, true)).expect("a journal");
     let options = DemoOptions {
@@ -157,5 +152,4 @@ fn a_recorded_demo_replays_bit_for_bit() {
     let err = replay(&tampered, |_, _| {}).expect_err("a changed intent shows");
     println!("intent tampered at tick {k}: {err}");
     assert!(err.to_string().contains("snapshot taken then"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,7 +5,7 @@
 
 use gapfleet_tests::{binary, free_endpoint};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The Python with the client's packages: $GAPFLEET_PYTHON (tests/run.sh sets it) or python3.
 fn python() -> String {
@@ -60,14 +60,10 @@ fn python_client_decodes_a_live_fleets_intents() {
         .expect("gapfleet demo starts");
     // Wait until the coordinator's router accepts connections.
     let addr = endpoint.trim_start_matches("tcp/");
-    let deadline = Instant::now() + Duration::from_secs(30);
-    while std::net::TcpStream::connect(addr).is_err() {
-        assert!(
-            Instant::now() < deadline,
-            "the demo never listened on {addr}"
-        );
-        std::thread::sleep(Duration::from_millis(100));
-    }
+    gapfleet_tests::wait_until(Duration::from_secs(30), || {
+        std::net::TcpStream::connect(addr).ok()
+    })
+    .unwrap_or_else(|| panic!("the demo never listened on {addr}"));
     let out = Command::new(&python)
         .args([CLIENT, "--connect", &endpoint, "--site", "pytest"])
         .args(["--count", "40", "--timeout", "30"])

@@ -45,7 +45,8 @@ fn rrd_print(verbosity: &str, rrd: &std::path::Path) -> String {
 
 #[test]
 fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
-    let dir = std::env::temp_dir().join(format!("gapfleet-rrd-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join("recordings");
     std::fs::create_dir_all(&dir).expect("temp dir");
     let rrd = dir.join("demo.rrd");
     let stdout = record_demo(
@@ -140,7 +141,6 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
     for timeline in ["tick", "sim_time"] {
         assert!(listing.contains(timeline), "timeline {timeline} missing");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The real `rerun` executable's path (the wrapper below must not find itself).
@@ -166,7 +166,8 @@ fn real_rerun() -> std::path::PathBuf {
 #[test]
 fn spawn_starts_a_viewer_process_and_streams_to_it() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = std::env::temp_dir().join(format!("gapfleet-spawn-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join("recordings");
     std::fs::create_dir_all(&dir).expect("temp dir");
     let saved = dir.join("spawned.rrd");
     let wrapper = dir.join("rerun");
@@ -212,10 +213,9 @@ fn spawn_starts_a_viewer_process_and_streams_to_it() {
             .status()
             .is_ok_and(|s| s.success())
     };
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
-    while running() && std::time::Instant::now() < deadline {
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
+    gapfleet_tests::wait_until(std::time::Duration::from_secs(5), || {
+        (!running()).then_some(())
+    });
     if running() {
         let _ = Command::new("pkill")
             .args(["-KILL", "-f", &viewer])
@@ -240,7 +240,6 @@ fn spawn_starts_a_viewer_process_and_streams_to_it() {
             String::from_utf8_lossy(&print.stderr)
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// In the narrow warehouse the dashboard draws the traffic policy: the one-way segments with
@@ -249,7 +248,8 @@ fn spawn_starts_a_viewer_process_and_streams_to_it() {
 /// series. `rerun rrd print -vvv` lists the logged values.
 #[test]
 fn narrow_warehouse_rrd_shows_reserved_segments_and_grants() {
-    let dir = std::env::temp_dir().join(format!("gapfleet-traffic-rrd-{}", std::process::id()));
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let dir = tmp.path().join("recordings");
     std::fs::create_dir_all(&dir).expect("temp dir");
     let rrd = dir.join("narrow.rrd");
     record_demo(
@@ -291,5 +291,4 @@ fn narrow_warehouse_rrd_shows_reserved_segments_and_grants() {
         .lines()
         .any(|l| l.contains("seg ") && (l.contains("→ in: ") || l.contains("← in: ")));
     assert!(reserved, "no segment drawn as reserved with robots inside");
-    let _ = std::fs::remove_dir_all(&dir);
 }

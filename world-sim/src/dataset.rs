@@ -558,7 +558,8 @@ mod tests {
 
     #[test]
     fn malformed_files_are_reported_with_their_path() {
-        let dir = std::env::temp_dir().join(format!("gapfleet-dataset-{}", std::process::id()));
+        let tmp = tempfile::tempdir().expect("a temporary folder");
+        let dir = tmp.path().join("dataset");
         std::fs::create_dir_all(&dir).expect("temp dir");
         let missing = Recording::load(&dir).expect_err("no obsmat.txt");
         assert!(missing.to_string().contains("obsmat.txt"), "{missing}");
@@ -603,7 +604,6 @@ mod tests {
         let off = Recording::load(&dir).expect("set aside");
         assert!(!off.destinations_from_file);
         assert_eq!(off.destinations, vec![Vec2::new(4.0, 0.0)]);
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

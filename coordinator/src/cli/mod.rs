@@ -229,7 +229,8 @@ mod tests {
     /// (the demo's own 8, 40 and 1 always won). A scenario's values hold unless a flag is given.
     #[test]
     fn demo_takes_the_scenarios_counts_unless_flags_override_them() {
-        let dir = std::env::temp_dir().join(format!("gapfleet-cli-{}", std::process::id()));
+        let tmp = tempfile::tempdir().expect("a temporary folder");
+        let dir = tmp.path().join("scenarios");
         std::fs::create_dir_all(&dir).expect("temp dir");
         let file = dir.join("busy.toml");
         let builtin = concat!(
@@ -267,7 +268,6 @@ mod tests {
         let s = args.scenario().expect("a warehouse");
         let w = s.warehouse.expect("warehouse table");
         assert_eq!((w.robots, w.humans, s.seed), (8, 40, 1));
-        std::fs::remove_dir_all(&dir).expect("clean up");
     }
 
     /// Every robot a valid scenario may have fits on the wire.

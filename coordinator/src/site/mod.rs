@@ -462,10 +462,11 @@ fn client_config(tls: &Tls, user: &Credentials, endpoint: &str) -> Value {
 mod tests {
     use super::*;
 
-    fn temp_dir(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("gapfleet-site-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        dir
+    /// A folder named `name` (not yet there) in a temporary folder removed when dropped.
+    fn temp_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
+        let tmp = tempfile::tempdir().expect("a temporary folder");
+        let dir = tmp.path().join(name);
+        (tmp, dir)
     }
 
     /// Every file is written, secrets owner-only, every config parses as a Zenoh config with
@@ -473,7 +474,7 @@ mod tests {
     #[test]
     fn init_writes_a_site_zenoh_accepts() {
         use std::os::unix::fs::PermissionsExt;
-        let dir = temp_dir("init");
+        let (_tmp, dir) = temp_dir("init");
         let paths = init(&dir, &SiteSpec::loopback("unit", 3, 7447)).expect("a site");
         for config in [
             paths.coordinator_config(),
@@ -510,12 +511,11 @@ mod tests {
             init(&dir, &SiteSpec::loopback("unit", 3, 7447)),
             Err(SiteError::NotEmpty(_))
         ));
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
     fn bad_specs_are_refused_with_the_reason() {
-        let dir = temp_dir("bad");
+        let (_tmp, dir) = temp_dir("bad");
         let mut spec = SiteSpec::loopback("unit", 3, 7447);
         spec.endpoint = "tcp/127.0.0.1:7447".to_owned();
         let err = init(&dir, &spec)

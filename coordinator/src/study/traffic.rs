@@ -754,7 +754,8 @@ mod tests {
         let cells = summarize(&study, &runs);
         assert_eq!(cells.len(), 4);
         assert!(cells.iter().all(|c| c.runs == 1));
-        let dir = std::env::temp_dir().join(format!("gapfleet-traffic-{}", std::process::id()));
+        let tmp = tempfile::tempdir().expect("a temporary folder");
+        let dir = tmp.path().join("study");
         write_outputs(&dir, &study, &runs).expect("written");
         for f in ["runs.csv", "summary.json", "summary.md", "throughput.png"] {
             assert!(dir.join(f).is_file(), "{f}");
@@ -762,7 +763,6 @@ mod tests {
         let csv = std::fs::read_to_string(dir.join("runs.csv")).expect("read");
         assert_eq!(csv.lines().count(), 5, "{csv}");
         assert_eq!(parse_runs(&csv).expect("its own runs.csv"), runs);
-        std::fs::remove_dir_all(&dir).expect("clean up");
         // Runs found in an earlier runs.csv are taken from it, the rest are run.
         let mut earlier = runs[0].clone();
         earlier.tasks = 999;
