@@ -380,8 +380,16 @@ pub fn recover(dir: &Path) -> Result<Recovery, JournalError> {
     };
     let snapshot = snapshot_files::newest_intact(dir);
     let from_snapshot = |kept: PathBuf, what: String, file: snapshot_files::SnapshotFile| {
+        // The snapshot must restore in its run's scenario before anything is changed.
+        let scenario = file.header.scenario.scenario()?;
+        let fleet = Fleet::restore(&scenario, &file.fleet).map_err(|e| {
+            JournalError::Record(format!(
+                "snapshot file {}: {e}. Nothing was changed",
+                file.path.display()
+            ))
+        })?;
         std::fs::rename(&path, &kept).map_err(io)?;
-        begin_at_snapshot(&path, &file, &kept)?;
+        begin_at_snapshot(&path, &file, fleet.world.time, &kept)?;
         Ok(Recovery::FromSnapshot {
             kept,
             snapshot: file.path,
@@ -420,17 +428,14 @@ pub fn recover(dir: &Path) -> Result<Recovery, JournalError> {
     }
 }
 
-/// Writes a new journal at `path` that begins at the snapshot `file` (its run's header, the
-/// snapshot as where it starts, and an event saying so).
+/// Writes a new journal at `path` that begins at the snapshot `file`, taken at simulated time
+/// `sim_time` (its run's header, the snapshot as where it starts, and an event saying so).
 fn begin_at_snapshot(
     path: &Path,
     file: &snapshot_files::SnapshotFile,
+    sim_time: f64,
     kept: &Path,
 ) -> Result<(), JournalError> {
-    // The snapshot must restore in its run's scenario before a journal is begun on it.
-    let scenario = file.header.scenario.scenario()?;
-    let fleet = Fleet::restore(&scenario, &file.fleet)
-        .map_err(|e| JournalError::Record(format!("snapshot file {}: {e}", file.path.display())))?;
     let db = redb::Database::create(path).map_err(db_err(path, "create"))?;
     let txn = db.begin_write().map_err(db_err(path, "begin"))?;
     {
@@ -446,7 +451,7 @@ fn begin_at_snapshot(
             .map_err(db_err(path, "open events"))?;
         let event = EventRecord {
             tick: file.ticks,
-            sim_time: fleet.world.time,
+            sim_time,
             event: format!(
                 "journal begun at the snapshot of tick {} ({}); the damaged journal is kept at {}",
                 file.ticks,
