@@ -15,13 +15,14 @@ pub struct NetArgs {
     /// Endpoint to listen on, e.g. tcp/0.0.0.0:7447 (repeatable).
     #[arg(long, value_name = "ENDPOINT")]
     pub listen: Vec<String>,
-    /// Zenoh mode: client, peer or router (default: the config file's, else the process's).
-    #[arg(long, value_name = "MODE")]
-    pub mode: Option<String>,
+    /// Zenoh mode (default: the config file's, else the process's).
+    #[arg(long, value_name = "MODE", value_enum)]
+    pub mode: Option<Role>,
 }
 
-/// The role a session plays when nothing else says.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The role a session plays (Zenoh's mode): `--mode`, or the process's own when nothing else
+/// says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Role {
     /// A client of a router (the coordinator's session, or `zenohd`): agents, and a
     /// coordinator behind routers. Zenoh routers do not relay between peers of one subsystem
@@ -35,7 +36,8 @@ pub enum Role {
 }
 
 impl Role {
-    fn as_str(self) -> &'static str {
+    /// The mode's name in a Zenoh config (`mode`).
+    pub fn as_str(self) -> &'static str {
         match self {
             Role::Client => "client",
             Role::Router => "router",
@@ -181,8 +183,8 @@ pub fn config(args: &NetArgs, default_role: Role) -> Result<zenoh::Config, Confi
         Some(path) => from_file(path)?,
         None => fleet_base(default_role)?,
     };
-    if let Some(mode) = &args.mode {
-        set(&mut config, "mode", &format!("{mode:?}"))?;
+    if let Some(mode) = args.mode {
+        set(&mut config, "mode", &format!("{:?}", mode.as_str()))?;
     }
     if !args.connect.is_empty() {
         set(&mut config, "connect/endpoints", &json_list(&args.connect))?;

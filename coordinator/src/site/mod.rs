@@ -21,6 +21,7 @@
 pub mod acl;
 mod certs;
 
+use agent::runtime::net::Role;
 use schemas::Keys;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -380,11 +381,11 @@ struct Credentials {
 
 /// What every gapfleet session sets: no multicast scouting, the fleet's publications batched
 /// (see [`agent::runtime::net::FLEET_QOS`]).
-fn common(mode: &str) -> Value {
+fn common(mode: Role) -> Value {
     let qos: Value =
         serde_json::from_str(agent::runtime::net::FLEET_QOS).expect("FLEET_QOS is a JSON constant");
     json!({
-        "mode": mode,
+        "mode": mode.as_str(),
         "scouting": { "multicast": { "enabled": false } },
         "qos": { "publication": qos },
     })
@@ -442,7 +443,7 @@ fn routing_config(
     dictionary: &Path,
     access: &Value,
 ) -> Value {
-    let mut config = common("router");
+    let mut config = common(Role::Router);
     config["listen"] = json!({ "endpoints": [listen] });
     config["transport"] = transport(tls, user, Some(dictionary));
     config["access_control"] = access.clone();
@@ -452,7 +453,7 @@ fn routing_config(
 /// A client of the routing process: connects over TLS with its certificate and checks the
 /// router's name against the endpoint's host; waits for the router however long it takes.
 fn client_config(tls: &Tls, user: &Credentials, endpoint: &str) -> Value {
-    let mut config = common("client");
+    let mut config = common(Role::Client);
     config["connect"] = json!({ "endpoints": [endpoint], "timeout_ms": -1 });
     config["transport"] = transport(tls, user, None);
     config
