@@ -630,17 +630,9 @@ pub async fn run_coordinator(
     if let Some(journal) = &c.config.journal {
         // The world as the journal's records leave it: held flags changed since the last
         // tick (robots held at a start with no tick after it, say) are in no record yet.
-        let now: Vec<bool> = (0..n).map(|i| c.fleet.is_held(i)).collect();
-        for (i, &held) in c.journal_held.iter().enumerate() {
-            c.fleet.set_held(i, held);
-        }
-        let fingerprint = journal::fingerprint(&c.fleet);
-        for (i, held) in now.into_iter().enumerate() {
-            c.fleet.set_held(i, held);
-        }
         journal.end(journal::End {
             ticks: c.status.tick,
-            fingerprint,
+            fingerprint: journal::fingerprint_with_held(&c.fleet, &c.journal_held),
             tasks_done: c.status.tasks_done,
             lost: 0,
         });

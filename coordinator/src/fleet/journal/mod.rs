@@ -51,7 +51,7 @@ use ledger::task_of;
 pub use ledger::{TaskRecord, ledger_step};
 use read::read_db;
 pub use read::{Integrity, Recorded, read};
-pub use replay::{Replayed, fingerprint, replay, resume};
+pub use replay::{Replayed, fingerprint, fingerprint_with_held, replay, resume};
 
 const META: TableDefinition<&str, &[u8]> = TableDefinition::new("meta");
 const TICKS: TableDefinition<u64, &[u8]> = TableDefinition::new("ticks");

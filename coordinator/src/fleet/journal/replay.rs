@@ -8,6 +8,14 @@ use super::*;
 /// pose, velocity, held flag, tasks done and path length, and every person's position and
 /// velocity.
 pub fn fingerprint(fleet: &Fleet) -> u64 {
+    let held: Vec<bool> = (0..fleet.robots()).map(|i| fleet.is_held(i)).collect();
+    fingerprint_with_held(fleet, &held)
+}
+
+/// [`fingerprint`] with the robots' held flags taken from `held` rather than the fleet: the
+/// world as the journal's records leave it, when flags changed since the last tick are in no
+/// record yet.
+pub fn fingerprint_with_held(fleet: &Fleet, held: &[bool]) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325_u64;
     let mut eat = |x: u64| {
         for b in x.to_le_bytes() {
@@ -26,7 +34,7 @@ pub fn fingerprint(fleet: &Fleet) -> u64 {
         ] {
             eat(x.to_bits());
         }
-        eat(u64::from(fleet.is_held(i)));
+        eat(u64::from(held.get(i).copied().unwrap_or(false)));
         eat(fleet.tasks_done(i));
         eat(fleet.metrics(i).path_length_m.to_bits());
     }
