@@ -7,12 +7,19 @@
 # (src/decode.rs) instrumented, and fuzzes for SECONDS (default 60) from seeds/ (the sample
 # messages), ../tests/fuzz-corpus/ (hand-made hard shapes) and corpus/ (what earlier runs kept).
 # Prints AFL++'s figures and exits 1 if any input crashed the harness (a panic, or a message that
-# does not round-trip); the crashing inputs are left in OUT/default/crashes/.
+# does not round-trip); the crashing inputs are left in OUT/default/crashes/. Without OUT, the
+# output goes to a temporary folder, removed when nothing crashed.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 seconds="${1:-60}"
-out="${2:-$(mktemp -d)/afl-out}"
-mkdir -p "$(dirname "$out")"
+if [ -n "${2:-}" ]; then
+    out="$2"
+    mkdir -p "$(dirname "$out")"
+else
+    # A folder of its own, removed after a run that found nothing.
+    scratch="$(mktemp -d)"
+    out="$scratch/afl-out"
+fi
 export CARGO_TARGET_DIR="${GAPFLEET_FUZZ_TARGET:-$HOME/.cache/gapfleet-fuzz-target}"
 
 if ! cargo afl --version 2>/dev/null | grep -q "0\.18\.2"; then
@@ -39,8 +46,9 @@ stats="$out/default/fuzzer_stats"
 field() { awk -F' *: *' -v k="$1" '$1 == k { print $2 }' "$stats"; }
 echo "AFL++ on schemas::decode, ${seconds} s: $(field execs_done) execs ($(field execs_per_sec)/s)," \
     "$(field corpus_count) inputs kept, edges $(field edges_found) of $(field total_edges)" \
-    "($(field bitmap_cvg)), $(field saved_crashes) crashes, $(field saved_hangs) hangs; out: $out"
+    "($(field bitmap_cvg)), $(field saved_crashes) crashes, $(field saved_hangs) hangs${2:+; out: $out}"
 if [ "$(field saved_crashes)" != "0" ]; then
     ls "$out"/default/crashes/ >&2
     exit 1
 fi
+if [ -n "${scratch:-}" ]; then rm -rf "$scratch"; fi
