@@ -299,12 +299,12 @@ pub async fn bench_soak(
     let pending_end = pending.clone();
     let mut next_cut = started + window;
     let windows_in = windows.clone();
-    let last_rss = Arc::new(Mutex::new((0.0f64, 0.0f64, 0u32)));
-    let last_rss_in = last_rss.clone();
+    let last_memory = Arc::new(Mutex::new((0.0f64, 0.0f64, 0u32)));
+    let last_memory_in = last_memory.clone();
     let last_state = Arc::new(Mutex::new(0.0f64));
     let last_state_in = last_state.clone();
     let on_status = move |s: &crate::fleet::Status, fleet: &world_sim::fleet::Fleet| {
-        if let Ok(mut r) = last_rss_in.lock() {
+        if let Ok(mut r) = last_memory_in.lock() {
             *r = memory();
         }
         if Instant::now() < next_cut {
@@ -347,7 +347,7 @@ pub async fn bench_soak(
     // the sessions are closed).
     let trips = pending_end.lock().map(|p| p.clone()).unwrap_or_default();
     if !trips.is_empty() {
-        let (rss_mib, anon_mib, threads) = last_rss.lock().map_or((0.0, 0.0, 0), |r| *r);
+        let (rss_mib, anon_mib, threads) = last_memory.lock().map_or((0.0, 0.0, 0), |r| *r);
         windows.push(SoakWindow {
             wall_s: started.elapsed().as_secs_f64(),
             ticks: report.status.tick,
