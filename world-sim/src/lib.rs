@@ -11,6 +11,7 @@ pub mod dataset;
 pub mod efficiency;
 pub mod episode;
 pub mod fleet;
+pub mod floor_plan;
 pub mod impact;
 pub mod metrics;
 pub mod replay;

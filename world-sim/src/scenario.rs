@@ -31,6 +31,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "warehouse-large",
         include_str!("../scenarios/warehouse-large.toml"),
     ),
+    (
+        "aws-small-warehouse",
+        include_str!("../scenarios/aws-small-warehouse.toml"),
+    ),
 ];
 
 /// Why a scenario could not be used.
@@ -56,7 +60,7 @@ pub enum ScenarioError {
     },
     /// No built-in scenario of that name.
     #[error(
-        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, hallway-fleet, warehouse, warehouse-narrow, warehouse-large, or give a path to a .toml file"
+        "unknown scenario {0:?}; built in: open-space, open-space-walled, hallway, hallway-fleet, warehouse, warehouse-narrow, warehouse-large, aws-small-warehouse, or give a path to a .toml file"
     )]
     Unknown(String),
 }
@@ -79,6 +83,8 @@ pub struct Scenario {
     pub hallway: Option<Hallway>,
     /// A procedural warehouse with pick/drop tasks.
     pub warehouse: Option<Warehouse>,
+    /// A site from a real floor plan (a Nav2 map) with pick/drop tasks.
+    pub floor_plan: Option<FloorPlanSpec>,
     /// The people.
     pub humans: Humans,
     /// The robots' bodies and sensors.
@@ -165,6 +171,40 @@ pub struct Warehouse {
     pub max_group_size: usize,
     /// Number of robots (≥ 1); they start along the bottom corridor.
     pub robots: usize,
+}
+
+/// A fleet site from a real floor plan (`world_sim::floor_plan`): a Nav2 map's walls and
+/// shelves, and the stations this table names. People walk between the stations in groups;
+/// robots do pick/drop tasks, starting near the docks.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorPlanSpec {
+    /// A built-in map's name (`aws-small-warehouse`), or the path of a Nav2 map.yaml,
+    /// relative to the scenario file's folder.
+    pub map: String,
+    /// Number of robots (≥ 1).
+    pub robots: usize,
+    /// Number of people.
+    pub humans: usize,
+    /// Groups have 1 to this many members.
+    pub max_group_size: usize,
+    /// Where goods are picked and dropped, in the map's frame.
+    pub stations: Vec<StationSpec>,
+    /// The map, loaded when the scenario is read.
+    #[serde(skip)]
+    pub plan: Option<std::sync::Arc<crate::floor_plan::FloorPlan>>,
+}
+
+/// One station of a floor plan.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StationSpec {
+    /// A name for reports and errors.
+    pub name: String,
+    /// `"dock"` (goods dropped) or `"pick"` (goods picked).
+    pub kind: crate::warehouse::StationKind,
+    /// Where robots stop: x and y in the map's frame (m).
+    pub at: [Real; 2],
 }
 
 /// The simulated people.
@@ -358,10 +398,24 @@ fn yes() -> bool {
 impl Scenario {
     /// Parses and validates TOML text; `source_name` names it in errors.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self, ScenarioError> {
-        let scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
+        let mut scenario: Scenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
             source_name: source_name.to_string(),
             message: e.to_string(),
         })?;
+        if let Some(plan) = &mut scenario.floor_plan {
+            // A map's path is relative to the scenario file's folder.
+            let folder = std::path::Path::new(source_name)
+                .parent()
+                .unwrap_or(std::path::Path::new("."));
+            let loaded = crate::floor_plan::FloorPlan::load(&plan.map, folder).map_err(|e| {
+                ScenarioError::Invalid {
+                    source_name: source_name.to_string(),
+                    field: "floor_plan.map".to_owned(),
+                    reason: e.to_string(),
+                }
+            })?;
+            plan.plan = Some(std::sync::Arc::new(loaded));
+        }
         scenario.validate(source_name)?;
         Ok(scenario)
     }
@@ -369,6 +423,9 @@ impl Scenario {
     /// A fleet site's robot and people counts: a warehouse's, or a fleet hallway's (`[hallway]`
     /// with `robots`); `None` for the other layouts.
     pub fn fleet_size(&self) -> Option<(usize, usize)> {
+        if let Some(f) = &self.floor_plan {
+            return Some((f.robots, f.humans));
+        }
         match (&self.warehouse, &self.hallway) {
             (Some(w), _) => Some((w.robots, w.humans)),
             (None, Some(h)) => h.robots.map(|r| (r, h.humans)),
@@ -378,8 +435,9 @@ impl Scenario {
 
     /// Sets a fleet site's counts (`None` keeps one); false when the scenario is no fleet site.
     pub fn set_fleet_size(&mut self, robots: Option<usize>, humans: Option<usize>) -> bool {
-        let (r, h) = match (&mut self.warehouse, &mut self.hallway) {
-            (Some(w), _) => (&mut w.robots, &mut w.humans),
+        let (r, h) = match (&mut self.warehouse, &mut self.hallway, &mut self.floor_plan) {
+            (_, _, Some(f)) => (&mut f.robots, &mut f.humans),
+            (Some(w), _, None) => (&mut w.robots, &mut w.humans),
             (
                 None,
                 Some(Hallway {
@@ -387,6 +445,7 @@ impl Scenario {
                     humans,
                     ..
                 }),
+                None,
             ) => (r, humans),
             _ => return false,
         };
@@ -429,12 +488,13 @@ impl Scenario {
             ("open_space", self.open_space.is_some()),
             ("hallway", self.hallway.is_some()),
             ("warehouse", self.warehouse.is_some()),
+            ("floor_plan", self.floor_plan.is_some()),
         ];
         let given: Vec<&str> = layouts.iter().filter(|l| l.1).map(|l| l.0).collect();
         if given.is_empty() {
             return bad(
                 "open_space",
-                "is missing: a scenario needs one layout table ([open_space], [hallway] or [warehouse])",
+                "is missing: a scenario needs one layout table ([open_space], [hallway], [warehouse] or [floor_plan])",
             );
         }
         if given.len() > 1 {
@@ -549,6 +609,10 @@ impl Scenario {
         }
         if let Err((field, reason)) = r.safety_layer.validate() {
             return bad(&format!("robot.safety_layer.{field}"), &reason);
+        }
+        if let Some(plan) = &self.floor_plan {
+            plan.validate(r.radius_m)
+                .map_or(Ok(()), |(field, reason)| bad(&field, &reason))?;
         }
         Ok(())
     }

@@ -454,6 +454,7 @@ impl TrafficPolicy {
     /// Takes the shelves and walls a snapshot leaves out from the site.
     pub(crate) fn adopt_static(&mut self, site: &Site) {
         self.map = site.map();
+        self.lanes.site.adopt_router(site);
     }
 
     /// The one-way segments.

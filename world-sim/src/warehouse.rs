@@ -16,16 +16,19 @@
 //! is at most: along a corridor to a cross-aisle, along it to the target corridor, along that.
 //! Shelf ends at every crossing are blind corners: shelves block line of sight.
 
-use crate::scenario::Warehouse as Spec;
+use crate::scenario::{FloorPlanSpec, Warehouse as Spec};
 use agent::map::{Obstacle, StaticMap};
 use agent::math::{Real, Vec2, vec2};
 
 /// What a station is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum StationKind {
-    /// A shelf face in an aisle or the top corridor, where goods are picked.
+    /// A shelf face in an aisle or the top corridor, where goods are picked (`"pick"` in a
+    /// floor plan's table).
+    #[serde(alias = "pick")]
     Pick,
-    /// A dock on the bottom corridor, where goods are dropped.
+    /// A dock on the bottom corridor, where goods are dropped (`"dock"`).
+    #[serde(alias = "dock")]
     Dock,
 }
 
@@ -65,10 +68,11 @@ impl Segment {
     }
 }
 
-/// A generated warehouse: geometry, stations and the corridor grid used for routing.
+/// A fleet site: geometry, stations and what routes are made on: the corridor grid of a
+/// generated warehouse or hallway, or a floor plan's router.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Site {
-    /// Outer size (width along x, height along y), metres.
+    /// Outer size (width along x, height along y), metres, from [`Site::origin`].
     pub size: Vec2,
     /// Shelves (as polygons) and the perimeter walls.
     pub obstacles: Vec<Obstacle>,
@@ -78,6 +82,13 @@ pub struct Site {
     corridors: Vec<(Real, Real)>,
     /// x of each cross-aisle's centre line, left to right, with its half width.
     cross_aisles: Vec<(Real, Real)>,
+    /// The lower-left corner: (0, 0) for generated sites, a floor plan's map origin.
+    #[serde(default)]
+    pub origin: Vec2,
+    /// A floor plan's routes (none on a generated site). Not in snapshots: a restored fleet
+    /// takes it from the scenario's ([`Site::adopt_router`]).
+    #[serde(skip)]
+    router: Option<std::sync::Arc<crate::floor_plan::router::Router>>,
 }
 
 impl Site {
@@ -141,7 +152,46 @@ impl Site {
             stations,
             corridors,
             cross_aisles,
+            origin: Vec2::zeros(),
+            router: None,
         }
+    }
+
+    /// The site of a floor plan (`[floor_plan]`) for robots of `radius`: the map's solid
+    /// cells as obstacles, the table's stations (docks first), routes from the map's free
+    /// space. `None` before the map is loaded.
+    pub fn floor_plan(spec: &FloorPlanSpec, radius: Real) -> Option<Self> {
+        let plan = spec.plan.as_ref()?;
+        let g = &plan.grid;
+        let stations = spec
+            .stations()
+            .into_iter()
+            .enumerate()
+            .map(|(id, (position, kind))| Station { id, position, kind })
+            .collect();
+        Some(Self {
+            size: g.far_corner() - g.origin,
+            obstacles: plan.obstacles.clone(),
+            stations,
+            corridors: Vec::new(),
+            cross_aisles: Vec::new(),
+            origin: g.origin,
+            router: spec.router(radius),
+        })
+    }
+
+    /// Takes `built`'s floor-plan router (a snapshot leaves it out).
+    pub fn adopt_router(&mut self, built: &Site) {
+        self.router.clone_from(&built.router);
+    }
+
+    /// Whether a body of `radius` at `p` can walk to the site's stations: everywhere on a
+    /// generated site; on a floor plan, where the router reaches the first station from a
+    /// point in sight of `p`.
+    pub fn walkable(&self, p: Vec2, radius: Real) -> bool {
+        self.router
+            .as_ref()
+            .is_none_or(|r| r.clearance(p) >= radius && r.reaches(0, p))
     }
 
     /// A fleet hallway (`[hallway]` with robots): one corridor `length` by `width` with closed
@@ -171,6 +221,8 @@ impl Site {
             stations,
             corridors: vec![(width / 2.0, width / 2.0)],
             cross_aisles: Vec::new(),
+            origin: Vec2::zeros(),
+            router: None,
         }
     }
 
@@ -221,8 +273,12 @@ impl Site {
     }
 
     /// Waypoints from `from` to `to` through the corridor grid, ending with `to`. Each leg is a
-    /// straight line inside one corridor or cross-aisle.
+    /// straight line inside one corridor or cross-aisle; on a floor plan, one that keeps the
+    /// body clear of walls ([`crate::floor_plan::router::Router::route`]).
     pub fn route(&self, from: Vec2, to: Vec2) -> Vec<Vec2> {
+        if let Some(router) = &self.router {
+            return router.route(from, to);
+        }
         let (fc, tc) = (self.corridor_of(from), self.corridor_of(to));
         let (fa, ta) = (self.cross_aisle_of(from), self.cross_aisle_of(to));
         let shared_corridor = matches!((fc, tc), (Some(a), Some(b)) if a == b);
@@ -365,6 +421,9 @@ impl Site {
 
     /// Free floor area (m²): the site minus its shelves.
     pub fn free_area(&self) -> Real {
+        if let Some(router) = &self.router {
+            return router.free_area();
+        }
         let shelves: Real = self
             .obstacles
             .iter()

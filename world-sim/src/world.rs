@@ -99,6 +99,9 @@ impl World {
     pub(crate) fn adopt_static(&mut self, built: &World) {
         self.map = built.map.clone();
         self.walls = built.walls.clone();
+        if let (Some(site), Some(b)) = (&mut self.site, &built.site) {
+            site.adopt_router(b);
+        }
     }
 }
 

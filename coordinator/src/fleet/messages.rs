@@ -4,7 +4,7 @@
 use super::links::Link;
 use super::status::Status;
 use agent::map::{LocalMap, StaticMap};
-use agent::math::{Real, vec2};
+use agent::math::Real;
 use agent::runtime::wire;
 use schemas::{
     FleetMetrics, Observation, RobotRow, StationMsg, StuckCausesMsg, TaskRef, TaskStage,
@@ -113,7 +113,7 @@ fn unversioned_map(fleet: &Fleet) -> schemas::MapMsg {
         })
         .collect();
     let map: &StaticMap = &fleet.world.map;
-    wire::map_to_wire(map, 0, stations, [vec2(0.0, 0.0), site.size])
+    wire::map_to_wire(map, 0, stations, [site.origin, site.origin + site.size])
 }
 
 /// The fleet metrics frame published once per simulated second.

@@ -90,6 +90,7 @@ impl Fleet {
         if site_bytes(&restored) != site_bytes(&built) {
             return Err(mismatch("another site layout".to_owned()));
         }
+        restored.site.adopt_router(&built.site);
         restored.world.adopt_static(&built.world);
         if let Some(impact) = &mut restored.impact {
             impact.adopt_static(&built.world);

@@ -50,6 +50,17 @@ impl World {
             }
             return world;
         }
+        if let Some(plan) = &scenario.floor_plan
+            && let Some(site) = Site::floor_plan(plan, scenario.robot.radius_m)
+        {
+            let robots = plan
+                .starts(scenario.robot.radius_m)
+                .into_iter()
+                .map(|p| (p, p))
+                .collect();
+            let layout = site_layout(scenario, &site, robots, plan.humans, plan.max_group_size);
+            return Self::build_with_site(scenario, layout, Some(site));
+        }
         if let Some(spec) = &scenario.warehouse {
             let site = Site::generate(spec);
             let robots = in_a_row(spec.robots, site.size.x, site.stations[0].position.y);
@@ -121,6 +132,7 @@ impl World {
                 if !layout.avoid_obstacles
                     || layout.map.distance(&centre) >= h.radius_m + 0.05
                         && !layout.map.is_inside(&centre)
+                        && site.as_ref().is_none_or(|s| s.walkable(centre, h.radius_m))
                 {
                     break;
                 }
@@ -154,7 +166,8 @@ impl World {
                             .all(|s| (p - s).norm() >= layout.robot_clearance)
                         && (!layout.avoid_obstacles
                             || (!layout.map.is_inside(&p)
-                                && layout.map.distance(&p) >= h.radius_m + 0.05));
+                                && layout.map.distance(&p) >= h.radius_m + 0.05
+                                && site.as_ref().is_none_or(|s| s.walkable(p, h.radius_m))));
                     if inside && free {
                         placed = Some(p);
                         break;
@@ -315,8 +328,8 @@ fn site_layout(
 ) -> Layout {
     let margin = scenario.humans.radius_m + 0.05;
     Layout {
-        spawn_min: vec2(margin, margin),
-        spawn_max: site.size - vec2(margin, margin),
+        spawn_min: site.origin + vec2(margin, margin),
+        spawn_max: site.origin + site.size - vec2(margin, margin),
         map: site.map(),
         robots,
         // Unused while people walk between the site's stations.

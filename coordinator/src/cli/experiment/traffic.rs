@@ -34,6 +34,10 @@ pub struct TrafficArgs {
     /// default) for none.
     #[arg(long, default_value = "", value_parser = fleet_sizes)]
     warehouse_fleets: FleetSizes,
+    /// Another site with its fleet sizes, as `SCENARIO=4,8,16`: a built-in scenario (e.g.
+    /// `aws-small-warehouse`, the real floor plan) or a scenario file. Repeat for several.
+    #[arg(long = "site", value_parser = site_fleets)]
+    sites: Vec<SiteFleets>,
     /// The traffic policy off, on, or both (`off,on`), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "off,on", value_parser = on_off)]
     policy: Vec<bool>,
@@ -80,6 +84,25 @@ fn fleet_sizes(s: &str) -> Result<FleetSizes, String> {
         .map(FleetSizes)
 }
 
+/// A scenario and its fleet sizes (`--site`).
+#[derive(Debug, Clone)]
+struct SiteFleets {
+    scenario: crate::cli::ScenarioRef,
+    fleets: Vec<usize>,
+}
+
+fn site_fleets(s: &str) -> Result<SiteFleets, String> {
+    let (name, sizes) = s
+        .rsplit_once('=')
+        .ok_or_else(|| format!("`{s}` is not SCENARIO=SIZES (e.g. aws-small-warehouse=4,8,16)"))?;
+    let fleets = fleet_sizes(sizes)?.0;
+    if fleets.is_empty() {
+        return Err(format!("`{s}` gives no fleet sizes"));
+    }
+    let scenario = name.parse().map_err(|e: anyhow::Error| format!("{e:#}"))?;
+    Ok(SiteFleets { scenario, fleets })
+}
+
 /// `on` or `off`.
 fn on_off(s: &str) -> Result<bool, String> {
     match s {
@@ -92,19 +115,33 @@ fn on_off(s: &str) -> Result<bool, String> {
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: TrafficArgs) -> Result<()> {
     let mut sites = Vec::new();
-    for (name, fleets) in [
+    let named = [
         ("warehouse", args.warehouse_fleets.0),
         ("warehouse-narrow", args.narrow_fleets.0),
         ("hallway-fleet", args.hallway_fleets.0),
-    ] {
+    ]
+    .into_iter()
+    .map(|(name, fleets)| {
+        Ok::<_, anyhow::Error>((name.to_owned(), Scenario::builtin(name)?, fleets))
+    });
+    let more = args
+        .sites
+        .into_iter()
+        .map(|s| Ok((s.scenario.name, *s.scenario.scenario, s.fleets)));
+    for site in named.chain(more) {
+        let (name, mut scenario, fleets): (String, Scenario, Vec<usize>) = site?;
         if fleets.is_empty() {
             continue;
+        }
+        if scenario.fleet_size().is_none() {
+            bail!(
+                "{name} is not a fleet site (it needs a [warehouse] or [floor_plan] table, or a [hallway] with robots = N)"
+            );
         }
         let most = world_sim::scenario::MAX_ROBOTS;
         if let Some(&bad) = fleets.iter().find(|&&n| !(1..=most).contains(&n)) {
             bail!("fleet size {bad} for {name} is not in [1, {most}]");
         }
-        let mut scenario = Scenario::builtin(name)?;
         scenario.robot.safety_layer = scenario
             .robot
             .safety_layer
@@ -113,7 +150,7 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
         sites.push(traffic_study::Site { scenario, fleets });
     }
     if sites.is_empty() {
-        bail!("no fleet sizes given: --narrow-fleets and --hallway-fleets are both empty");
+        bail!("no fleet sizes given: --narrow-fleets, --hallway-fleets and --site are all empty");
     }
     if args.first_seed.checked_add(args.seeds).is_none() {
         bail!(

@@ -1,0 +1,586 @@
+//! Sites from real floor plans: a Nav2 map (its YAML and image, [`nav2`]) becomes the walls
+//! and shelves of a fleet site, and a scenario's `[floor_plan]` table names its stations.
+//!
+//! Every cell that is occupied or unknown is solid: people and robots keep to the free cells.
+//! The boundary between free and solid cells becomes walls ([`boundary_walls`]): only what
+//! faces the free space, straight runs joined, so a planner near a shelf sees its outline
+//! rather than its cells. Routes come from [`router::Router`]. Coordinates are the map
+//! frame's: a site from a floor plan does not start at (0, 0).
+
+pub mod nav2;
+pub mod router;
+
+use crate::scenario::FloorPlanSpec;
+use crate::warehouse::StationKind;
+use agent::map::Obstacle;
+use agent::math::{Real, Vec2, vec2};
+use nav2::{Cell, MapFileError, OccupancyGrid};
+use router::Router;
+use std::path::Path;
+use std::sync::{Arc, Mutex, PoisonError};
+
+/// Robots start at least this far (m) from each other and from every station.
+pub const START_SPACING_M: Real = 1.2;
+
+/// The maps shipped with gapfleet: name, YAML text, image file name, image bytes.
+pub const BUILTIN_MAPS: &[(&str, &str, &str, &[u8])] = &[(
+    "aws-small-warehouse",
+    include_str!("../../maps/aws-small-warehouse/map.yaml"),
+    "map_rotated.png",
+    include_bytes!("../../maps/aws-small-warehouse/map_rotated.png"),
+)];
+
+/// A loaded floor plan: the occupancy grid and the obstacles made from it.
+#[derive(Clone)]
+pub struct FloorPlan {
+    /// Where it came from: a built-in map's name or the YAML's path.
+    pub source: String,
+    /// The cells.
+    pub grid: OccupancyGrid,
+    /// The boundary of the free space as walls ([`boundary_walls`]).
+    pub obstacles: Vec<Obstacle>,
+    /// FNV-1a of the YAML text and the image bytes: two runs on the same fingerprint ran on
+    /// the same map.
+    pub fingerprint: u64,
+    /// The last router built, for the robot radius and stations it was built for: validating
+    /// a scenario and building its world need the same one.
+    router: Arc<Mutex<Option<CachedRouter>>>,
+}
+
+/// A router and the robot radius and stations it was built for.
+type CachedRouter = (Real, Vec<Vec2>, Arc<Router>);
+
+impl PartialEq for FloorPlan {
+    fn eq(&self, other: &Self) -> bool {
+        self.source == other.source
+            && self.fingerprint == other.fingerprint
+            && self.grid == other.grid
+    }
+}
+
+impl std::fmt::Debug for FloorPlan {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FloorPlan")
+            .field("source", &self.source)
+            .field("cells", &(self.grid.width, self.grid.height))
+            .field("resolution", &self.grid.resolution)
+            .field("origin", &self.grid.origin)
+            .field("obstacles", &self.obstacles.len())
+            .field("fingerprint", &format_args!("{:016x}", self.fingerprint))
+            .finish()
+    }
+}
+
+impl FloorPlan {
+    /// A built-in map by name, or a Nav2 map.yaml: a name ending in `.yaml` or `.yml` is a
+    /// path, taken relative to `folder`.
+    pub fn load(map: &str, folder: &Path) -> Result<Self, MapFileError> {
+        let is_path = map.ends_with(".yaml") || map.ends_with(".yml");
+        if !is_path {
+            let Some(&(name, yaml, image_name, image)) =
+                BUILTIN_MAPS.iter().find(|(n, ..)| *n == map)
+            else {
+                let known: Vec<&str> = BUILTIN_MAPS.iter().map(|m| m.0).collect();
+                return Err(MapFileError::Read {
+                    file: map.to_owned(),
+                    reason: format!(
+                        "is no built-in map ({}) nor a path to a .yaml file",
+                        known.join(", ")
+                    ),
+                });
+            };
+            let meta = nav2::MapYaml::parse(yaml, name)?;
+            let grid = meta.grid(image, image_name)?;
+            return Ok(Self::from_grid(
+                name.to_owned(),
+                grid,
+                fnv(&[yaml.as_bytes(), image]),
+            ));
+        }
+        let path = folder.join(map);
+        let (_, grid) = nav2::load(&path)?;
+        // The fingerprint reads the files again; they are small next to what was decoded.
+        let yaml = std::fs::read(&path).unwrap_or_default();
+        let image = nav2::MapYaml::parse(&String::from_utf8_lossy(&yaml), map)
+            .ok()
+            .and_then(|m| m.image_path(path.parent()?, map).ok())
+            .and_then(|p| std::fs::read(p).ok())
+            .unwrap_or_default();
+        Ok(Self::from_grid(
+            path.display().to_string(),
+            grid,
+            fnv(&[&yaml, &image]),
+        ))
+    }
+
+    /// The floor plan of `grid`.
+    pub fn from_grid(source: String, grid: OccupancyGrid, fingerprint: u64) -> Self {
+        let obstacles = boundary_walls(&grid);
+        Self {
+            source,
+            grid,
+            obstacles,
+            fingerprint,
+            router: Arc::default(),
+        }
+    }
+
+    /// The router for robots of `radius` with fields to `stations` (built once per radius
+    /// and stations).
+    pub fn router(&self, radius: Real, stations: &[Vec2]) -> Arc<Router> {
+        let mut cached = self.router.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some((r, s, router)) = cached.as_ref()
+            && *r == radius
+            && s == stations
+        {
+            return router.clone();
+        }
+        let router = Arc::new(Router::new(&self.grid, radius, stations));
+        *cached = Some((radius, stations.to_vec(), router.clone()));
+        router
+    }
+
+    /// Free floor (m²): the main floor's cells ([`main_floor`]).
+    pub fn free_area(&self) -> Real {
+        let free = main_floor(&self.grid).iter().filter(|&&f| f).count();
+        free as Real * self.grid.resolution * self.grid.resolution
+    }
+}
+
+impl FloorPlanSpec {
+    /// The stations' positions and kinds, docks first, each kind in the table's order.
+    pub fn stations(&self) -> Vec<(Vec2, StationKind)> {
+        let mut out: Vec<(Vec2, StationKind)> = self
+            .stations
+            .iter()
+            .map(|s| (vec2(s.at[0], s.at[1]), s.kind))
+            .collect();
+        out.sort_by_key(|s| s.1 != StationKind::Dock);
+        out
+    }
+
+    /// The router for robots of `radius`; `None` before the map is loaded.
+    pub fn router(&self, radius: Real) -> Option<Arc<Router>> {
+        let positions: Vec<Vec2> = self.stations().iter().map(|s| s.0).collect();
+        Some(self.plan.as_ref()?.router(radius, &positions))
+    }
+
+    /// Where `robots` robots of `radius` start: the roomiest places nearest the docks.
+    pub fn starts(&self, radius: Real) -> Vec<Vec2> {
+        let Some(router) = self.router(radius) else {
+            return Vec::new();
+        };
+        let stations = self.stations();
+        let docks: Vec<Vec2> = stations
+            .iter()
+            .filter(|s| s.1 == StationKind::Dock)
+            .map(|s| s.0)
+            .collect();
+        let all: Vec<Vec2> = stations.iter().map(|s| s.0).collect();
+        router.places_near(&docks, &all, self.robots, START_SPACING_M)
+    }
+
+    /// The first bad field and why, for robots of `radius`.
+    pub fn validate(&self, radius: Real) -> Option<(String, String)> {
+        let bad = |field: &str, reason: String| Some((format!("floor_plan.{field}"), reason));
+        if !(1..=crate::scenario::MAX_ROBOTS).contains(&self.robots) {
+            return bad("robots", "must be in [1, 4096]".to_owned());
+        }
+        if self.max_group_size == 0 {
+            return bad("max_group_size", "must be at least 1".to_owned());
+        }
+        let Some(plan) = &self.plan else {
+            return bad(
+                "map",
+                "was not loaded (read the scenario from its text)".to_owned(),
+            );
+        };
+        if self.stations.len() > 1000 {
+            return bad("stations", "has more than 1000 stations".to_owned());
+        }
+        for kind in [StationKind::Dock, StationKind::Pick] {
+            if !self.stations.iter().any(|s| s.kind == kind) {
+                return bad(
+                    "stations",
+                    format!("has no {kind:?} station").to_lowercase(),
+                );
+            }
+        }
+        let router = self.router(radius)?;
+        let g = &plan.grid;
+        let first = self.stations().first().map(|s| s.0)?;
+        let first_name = &self
+            .stations
+            .iter()
+            .find(|s| vec2(s.at[0], s.at[1]) == first)?
+            .name;
+        for (i, s) in self.stations.iter().enumerate() {
+            let field = format!("stations[{i}].at");
+            let p = vec2(s.at[0], s.at[1]);
+            if s.name.is_empty() || s.name.len() > 64 {
+                return bad(
+                    &format!("stations[{i}].name"),
+                    "must be 1 to 64 bytes".to_owned(),
+                );
+            }
+            let Some((x, y)) = g.cell_of(p) else {
+                let far = g.far_corner();
+                return bad(
+                    &field,
+                    format!(
+                        "({}, {}) of {:?} is off the map (x {} to {}, y {} to {})",
+                        p.x, p.y, s.name, g.origin.x, far.x, g.origin.y, far.y
+                    ),
+                );
+            };
+            match g.at(x, y) {
+                Cell::Occupied => {
+                    return bad(
+                        &field,
+                        format!("{:?} stands in a wall (an occupied cell)", s.name),
+                    );
+                }
+                Cell::Unknown => {
+                    return bad(&field, format!("{:?} stands in unmapped space", s.name));
+                }
+                Cell::Free => {}
+            }
+            if router.clearance(p) == 0.0 {
+                return bad(
+                    &field,
+                    format!(
+                        "{:?} is on free floor cut off from the map's main floor",
+                        s.name
+                    ),
+                );
+            }
+            if !router.fits(p) {
+                return bad(
+                    &field,
+                    format!(
+                        "{:?} is {:.2} m from the nearest wall; a robot of radius {radius} m needs {:.2} m",
+                        s.name,
+                        router.clearance(p),
+                        radius + router::PASS_MARGIN_M
+                    ),
+                );
+            }
+            if !router.reaches(0, p) {
+                return bad(
+                    &field,
+                    format!("{:?} cannot be reached from {first_name:?}", s.name),
+                );
+            }
+        }
+        let starts = self.starts(radius).len();
+        if starts < self.robots {
+            return bad(
+                "robots",
+                format!(
+                    "is {}, but the floor has room for {starts} to start near the docks",
+                    self.robots
+                ),
+            );
+        }
+        None
+    }
+}
+
+/// How far (in cells) a simplified wall may stray from the cells' boundary: under half a
+/// cell, so walls still separate every free cell's centre from every solid one's.
+const SIMPLIFY_CELLS: Real = 1.0;
+
+/// The boundary between free and solid cells (the map's edge counting as solid) as walls:
+/// the cells' edges chained into closed loops, each run counter-clockwise round the free
+/// space, straight runs joined and simplified (Douglas–Peucker, within [`SIMPLIFY_CELLS`]).
+pub fn boundary_walls(grid: &OccupancyGrid) -> Vec<Obstacle> {
+    let (w, h) = (grid.width, grid.height);
+    let floor = main_floor(grid);
+    let free = |x: isize, y: isize| {
+        x >= 0
+            && y >= 0
+            && (x as usize) < w
+            && (y as usize) < h
+            && floor[y as usize * w + x as usize]
+    };
+    // Directed unit edges between grid corners, free cell on the left.
+    let corner = |x: isize, y: isize| (y as usize) * (w + 1) + x as usize;
+    let mut out_edges: Vec<[u32; 2]> = vec![[u32::MAX; 2]; (w + 1) * (h + 1)];
+    let mut edges = 0_usize;
+    let mut add = |from: usize, to: usize| {
+        let slot = &mut out_edges[from];
+        if slot[0] == u32::MAX {
+            slot[0] = to as u32;
+        } else {
+            slot[1] = to as u32;
+        }
+        edges += 1;
+    };
+    for y in 0..h as isize {
+        for x in 0..w as isize {
+            if !free(x, y) {
+                continue;
+            }
+            if !free(x, y - 1) {
+                add(corner(x, y), corner(x + 1, y));
+            }
+            if !free(x + 1, y) {
+                add(corner(x + 1, y), corner(x + 1, y + 1));
+            }
+            if !free(x, y + 1) {
+                add(corner(x + 1, y + 1), corner(x, y + 1));
+            }
+            if !free(x - 1, y) {
+                add(corner(x, y + 1), corner(x, y));
+            }
+        }
+    }
+    let point = |c: usize| (c % (w + 1), c / (w + 1));
+    let mut walls = Vec::new();
+    for start in 0..out_edges.len() {
+        while out_edges[start][0] != u32::MAX {
+            // Follow a loop; where two edges leave a corner (solid cells touching at a
+            // corner only), turn left, round the free cell just passed.
+            let mut ring = vec![start];
+            let mut at = start;
+            let mut came: Option<usize> = None;
+            loop {
+                let slot = out_edges[at];
+                let pick = if slot[1] == u32::MAX {
+                    0
+                } else {
+                    let (ax, ay) = point(at);
+                    let (px, py) = point(came.unwrap_or(at));
+                    let din = (ax as isize - px as isize, ay as isize - py as isize);
+                    let (bx, by) = point(slot[0] as usize);
+                    let d0 = (bx as isize - ax as isize, by as isize - ay as isize);
+                    // Left of `din` is (-dy, dx).
+                    if d0 == (-din.1, din.0) { 0 } else { 1 }
+                };
+                let slot = &mut out_edges[at];
+                let next = slot[pick] as usize;
+                if pick == 0 {
+                    slot[0] = slot[1];
+                }
+                slot[1] = u32::MAX;
+                came = Some(at);
+                at = next;
+                if at == start {
+                    break;
+                }
+                ring.push(at);
+            }
+            let pts: Vec<Vec2> = ring
+                .iter()
+                .map(|&c| {
+                    let (x, y) = point(c);
+                    grid.origin + vec2(x as Real, y as Real) * grid.resolution
+                })
+                .collect();
+            let kept = simplify_ring(&pts, SIMPLIFY_CELLS * grid.resolution);
+            for i in 0..kept.len() {
+                walls.push(Obstacle::Wall(kept[i], kept[(i + 1) % kept.len()]));
+            }
+        }
+    }
+    walls
+}
+
+/// The largest 4-connected region of free cells (the first found of equal ones): the floor.
+/// Free pockets apart from it (inside shelving, behind walls) are unreachable and count as
+/// solid for the walls.
+pub fn main_floor(grid: &OccupancyGrid) -> Vec<bool> {
+    let (w, h) = (grid.width, grid.height);
+    let mut label = vec![u32::MAX; w * h];
+    let mut sizes = Vec::new();
+    let mut stack = Vec::new();
+    for seed in 0..w * h {
+        if grid.cells[seed] != Cell::Free || label[seed] != u32::MAX {
+            continue;
+        }
+        let id = sizes.len() as u32;
+        let mut size = 0_usize;
+        label[seed] = id;
+        stack.push(seed);
+        while let Some(c) = stack.pop() {
+            size += 1;
+            let (x, y) = (c % w, c / w);
+            let around = [
+                (x > 0).then(|| c - 1),
+                (x + 1 < w).then(|| c + 1),
+                (y > 0).then(|| c - w),
+                (y + 1 < h).then(|| c + w),
+            ];
+            for n in around.into_iter().flatten() {
+                if grid.cells[n] == Cell::Free && label[n] == u32::MAX {
+                    label[n] = id;
+                    stack.push(n);
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    let main = sizes
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(&a.0)))
+        .map(|(i, _)| i as u32);
+    label.into_iter().map(|l| Some(l) == main).collect()
+}
+
+/// A closed ring simplified by Douglas–Peucker within `tolerance`: split at its first point
+/// and the point farthest from it, each half simplified as an open line.
+fn simplify_ring(ring: &[Vec2], tolerance: Real) -> Vec<Vec2> {
+    if ring.len() <= 3 {
+        return ring.to_vec();
+    }
+    let far = (1..ring.len())
+        .max_by(|&a, &b| {
+            let (da, db) = ((ring[a] - ring[0]).norm(), (ring[b] - ring[0]).norm());
+            da.total_cmp(&db).then(b.cmp(&a))
+        })
+        .unwrap_or(1);
+    let mut keep = vec![false; ring.len()];
+    keep[0] = true;
+    keep[far] = true;
+    let closed: Vec<Vec2> = ring
+        .iter()
+        .chain(std::iter::once(&ring[0]))
+        .copied()
+        .collect();
+    douglas_peucker(&closed, 0, far, tolerance, &mut keep);
+    let mut keep_closed = keep.clone();
+    keep_closed.push(true);
+    douglas_peucker(&closed, far, ring.len(), tolerance, &mut keep_closed);
+    keep[far..].copy_from_slice(&keep_closed[far..ring.len()]);
+    ring.iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(&p, _)| p)
+        .collect()
+}
+
+fn douglas_peucker(points: &[Vec2], a: usize, b: usize, tolerance: Real, keep: &mut [bool]) {
+    if b <= a + 1 {
+        return;
+    }
+    let (p, q) = (points[a], points[b]);
+    let d = q - p;
+    let len = d.norm();
+    let off = |r: Vec2| {
+        if len < 1e-12 {
+            (r - p).norm()
+        } else {
+            (d.x * (r.y - p.y) - d.y * (r.x - p.x)).abs() / len
+        }
+    };
+    let (worst, dist) = (a + 1..b)
+        .map(|i| (i, off(points[i])))
+        .fold((a + 1, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+    if dist > tolerance {
+        keep[worst] = true;
+        douglas_peucker(points, a, worst, tolerance, keep);
+        douglas_peucker(points, worst, b, tolerance, keep);
+    }
+}
+
+fn fnv(parts: &[&[u8]]) -> u64 {
+    parts
+        .iter()
+        .flat_map(|p| p.iter())
+        .fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sample map imports as Nav2's map_server would serve it: black pixels are walls,
+    /// white free, grey unknown; row 0 is the image's bottom row; the origin is the
+    /// lower-left corner.
+    #[test]
+    fn the_sample_map_imports_cell_for_cell() {
+        let plan = FloorPlan::load("aws-small-warehouse", Path::new(".")).expect("built in");
+        let g = &plan.grid;
+        assert_eq!(g.resolution, 0.05);
+        assert_eq!(g.origin, vec2(-7.0, -10.5));
+        // Decode the PNG apart from the loader: its raw 8-bit RGB samples (no alpha), their
+        // mean against the YAML's thresholds (occupied_thresh 0.65, free_thresh 0.196).
+        let (_, _, _, bytes) = BUILTIN_MAPS[0];
+        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+        let mut reader = decoder.read_info().expect("png");
+        let mut buf = vec![0; reader.output_buffer_size().expect("size")];
+        let frame = reader.next_frame(&mut buf).expect("frame");
+        assert_eq!(
+            (frame.width as usize, frame.height as usize),
+            (g.width, g.height)
+        );
+        let stride = frame.line_size / frame.width as usize;
+        assert_eq!(frame.color_type, png::ColorType::Rgb);
+        let mut seen = [0_usize; 3];
+        for row in 0..g.height {
+            for x in 0..g.width {
+                let px = &buf[row * frame.line_size + x * stride..][..3];
+                let v = px.iter().map(|&c| Real::from(c)).sum::<Real>() / 3.0;
+                let occ = 1.0 - v / 255.0;
+                let want = if occ > 0.65 {
+                    Cell::Occupied
+                } else if occ < 0.196 {
+                    Cell::Free
+                } else {
+                    Cell::Unknown
+                };
+                let cell = g.at(x, g.height - 1 - row);
+                assert_eq!(cell, want, "pixel ({x}, {row}) = {px:?}");
+                seen[cell.occupancy().rem_euclid(3) as usize] += 1;
+            }
+        }
+        assert!(
+            seen.iter().all(|&n| n > 1000),
+            "walls, free and unknown: {seen:?}"
+        );
+        // The walls follow the floor's edge within the simplification's reach: at every cell
+        // of the floor, the distance to the nearest wall is the distance to the nearest cell
+        // off the floor (the transform's, centre to centre less half a cell, itself within
+        // 0.3 of a cell of the exact one) within 1.3 cells; and two neighbours on the floor
+        // that far from its edge see each other.
+        let floor = main_floor(g);
+        let solid: Vec<bool> = floor.iter().map(|f| !f).collect();
+        let edge = router::clearance(&solid, g.width, g.height, g.resolution);
+        let map = agent::map::StaticMap::new(plan.obstacles.clone()).expect("valid walls");
+        let reach = (SIMPLIFY_CELLS + 0.3) * g.resolution + 1e-9;
+        let deep = |x: usize, y: usize| Real::from(edge[y * g.width + x]) > reach;
+        let mut checked = 0;
+        for y in 0..g.height - 1 {
+            for x in 0..g.width - 1 {
+                if !floor[y * g.width + x] {
+                    continue;
+                }
+                let c = g.centre(x, y);
+                let want = Real::from(edge[y * g.width + x]);
+                let got = map.distance(&c);
+                assert!((got - want).abs() <= reach, "{c:?}: {got} vs {want}");
+                for (nx, ny) in [(x + 1, y), (x, y + 1)] {
+                    if deep(x, y) && deep(nx, ny) {
+                        assert!(map.line_of_sight(c, g.centre(nx, ny)), "{c:?}");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 10_000, "{checked} pairs");
+        assert!(
+            plan.obstacles.len() < 1000,
+            "{} walls",
+            plan.obstacles.len()
+        );
+    }
+
+    #[test]
+    fn an_unknown_map_name_is_refused_naming_the_built_ins() {
+        let err = FloorPlan::load("nowhere", Path::new(".")).expect_err("unknown");
+        assert!(err.to_string().contains("aws-small-warehouse"), "{err}");
+    }
+}
