@@ -390,3 +390,128 @@ pub fn write_boxes(
     }
     root.present().map_err(err)
 }
+
+/// A plan of a fleet site: its floor (a floor plan's cells: free white, occupied black,
+/// unknown grey), walls and shelves, stations (docks blue, picks red, named), where the robots
+/// start (orange) and the route from every dock to every pick and back (green).
+pub fn write_site(path: &Path, scenario: &world_sim::scenario::Scenario) -> Result<(), PlotError> {
+    use agent::map::Obstacle;
+    use world_sim::floor_plan::nav2::Cell;
+    use world_sim::warehouse::StationKind;
+    register_font();
+    let err = |e: String| plot_error(path, std::io::Error::other(e));
+    let world = world_sim::world::World::from_scenario(scenario);
+    let site = world
+        .site()
+        .ok_or_else(|| err(format!("{} is not a fleet site", scenario.name)))?;
+    let (lo, hi) = (site.origin, site.origin + site.size);
+    // 40 pixels a metre, the plot's margins round it.
+    let scale = 40.0;
+    let (w, h) = (
+        (site.size.x * scale) as u32 + 120,
+        (site.size.y * scale) as u32 + 110,
+    );
+    let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+    let root = root
+        .titled(
+            &format!("{}: stations, robot starts and routes", scenario.name),
+            ("sans-serif", 20),
+        )
+        .map_err(|e| err(e.to_string()))?;
+    let mut chart = ChartBuilder::on(&root)
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(50)
+        .build_cartesian_2d(lo.x..hi.x, lo.y..hi.y)
+        .map_err(|e| err(e.to_string()))?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(|e| err(e.to_string()))?;
+    let e = |e: DrawingAreaErrorKind<_>| err(e.to_string());
+    if let Some(plan) = scenario.floor_plan.as_ref().and_then(|f| f.plan.as_ref()) {
+        let g = &plan.grid;
+        let cells = (0..g.height).flat_map(|y| (0..g.width).map(move |x| (x, y)));
+        chart
+            .draw_series(
+                cells
+                    .filter(|&(x, y)| g.at(x, y) != Cell::Free)
+                    .map(|(x, y)| {
+                        let a = g.origin + agent::math::vec2(x as f64, y as f64) * g.resolution;
+                        let colour = if g.at(x, y) == Cell::Occupied {
+                            RGBColor(40, 40, 40)
+                        } else {
+                            RGBColor(190, 190, 190)
+                        };
+                        Rectangle::new(
+                            [(a.x, a.y), (a.x + g.resolution, a.y + g.resolution)],
+                            colour.filled(),
+                        )
+                    }),
+            )
+            .map_err(e)?;
+    }
+    let walls = RGBColor(120, 60, 20);
+    for o in &site.obstacles {
+        let ring: Vec<(f64, f64)> = match o {
+            Obstacle::Wall(a, b) => vec![(a.x, a.y), (b.x, b.y)],
+            Obstacle::Polygon(p) => p.iter().chain(p.first()).map(|v| (v.x, v.y)).collect(),
+        };
+        chart
+            .draw_series([PathElement::new(ring, walls.stroke_width(2))])
+            .map_err(e)?;
+    }
+    let green = RGBColor(20, 150, 40);
+    for a in site.stations_of(StationKind::Dock) {
+        for b in site.stations_of(StationKind::Pick) {
+            for (from, to) in [(a, b), (b, a)] {
+                let mut line = vec![(from.position.x, from.position.y)];
+                line.extend(
+                    site.route(from.position, to.position)
+                        .iter()
+                        .map(|p| (p.x, p.y)),
+                );
+                chart
+                    .draw_series([PathElement::new(line, green.mix(0.45).stroke_width(1))])
+                    .map_err(e)?;
+            }
+        }
+    }
+    let orange = RGBColor(255, 140, 0);
+    chart
+        .draw_series(world.robots.iter().map(|r| {
+            let p = r.state.position;
+            Circle::new(
+                (p.x, p.y),
+                (scenario.robot.radius_m * scale) as i32,
+                orange.filled(),
+            )
+        }))
+        .map_err(e)?;
+    let names: Vec<String> = match &scenario.floor_plan {
+        Some(f) => {
+            let mut s: Vec<_> = f.stations.iter().collect();
+            s.sort_by_key(|s| s.kind != StationKind::Dock);
+            s.iter().map(|s| s.name.clone()).collect()
+        }
+        None => site.stations.iter().map(|s| format!("{}", s.id)).collect(),
+    };
+    for (s, name) in site.stations.iter().zip(&names) {
+        let colour = match s.kind {
+            StationKind::Dock => RGBColor(30, 80, 220),
+            StationKind::Pick => RGBColor(220, 30, 30),
+        };
+        let p = (s.position.x, s.position.y);
+        chart
+            .draw_series([EmptyElement::at(p)
+                + Circle::new((0, 0), 6, colour.filled())
+                + Text::new(name.clone(), (7, -14), ("sans-serif", 12).into_font())])
+            .map_err(e)?;
+    }
+    root.present().map_err(|e| err(e.to_string()))
+}

@@ -626,7 +626,8 @@ pub fn stuck_table(cells: &[Cell]) -> String {
     out
 }
 
-/// Writes `runs.csv`, `summary.json`, `summary.md` and `throughput.png` into `out`.
+/// Writes `runs.csv`, `summary.json`, `summary.md` and `throughput.png` into `out`, and
+/// `site-NAME.png` for each site from a floor plan ([`super::plots::write_site`]).
 pub fn write_outputs(
     out: &Path,
     study: &TrafficStudy,
@@ -684,12 +685,37 @@ pub fn write_outputs(
         "Fleet throughput against fleet size, traffic policy off and on",
         &panels,
     )?;
+    // A site from a floor plan is drawn: nobody here laid it out.
+    for site in study
+        .sites
+        .iter()
+        .filter(|s| s.scenario.floor_plan.is_some())
+    {
+        let name = format!("site-{}.png", site.scenario.name);
+        super::plots::write_site(&out.join(name), &site.scenario)?;
+    }
     Ok(cells)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A floor plan's site is drawn: the plot is written and shows its floor, not a blank
+    /// page (a PNG of tens of kilobytes).
+    #[test]
+    fn a_floor_plan_site_is_drawn() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let scenario = Scenario::builtin("aws-small-warehouse").expect("valid");
+        let path = dir.path().join("site.png");
+        super::super::plots::write_site(&path, &scenario).expect("drawn");
+        let bytes = std::fs::read(&path).expect("written");
+        assert!(
+            bytes.starts_with(b"\x89PNG") && bytes.len() > 50_000,
+            "{}",
+            bytes.len()
+        );
+    }
 
     /// One short seed (seed 3, 90 s) of each site, both ways: every run is there, the summary counts them,
     /// runs.csv reads back, and earlier runs are reused.

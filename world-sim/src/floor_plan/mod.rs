@@ -1,7 +1,8 @@
 //! Sites from real floor plans: a Nav2 map (its YAML and image, [`nav2`]) becomes the walls
 //! and shelves of a fleet site, and a scenario's `[floor_plan]` table names its stations.
 //!
-//! Every cell that is occupied or unknown is solid: people and robots keep to the free cells.
+//! Every cell that is occupied or unknown is solid, except specks of unknown in the floor
+//! (scanner noise, [`UNKNOWN_SPECK_M2`]): people and robots keep to the floor.
 //! The boundary between free and solid cells becomes walls ([`boundary_walls`]): only what
 //! faces the free space, straight runs joined, so a planner near a shelf sees its outline
 //! rather than its cells. Routes come from [`router::Router`]. Coordinates are the map
@@ -386,25 +387,61 @@ pub fn boundary_walls(grid: &OccupancyGrid) -> Vec<Obstacle> {
     walls
 }
 
-/// The largest 4-connected region of free cells (the first found of equal ones): the floor.
-/// Free pockets apart from it (inside shelving, behind walls) are unreachable and count as
-/// solid for the walls.
+/// Islands of unknown cells smaller than this (m²) that touch neither the map's edge nor
+/// bigger unknown regions are floor: scanner noise, not a wall. (Nav2's planners plan
+/// through unknown cells by default.)
+pub const UNKNOWN_SPECK_M2: Real = 0.25;
+
+/// The floor: the largest 4-connected region of free cells and unknown specks
+/// ([`UNKNOWN_SPECK_M2`]), the first found of equal ones. Free pockets apart from it (inside
+/// shelving, behind walls) are unreachable and count as solid.
 pub fn main_floor(grid: &OccupancyGrid) -> Vec<bool> {
     let (w, h) = (grid.width, grid.height);
+    let speck = (UNKNOWN_SPECK_M2 / (grid.resolution * grid.resolution)).floor() as usize;
+    // Unknown regions, labelled; specks become open.
+    let unknown = |c: usize| grid.cells[c] == Cell::Unknown;
+    let (unknown_label, unknown_sizes, edge) = components(w, h, unknown);
+    let open: Vec<bool> = (0..w * h)
+        .map(|c| match grid.cells[c] {
+            Cell::Free => true,
+            Cell::Occupied => false,
+            Cell::Unknown => {
+                let l = unknown_label[c] as usize;
+                unknown_sizes[l] < speck && !edge[l]
+            }
+        })
+        .collect();
+    let (label, sizes, _) = components(w, h, |c| open[c]);
+    let main = sizes
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(&a.0)))
+        .map(|(i, _)| i as u32);
+    label.into_iter().map(|l| Some(l) == main).collect()
+}
+
+/// The 4-connected regions of the cells `inside` takes: each cell's label (`u32::MAX`
+/// outside), each region's size and whether it touches the map's edge.
+fn components(
+    w: usize,
+    h: usize,
+    inside: impl Fn(usize) -> bool,
+) -> (Vec<u32>, Vec<usize>, Vec<bool>) {
     let mut label = vec![u32::MAX; w * h];
-    let mut sizes = Vec::new();
+    let (mut sizes, mut edge) = (Vec::new(), Vec::new());
     let mut stack = Vec::new();
     for seed in 0..w * h {
-        if grid.cells[seed] != Cell::Free || label[seed] != u32::MAX {
+        if !inside(seed) || label[seed] != u32::MAX {
             continue;
         }
         let id = sizes.len() as u32;
-        let mut size = 0_usize;
+        let (mut size, mut touches) = (0_usize, false);
         label[seed] = id;
         stack.push(seed);
         while let Some(c) = stack.pop() {
             size += 1;
             let (x, y) = (c % w, c / w);
+            touches |= x == 0 || y == 0 || x + 1 == w || y + 1 == h;
             let around = [
                 (x > 0).then(|| c - 1),
                 (x + 1 < w).then(|| c + 1),
@@ -412,20 +449,16 @@ pub fn main_floor(grid: &OccupancyGrid) -> Vec<bool> {
                 (y + 1 < h).then(|| c + w),
             ];
             for n in around.into_iter().flatten() {
-                if grid.cells[n] == Cell::Free && label[n] == u32::MAX {
+                if inside(n) && label[n] == u32::MAX {
                     label[n] = id;
                     stack.push(n);
                 }
             }
         }
         sizes.push(size);
+        edge.push(touches);
     }
-    let main = sizes
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(&a.0)))
-        .map(|(i, _)| i as u32);
-    label.into_iter().map(|l| Some(l) == main).collect()
+    (label, sizes, edge)
 }
 
 /// A closed ring simplified by Douglas–Peucker within `tolerance`: split at its first point
@@ -576,6 +609,45 @@ mod tests {
             "{} walls",
             plan.obstacles.len()
         );
+    }
+
+    /// An unknown speck in the floor is floor; an unknown region as large as the speck limit,
+    /// or one touching the map's edge, is not; nor is a free pocket apart from the floor.
+    #[test]
+    fn unknown_specks_are_floor_and_pockets_are_not() {
+        // 40 × 20 cells of 0.1 m: free, with a 2-cell unknown speck, a 5 × 5 unknown block
+        // (0.25 m²), an unknown strip along the left edge, and a walled free pocket.
+        let mut cells = vec![Cell::Free; 40 * 20];
+        let mut set = |x: usize, y: usize, c: Cell| cells[y * 40 + x] = c;
+        set(10, 10, Cell::Unknown);
+        set(11, 10, Cell::Unknown);
+        for y in 2..7 {
+            for x in 20..25 {
+                set(x, y, Cell::Unknown);
+            }
+        }
+        for y in 0..20 {
+            set(0, y, Cell::Unknown);
+        }
+        for y in 12..18 {
+            for x in 30..38 {
+                let edge = y == 12 || y == 17 || x == 30 || x == 37;
+                set(x, y, if edge { Cell::Occupied } else { Cell::Free });
+            }
+        }
+        let grid = OccupancyGrid {
+            width: 40,
+            height: 20,
+            resolution: 0.1,
+            origin: vec2(0.0, 0.0),
+            cells,
+        };
+        let floor = main_floor(&grid);
+        let at = |x: usize, y: usize| floor[y * 40 + x];
+        assert!(at(10, 10) && at(11, 10) && at(5, 5), "speck and floor");
+        assert!(!at(22, 4), "a block of 0.25 m² is solid");
+        assert!(!at(0, 5), "unknown on the edge is solid");
+        assert!(!at(33, 14), "a walled pocket is off the floor");
     }
 
     #[test]
