@@ -445,3 +445,49 @@ fn a_damaged_journal_without_snapshot_files_is_kept_and_a_new_one_begun_beside_i
     // The damaged file stays where it was put.
     assert_eq!(std::fs::read(&kept).expect("kept"), damaged);
 }
+
+/// A run on a floor plan given by path keeps the map's fingerprint: rebuilt on the same files
+/// it is the same scenario; with the map changed since (its thresholds edited), rebuilding is
+/// refused, naming the map.
+#[test]
+fn a_journal_on_a_floor_plan_refuses_a_changed_map() {
+    let (_tmp, dir) = temp_dir("site");
+    let sample =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../world-sim/maps/aws-small-warehouse");
+    for f in ["map.yaml", "map_rotated.png"] {
+        std::fs::copy(sample.join(f), dir.join(f)).expect("copied");
+    }
+    let builtin = world_sim::scenario::BUILTIN
+        .iter()
+        .find(|(n, _)| *n == "aws-small-warehouse")
+        .expect("built in")
+        .1;
+    let toml = builtin.replace("map = \"aws-small-warehouse\"", "map = \"map.yaml\"");
+    let path = dir.join("site.toml");
+    std::fs::write(&path, &toml).expect("written");
+    let name = path.display().to_string();
+    let scenario = world_sim::scenario::Scenario::from_toml(&toml, &name).expect("loads");
+    let fingerprint = scenario
+        .floor_plan
+        .as_ref()
+        .and_then(|f| f.plan.as_ref())
+        .map(|p| p.fingerprint);
+    let source = ScenarioSource {
+        name,
+        toml,
+        robots: Some(3),
+        humans: Some(4),
+        seed: Some(2),
+        no_safety: false,
+        map_fingerprint: fingerprint,
+    };
+    let rebuilt = source.scenario().expect("the same map");
+    assert_eq!(rebuilt.fleet_size(), Some((3, 4)));
+    let yaml = std::fs::read_to_string(dir.join("map.yaml")).expect("yaml");
+    std::fs::write(dir.join("map.yaml"), yaml.replace("0.196", "0.2")).expect("edited");
+    let err = source.scenario().expect_err("another map").to_string();
+    assert!(
+        err.contains("is not the one the run had") && err.contains("map.yaml"),
+        "{err}"
+    );
+}

@@ -129,6 +129,12 @@ impl ScenarioRef {
             humans: overrides.humans,
             seed: overrides.seed,
             no_safety: overrides.no_safety,
+            map_fingerprint: self
+                .scenario
+                .floor_plan
+                .as_ref()
+                .and_then(|f| f.plan.as_ref())
+                .map(|p| p.fingerprint),
         }
     }
 

@@ -98,6 +98,10 @@ pub struct ScenarioSource {
     pub seed: Option<u64>,
     /// Whether the safety layer was turned off.
     pub no_safety: bool,
+    /// A floor plan's map fingerprint (`FloorPlan::fingerprint`): a map given by path is read
+    /// again when the run is rebuilt, and must be the one the run had.
+    #[serde(default)]
+    pub map_fingerprint: Option<u64>,
 }
 
 impl ScenarioSource {
@@ -118,6 +122,7 @@ impl ScenarioSource {
             humans,
             seed,
             no_safety: false,
+            map_fingerprint: None,
         })
     }
 
@@ -126,9 +131,18 @@ impl ScenarioSource {
     pub fn scenario(&self) -> Result<Scenario, JournalError> {
         let bad = |e: String| JournalError::Scenario(format!("{}: {e}", self.name));
         let mut s = Scenario::from_toml(&self.toml, &self.name).map_err(|e| bad(e.to_string()))?;
+        let plan = s.floor_plan.as_ref().and_then(|f| f.plan.as_ref());
+        if let (Some(want), Some(plan)) = (self.map_fingerprint, plan)
+            && plan.fingerprint != want
+        {
+            return Err(bad(format!(
+                "its map {} is not the one the run had (fingerprint {:016x}, the run's {want:016x})",
+                plan.source, plan.fingerprint
+            )));
+        }
         if !s.set_fleet_size(self.robots, self.humans) {
             return Err(bad(
-                "not a fleet site (it needs a [warehouse] table, or a [hallway] with robots = N)"
+                "not a fleet site (it needs a [warehouse] or [floor_plan] table, or a [hallway] with robots = N)"
                     .to_owned(),
             ));
         }
