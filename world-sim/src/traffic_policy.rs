@@ -17,11 +17,6 @@
 //!   out, and once only such robots are left the segment turns to their way. While a robot of
 //!   the flow comes at it, it is **turned round**: its new route leaves by the end the flow
 //!   leads to, and so does the route of any robot pushed into a segment off its route.
-//!   (Before, the direction stayed with the robots first in and one against it was only
-//!   counted; robots granted the aisle met it face to face and pushed it back metre by
-//!   metre. Of the ten seeds with a deadlock at 20 robots in `warehouse-narrow` in the
-//!   session 16 study, 6, 7, 15, 35, 44, 53, 54, 62, 71 and 93, one is left with this rule:
-//!   seed 7, a jam where an aisle opens into a busy cross-aisle.)
 //! - **Round a blocked segment.** A robot that has waited [`PolicyParams::detour_after_s`]
 //!   for a segment travelled against it, while no robot inside has made progress for as long
 //!   (blocked, not busy: most often a robot of the flow held at the robot's own mouth by
@@ -29,11 +24,7 @@
 //!   enter with the flow, when that way is at most [`PolicyParams::detour_max_extra_m`]
 //!   longer; once per leg. Leaving the line also clears the crossing for the robot stuck at
 //!   the mouth, and lets the flow keep coming. (openTCS "does not route around slower or
-//!   stopped vehicles".) In `warehouse-narrow` seeds 1–6 at 20 robots it sent 17 robots
-//!   round: 144 tasks against 137 without, stuck robot-seconds 10,634 against 10,935. Sending
-//!   round every robot that waited 8 s, busy segment or not, cost tasks: with no people
-//!   (`fleet` test `the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks`) 32 against
-//!   35 without the policy.
+//!   stopped vehicles".)
 //! - **In at one end, out at the other.** A robot that picks inside a segment leaves it by the
 //!   far end (the fleet routes its next leg through that end's cross-aisle), and a robot bound
 //!   for a station in an aisle enters it from the cross-aisle nearer to where it comes from.
@@ -44,10 +35,7 @@
 //!   corridor, a pick face on a wide corridor, a hallway's end) is granted to one robot at a
 //!   time. A robot asks for it [`PolicyParams::station_request_m`] (along its route) before it,
 //!   when no segment lies ahead, or earlier when the line reaches further back: where it can
-//!   still stop short of the line's first free place, so that it joins at the tail (before,
-//!   robots drove on along the lane in among those waiting, and got places behind them;
-//!   17 of 20 robots bound for a hallway's docks at once then jammed its end: deadlocks in
-//!   `hallway-fleet` seeds 52, 60, 63, 67, 80, 88 and 94 at 20 robots, none with this rule).
+//!   still stop short of the line's first free place, so that it joins at the tail.
 //!   The others wait in line on the right-hand lane, the first
 //!   [`PolicyParams::queue_back_m`] back along its route, each next one a body length plus
 //!   [`PolicyParams::queue_gap_m`] further back (a robot nearer than its place backs up to
@@ -56,21 +44,14 @@
 //!   once the robot that reached it has moved [`PolicyParams::station_clear_m`] away, so the
 //!   next one does not drive at it while it turns to leave. A robot in line that comes
 //!   0.3 m nearer to the station than its holder (pushed ahead, or come from the
-//!   far side) takes it over, and the holder waits in line. (Without lines, 20 robots converging
-//!   on a hallway's three docks packed its end: 7 and 4 deadlocks in two of ten seeds. With
-//!   first come first served instead of nearest first, an older robot further back was let
-//!   through and blocked by the line: 2 deadlocks in hallway seeds 1–16.)
+//!   far side) takes it over, and the holder waits in line.
 //! - **Retreat when a cycle lasts.** If two robots of a wait-for cycle (the traffic monitor's
 //!   graph) have been in cycles for [`PolicyParams::retreat_after_s`], the
 //!   lowest-priority member with room behind it (not holding a segment; then the highest
 //!   index) backs off [`PolicyParams::retreat_m`] for [`PolicyParams::retreat_s`]. A member
 //!   with another robot within that distance behind it does not back into it; when every
 //!   member has one, the first that has room backs off sideways or half as far (to a point
-//!   its body fits at, clear of shelves and robots). (Tried and
-//!   dropped: giving the next turn to another member when a retreat ended without breaking
-//!   the cycle, 13 deadlocks instead of 5 at 20 robots and 40 instead of 34 at 40 in 10 seeds;
-//!   backing off in trains of up to three robots, the robots behind the one retreating with
-//!   it, 1 deadlock instead of 0 in hallway seeds 1–11 at 20 robots.)
+//!   its body fits at, clear of shelves and robots).
 //! - **Give way in two-way knots.** When the members of such a cycle all travel along one
 //!   two-lane hallway, both ways (robots pushed out of their lanes by people meet face to
 //!   face, and more join from both sides), the direction with fewer members in it stops where it
@@ -78,15 +59,10 @@
 //!   [`PolicyParams::give_way_s`]; the retreat rule leaves the cycle alone meanwhile, and
 //!   takes over for as long again if the knot is given up unpassed. Robots that stand still
 //!   are easy to move round; robots that dodge back are not. Only in hallways, corridors no
-//!   cross-aisle crosses: in `warehouse-narrow`'s corridors at 40 robots, robots stopped in
-//!   knots stood in the crossings, and runs with a deadlock rose from 3 to 12 in seeds 1–73
-//!   (to 7 in seeds 1–58 with the rule kept to knots all on the corridor).
-//!   (`hallway-fleet` seed 81 at 20 robots: 19 robots
-//!   and 8 people knotted in 6 m of hallway, robots of both directions in both lanes, 3 tasks
-//!   in 300 s and a deadlock. With this rule, seeds 1–100 at 20 robots: no run with a
-//!   deadlock, against 1 without, 1.52 tasks/min both ways. A first version pulled those
-//!   giving way over to the nearer wall and sent the others along the centre line: 3 runs
-//!   with a deadlock, robots pulled over onto the wall where another robot stood.)
+//!   cross-aisle crosses (robots stopped in a warehouse's corridors stand in its crossings).
+//!
+//! Why each rule is as it is, with the seeds and figures that decided it and what was tried
+//! and dropped: results/traffic/REPORT.md, "Why the rules are as they are".
 //!
 //! **Why reserved segments cannot deadlock.** A robot waits for a segment only while it is
 //! outside every segment (it asks only from the cross-aisles and corridors), so a robot never

@@ -289,7 +289,7 @@ impl FloorPlanSpec {
 
 /// How far (in cells) a simplified wall may stray from the cells' boundary: under half a
 /// cell, so walls still separate every free cell's centre from every solid one's.
-const SIMPLIFY_CELLS: Real = 1.0;
+pub const SIMPLIFY_CELLS: Real = 1.0;
 
 /// The boundary between free and solid cells (the map's edge counting as solid) as walls:
 /// the cells' edges chained into closed loops, each run counter-clockwise round the free
