@@ -181,3 +181,16 @@ fn stations_in_walls_off_the_map_or_cut_off_are_refused() {
     let (field, message) = field_of(Scenario::from_toml(&text, "test").expect_err("room"));
     assert_eq!(field, "floor_plan.robots", "{message}");
 }
+
+/// An image that is a symbolic link out of the YAML's folder is refused like a path out of it.
+#[cfg(unix)]
+#[test]
+fn an_image_linked_from_outside_the_folder_is_refused() {
+    let (dir, path) = on_disk(|y| y.replace("map_rotated.png", "link.png"), Some(STATIONS));
+    let outside = dir.path().join("outside.png");
+    std::fs::rename(dir.path().join("maps/map_rotated.png"), &outside).expect("moved out");
+    std::os::unix::fs::symlink(&outside, dir.path().join("maps/link.png")).expect("linked");
+    let (field, message) = field_of(load(&path).expect_err("a link out"));
+    assert_eq!(field, "floor_plan.map", "{message}");
+    assert!(message.contains("leads outside"), "{message}");
+}
