@@ -158,6 +158,12 @@ fn stations_in_walls_off_the_map_or_cut_off_are_refused() {
             "off the map",
         ),
         (
+            r#"{ name = "far", kind = "dock", at = [1e300, -1e300] },
+               { name = "pick", kind = "pick", at = [3.6, -4.5] },"#,
+            "floor_plan.stations[0].at",
+            "off the map",
+        ),
+        (
             r#"{ name = "tight", kind = "dock", at = [-6.75, 1.0] },
                { name = "pick", kind = "pick", at = [3.6, -4.5] },"#,
             "floor_plan.stations[0].at",

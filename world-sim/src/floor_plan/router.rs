@@ -309,8 +309,13 @@ impl Router {
     /// between keeps to the floor), preferring those `field` reaches.
     fn nearest_passable(&self, p: Vec2, field: Option<&[f32]>) -> Option<usize> {
         let q = (p - self.origin) / self.cell;
-        let (cx, cy) = (q.x.floor() as isize, q.y.floor() as isize);
         let reach = (2.0 / self.cell).ceil() as isize;
+        let margin = reach as Real + 1.0;
+        let on_grid = |v: Real, n: usize| v.is_finite() && v > -margin && v < n as Real + margin;
+        if !(on_grid(q.x, self.cols) && on_grid(q.y, self.rows)) {
+            return None;
+        }
+        let (cx, cy) = (q.x.floor() as isize, q.y.floor() as isize);
         let mut near: Vec<(Real, usize)> = Vec::new();
         for dy in -reach..=reach {
             for dx in -reach..=reach {
