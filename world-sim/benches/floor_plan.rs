@@ -76,7 +76,7 @@ fn floor_plan(c: &mut Criterion) {
             let meta = MapYaml::parse(yaml, "map.yaml").expect("valid");
             let grid = meta.grid(&png, "map.png").expect("decodes");
             let plan = FloorPlan::from_grid("bench".to_owned(), grid, 0);
-            black_box(Router::new(&plan.grid, 0.3, &stations))
+            black_box(Router::new(&plan.grid, &plan.floor, 0.3, &stations))
         });
     });
     let meta = MapYaml::parse(yaml, "map.yaml").expect("valid");
@@ -86,7 +86,7 @@ fn floor_plan(c: &mut Criterion) {
         0,
     );
     eprintln!("{} walls", plan.obstacles.len());
-    let router = Router::new(&plan.grid, 0.3, &stations);
+    let router = Router::new(&plan.grid, &plan.floor, 0.3, &stations);
     let (from, to) = (stations[0], stations[stations.len() - 1]);
     assert!(router.route(from, to).len() > 1, "a route round the racks");
     group.bench_function("route_to_a_station/1000x1700", |b| {

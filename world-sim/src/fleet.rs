@@ -452,7 +452,7 @@ impl Fleet {
                 continue;
             };
             // From a cross-aisle every corridor is a turn away: a robot there is on its way.
-            if self.site.in_cross_aisle(here) || self.site.route(here, waypoint).len() <= 1 {
+            if self.site.in_cross_aisle(here) || self.site.in_one_leg(here, waypoint) {
                 continue;
             }
             let station = self.site.stations[job.station()].position;

@@ -319,6 +319,16 @@ impl Site {
         }
     }
 
+    /// Whether `to` is one straight leg from `from` (what [`Site::route`] would answer with
+    /// `[to]`), without building a route: on a floor plan, a route to a point that is no
+    /// station computes a cost-to-go field over the whole map.
+    pub fn in_one_leg(&self, from: Vec2, to: Vec2) -> bool {
+        match &self.router {
+            Some(router) => router.straight(from, to),
+            None => self.route(from, to).len() <= 1,
+        }
+    }
+
     /// The aisle stretches narrower than `min_width` (m), left to right within each aisle,
     /// aisles bottom to top. The bottom and top corridors are never narrow segments.
     pub fn narrow_segments(&self, min_width: Real) -> Vec<Segment> {

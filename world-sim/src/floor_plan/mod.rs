@@ -38,6 +38,8 @@ pub struct FloorPlan {
     pub source: String,
     /// The cells.
     pub grid: OccupancyGrid,
+    /// Per cell, whether it is on the main floor ([`main_floor`]).
+    pub floor: Vec<bool>,
     /// The boundary of the free space as walls ([`boundary_walls`]).
     pub obstacles: Vec<Obstacle>,
     /// FNV-1a of the YAML text and the image bytes: two runs on the same fingerprint ran on
@@ -92,34 +94,26 @@ impl FloorPlan {
             };
             let meta = nav2::MapYaml::parse(yaml, name)?;
             let grid = meta.grid(image, image_name)?;
-            return Ok(Self::from_grid(
-                name.to_owned(),
-                grid,
-                fnv(&[yaml.as_bytes(), image]),
-            ));
+            let fingerprint = nav2::fingerprint(yaml.as_bytes(), image);
+            return Ok(Self::from_grid(name.to_owned(), grid, fingerprint));
         }
         let path = folder.join(map);
-        let (_, grid) = nav2::load(&path)?;
-        // The fingerprint reads the files again; they are small next to what was decoded.
-        let yaml = std::fs::read(&path).unwrap_or_default();
-        let image = nav2::MapYaml::parse(&String::from_utf8_lossy(&yaml), map)
-            .ok()
-            .and_then(|m| m.image_path(path.parent()?, map).ok())
-            .and_then(|p| std::fs::read(p).ok())
-            .unwrap_or_default();
+        let loaded = nav2::load(&path)?;
         Ok(Self::from_grid(
             path.display().to_string(),
-            grid,
-            fnv(&[&yaml, &image]),
+            loaded.grid,
+            loaded.fingerprint,
         ))
     }
 
     /// The floor plan of `grid`.
     pub fn from_grid(source: String, grid: OccupancyGrid, fingerprint: u64) -> Self {
-        let obstacles = boundary_walls(&grid);
+        let floor = main_floor(&grid);
+        let obstacles = boundary_walls(&grid, &floor);
         Self {
             source,
             grid,
+            floor,
             obstacles,
             fingerprint,
             router: Arc::default(),
@@ -136,15 +130,9 @@ impl FloorPlan {
         {
             return router.clone();
         }
-        let router = Arc::new(Router::new(&self.grid, radius, stations));
+        let router = Arc::new(Router::new(&self.grid, &self.floor, radius, stations));
         *cached = Some((radius, stations.to_vec(), router.clone()));
         router
-    }
-
-    /// Free floor (m²): the main floor's cells ([`main_floor`]).
-    pub fn free_area(&self) -> Real {
-        let free = main_floor(&self.grid).iter().filter(|&&f| f).count();
-        free as Real * self.grid.resolution * self.grid.resolution
     }
 }
 
@@ -287,16 +275,16 @@ impl FloorPlanSpec {
     }
 }
 
-/// How far (in cells) a simplified wall may stray from the cells' boundary: under half a
-/// cell, so walls still separate every free cell's centre from every solid one's.
+/// How far (in cells) a simplified wall may stray from the floor's edge: one cell, enough to
+/// join the ragged edges a scanner leaves (the sample map: 421 walls, against 1,196 within
+/// 0.4 of a cell).
 pub const SIMPLIFY_CELLS: Real = 1.0;
 
 /// The boundary between free and solid cells (the map's edge counting as solid) as walls:
 /// the cells' edges chained into closed loops, each run counter-clockwise round the free
 /// space, straight runs joined and simplified (Douglas–Peucker, within [`SIMPLIFY_CELLS`]).
-pub fn boundary_walls(grid: &OccupancyGrid) -> Vec<Obstacle> {
+pub fn boundary_walls(grid: &OccupancyGrid, floor: &[bool]) -> Vec<Obstacle> {
     let (w, h) = (grid.width, grid.height);
-    let floor = main_floor(grid);
     let free = |x: isize, y: isize| {
         x >= 0
             && y >= 0
@@ -517,15 +505,6 @@ fn douglas_peucker(points: &[Vec2], a: usize, b: usize, tolerance: Real, keep: &
     }
 }
 
-fn fnv(parts: &[&[u8]]) -> u64 {
-    parts
-        .iter()
-        .flat_map(|p| p.iter())
-        .fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-        })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -579,7 +558,7 @@ mod tests {
         // off the floor (the transform's, centre to centre less half a cell, itself within
         // 0.3 of a cell of the exact one) within 1.3 cells; and two neighbours on the floor
         // that far from its edge see each other.
-        let floor = main_floor(g);
+        let floor = &plan.floor;
         let solid: Vec<bool> = floor.iter().map(|f| !f).collect();
         let edge = router::clearance(&solid, g.width, g.height, g.resolution);
         let map = agent::map::StaticMap::new(plan.obstacles.clone()).expect("valid walls");

@@ -295,15 +295,36 @@ impl MapYaml {
     }
 }
 
+/// A map read from disk: its grid and the FNV-1a fingerprint of the YAML and image bytes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loaded {
+    /// The YAML's fields.
+    pub meta: MapYaml,
+    /// The cells.
+    pub grid: OccupancyGrid,
+    /// [`fingerprint`] of the bytes read.
+    pub fingerprint: u64,
+}
+
+/// FNV-1a over a map's YAML text and image bytes: two runs on the same fingerprint ran on the
+/// same map.
+pub fn fingerprint(yaml: &[u8], image: &[u8]) -> u64 {
+    yaml.iter()
+        .chain(image)
+        .fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        })
+}
+
 /// Reads a map.yaml and its image from disk.
-pub fn load(yaml: &Path) -> Result<(MapYaml, OccupancyGrid), MapFileError> {
+pub fn load(yaml: &Path) -> Result<Loaded, MapFileError> {
     let file = yaml.display().to_string();
-    let text = read(yaml)?;
-    let text = String::from_utf8(text).map_err(|_| MapFileError::Read {
+    let yaml_bytes = read(yaml)?;
+    let text = std::str::from_utf8(&yaml_bytes).map_err(|_| MapFileError::Read {
         file: file.clone(),
         reason: "is not UTF-8 text".to_owned(),
     })?;
-    let meta = MapYaml::parse(&text, &file)?;
+    let meta = MapYaml::parse(text, &file)?;
     let folder = yaml.parent().unwrap_or(Path::new("."));
     let image = meta.image_path(folder, &file)?;
     // A symbolic link may still lead out of the folder: compare the resolved paths.
@@ -319,7 +340,11 @@ pub fn load(yaml: &Path) -> Result<(MapYaml, OccupancyGrid), MapFileError> {
     }
     let bytes = read(&image)?;
     let grid = meta.grid(&bytes, &image.display().to_string())?;
-    Ok((meta, grid))
+    Ok(Loaded {
+        fingerprint: fingerprint(&yaml_bytes, &bytes),
+        meta,
+        grid,
+    })
 }
 
 fn read(path: &Path) -> Result<Vec<u8>, MapFileError> {

@@ -71,11 +71,12 @@ impl std::fmt::Debug for Router {
 }
 
 impl Router {
-    /// The router of `grid` for robots of `radius`, with fields to `stations`.
-    pub fn new(grid: &OccupancyGrid, radius: Real, stations: &[Vec2]) -> Self {
+    /// The router of `grid` whose main floor is `floor` ([`super::main_floor`]) for robots
+    /// of `radius`, with fields to `stations`. Free pockets off the floor are as solid as the
+    /// walls round them.
+    pub fn new(grid: &OccupancyGrid, floor: &[bool], radius: Real, stations: &[Vec2]) -> Self {
         let (width, height) = (grid.width, grid.height);
-        // Free pockets off the main floor are as solid as the walls round them.
-        let blocked: Vec<bool> = super::main_floor(grid).iter().map(|f| !f).collect();
+        let blocked: Vec<bool> = floor.iter().map(|f| !f).collect();
         let clearance = clearance(&blocked, width, height, grid.resolution);
         let step = ((ROUTE_CELL_M / grid.resolution).round() as usize).max(1);
         let (cols, rows) = (width.div_ceil(step), height.div_ceil(step));
@@ -547,7 +548,7 @@ mod tests {
     fn routes_go_round_walls_through_the_gap() {
         let g = grid(100, 60, |x, y| (48..52).contains(&x) && y < 45);
         let (from, to) = (vec2(2.0, 1.0), vec2(8.0, 1.0));
-        let router = Router::new(&g, 0.3, &[to]);
+        let router = Router::new(&g, &super::super::main_floor(&g), 0.3, &[to]);
         let route = router.route(from, to);
         assert_eq!(*route.last().expect("waypoints"), to);
         assert!(route.len() >= 2, "{route:?}");
@@ -574,7 +575,7 @@ mod tests {
     #[test]
     fn a_walled_off_station_is_not_reached() {
         let g = grid(100, 60, |x, _| (30..34).contains(&x));
-        let router = Router::new(&g, 0.3, &[vec2(8.0, 1.0)]);
+        let router = Router::new(&g, &super::super::main_floor(&g), 0.3, &[vec2(8.0, 1.0)]);
         assert!(router.reaches(0, vec2(9.0, 5.0)) && router.fits(vec2(9.0, 5.0)));
         assert_eq!(router.clearance(vec2(2.0, 1.0)), 0.0);
         assert!(!router.fits(vec2(2.0, 1.0)));
@@ -585,7 +586,7 @@ mod tests {
     fn places_are_spaced_and_clear_of_stations() {
         let g = grid(100, 60, |_, _| false);
         let dock = vec2(1.0, 1.0);
-        let router = Router::new(&g, 0.3, &[dock]);
+        let router = Router::new(&g, &super::super::main_floor(&g), 0.3, &[dock]);
         let places = router.places_near(&[dock], &[dock], 5, 1.5);
         assert_eq!(places.len(), 5);
         for (i, p) in places.iter().enumerate() {
