@@ -5,6 +5,8 @@
 use agent::math::Real;
 use serde::Deserialize;
 
+pub use crate::floor_plan::{FloorPlanSpec, StationSpec};
+
 /// Most robots a fleet site may have: the wire contract's bound (`schemas::MAX_ROBOTS`, which
 /// the coordinator checks is the same), so that every robot of a valid scenario can be on the
 /// wire.
@@ -171,40 +173,6 @@ pub struct Warehouse {
     pub max_group_size: usize,
     /// Number of robots (≥ 1); they start along the bottom corridor.
     pub robots: usize,
-}
-
-/// A fleet site from a real floor plan (`world_sim::floor_plan`): a Nav2 map's walls and
-/// shelves, and the stations this table names. People walk between the stations in groups;
-/// robots do pick/drop tasks, starting near the docks.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FloorPlanSpec {
-    /// A built-in map's name (`aws-small-warehouse`), or the path of a Nav2 map.yaml,
-    /// relative to the scenario file's folder.
-    pub map: String,
-    /// Number of robots (≥ 1).
-    pub robots: usize,
-    /// Number of people.
-    pub humans: usize,
-    /// Groups have 1 to this many members.
-    pub max_group_size: usize,
-    /// Where goods are picked and dropped, in the map's frame.
-    pub stations: Vec<StationSpec>,
-    /// The map, loaded when the scenario is read.
-    #[serde(skip)]
-    pub plan: Option<std::sync::Arc<crate::floor_plan::FloorPlan>>,
-}
-
-/// One station of a floor plan.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct StationSpec {
-    /// A name for reports and errors.
-    pub name: String,
-    /// `"dock"` (goods dropped) or `"pick"` (goods picked).
-    pub kind: crate::warehouse::StationKind,
-    /// Where robots stop: x and y in the map's frame (m).
-    pub at: [Real; 2],
 }
 
 /// The simulated people.

@@ -11,7 +11,6 @@
 pub mod nav2;
 pub mod router;
 
-use crate::scenario::FloorPlanSpec;
 use crate::warehouse::StationKind;
 use agent::map::Obstacle;
 use agent::math::{Real, Vec2, vec2};
@@ -134,6 +133,40 @@ impl FloorPlan {
         *cached = Some((radius, stations.to_vec(), router.clone()));
         router
     }
+}
+
+/// A scenario's `[floor_plan]` table: a fleet site from a Nav2 map's walls and
+/// shelves, and the stations this table names. People walk between the stations in groups;
+/// robots do pick/drop tasks, starting near the docks.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorPlanSpec {
+    /// A built-in map's name (`aws-small-warehouse`), or the path of a Nav2 map.yaml,
+    /// relative to the scenario file's folder.
+    pub map: String,
+    /// Number of robots (≥ 1).
+    pub robots: usize,
+    /// Number of people.
+    pub humans: usize,
+    /// Groups have 1 to this many members.
+    pub max_group_size: usize,
+    /// Where goods are picked and dropped, in the map's frame.
+    pub stations: Vec<StationSpec>,
+    /// The map, loaded when the scenario is read.
+    #[serde(skip)]
+    pub plan: Option<Arc<FloorPlan>>,
+}
+
+/// One station of a floor plan.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StationSpec {
+    /// A name for reports and errors.
+    pub name: String,
+    /// `"dock"` (goods dropped) or `"pick"` (goods picked).
+    pub kind: StationKind,
+    /// Where robots stop: x and y in the map's frame (m).
+    pub at: [Real; 2],
 }
 
 impl FloorPlanSpec {
