@@ -20,7 +20,7 @@ if [ ! -x "$pyenv/bin/python" ]; then
     python3 -m venv "$pyenv"
 fi
 "$pyenv/bin/python" -m pip install --quiet --disable-pip-version-check \
-    eclipse-zenoh==1.10.2 msgpack==1.2.4 rerun-sdk==0.36.3
+    eclipse-zenoh==1.10.2 msgpack==1.2.4 rerun-sdk==0.36.3 rosbags==0.11.9
 export GAPFLEET_PYTHON="$pyenv/bin/python"
 # The official rerun CLI (same version as the rerun crate) checks the dashboards' recordings.
 export GAPFLEET_RERUN="$pyenv/bin/rerun"
@@ -49,6 +49,9 @@ fi
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
+# The ROS 2 CDR fixtures still match what rosbags writes (schemas/ros2/tests/rosbags.rs holds our
+# bytes to the committed file; this holds the file to rosbags).
+"$pyenv/bin/python" schemas/ros2/fixtures/make_fixtures.py --check || status=$?
 cargo test --workspace --locked 2>&1 | tee "$log" || status=$?
 # Coverage-guided fuzzing of schemas::decode (AFL++, through cargo-afl), a short run: a crash
 # fails the tests. The hour-long run and its figures: schemas/README.md.
