@@ -29,5 +29,6 @@ pub mod risk;
 #[cfg(feature = "runtime")]
 pub mod runtime;
 pub mod safety;
+pub mod scan;
 pub mod social_force;
 pub mod visibility;
