@@ -20,7 +20,8 @@ if [ ! -x "$pyenv/bin/python" ]; then
     python3 -m venv "$pyenv"
 fi
 "$pyenv/bin/python" -m pip install --quiet --disable-pip-version-check \
-    eclipse-zenoh==1.10.2 msgpack==1.2.4 rerun-sdk==0.36.3 rosbags==0.11.9
+    eclipse-zenoh==1.10.2 msgpack==1.2.4 rerun-sdk==0.36.3 rosbags==0.11.9 \
+    zenoh-ros2-sdk==0.1.8
 export GAPFLEET_PYTHON="$pyenv/bin/python"
 # The official rerun CLI (same version as the rerun crate) checks the dashboards' recordings.
 export GAPFLEET_RERUN="$pyenv/bin/rerun"

@@ -4,7 +4,7 @@
 //! counts what it changed.
 
 use crate::math::Real;
-use crate::model::Command;
+use crate::model::{Base, Command};
 use crate::planner::{Plan, PlannerStack, PlanningInput};
 use crate::safety::{Guarded, SafeSet, SafetyLayer, SafetyLimits, SafetyParams, Zone};
 
@@ -14,6 +14,7 @@ use crate::safety::{Guarded, SafeSet, SafetyLayer, SafetyLimits, SafetyParams, Z
 pub struct Guard {
     layer: SafetyLayer,
     limits: SafetyLimits,
+    base: Base,
     /// Commands checked.
     pub checked: u64,
     /// Commands the warning field slowed.
@@ -38,12 +39,19 @@ impl Guard {
         Self {
             layer: SafetyLayer::new(params),
             limits,
+            base: Base::Holonomic,
             checked: 0,
             warned: 0,
             protective: 0,
             yielded: 0,
             change_sum: 0.0,
         }
+    }
+
+    /// The guard for a robot on `base`: commands are made executable on it before the check.
+    pub fn on_base(mut self, base: Base) -> Self {
+        self.base = base;
+        self
     }
 
     /// The layer's parameters.
@@ -62,6 +70,7 @@ impl Guard {
         let set = self
             .layer
             .prepare(input.ego, &limits, input.neighbours, input.map);
+        let command = self.base.executable(command, input.ego);
         let guarded = set.guard(command);
         self.count(command, &guarded);
         guarded
@@ -79,6 +88,7 @@ impl Guard {
             ..*input
         };
         let mut plan = stack.plan(&within);
+        plan.command = self.base.executable(plan.command, input.ego);
         let guarded = set.guard(plan.command);
         self.count(plan.command, &guarded);
         plan.command = guarded.command;

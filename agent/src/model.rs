@@ -86,6 +86,51 @@ pub struct EgoState {
     pub radius: Real,
 }
 
+/// The drive a command goes to. A simulated robot and an omnidirectional base execute velocity
+/// commands as they are; a differential drive cannot move sideways, so a velocity command is
+/// first turned into the forward speed and turn rate that follow it ([`Base::executable`]), and
+/// the safety layer checks that.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Base {
+    /// Executes velocity and unicycle commands (the simulator's robots, omnidirectional bases).
+    #[default]
+    Holonomic,
+    /// Executes unicycle commands only.
+    Differential {
+        /// Turn rate limit (rad/s).
+        max_yaw_rate: Real,
+    },
+}
+
+/// A differential base turns toward a velocity command's direction at this rate per radian of
+/// heading error (1/s): a quarter turn takes about 0.8 s at 2 rad/s.
+pub const HEADING_GAIN: Real = 2.0;
+
+impl Base {
+    /// What this base can execute of `command` from `ego`: for a differential drive, a velocity
+    /// command becomes a turn toward it at [`HEADING_GAIN`] and the speed along the heading that
+    /// does not drive off its line (none while it points more than 90° away).
+    pub fn executable(self, command: Command, ego: &EgoState) -> Command {
+        match (self, command) {
+            (Base::Differential { max_yaw_rate }, Command::Velocity(v)) => {
+                let speed = v.norm();
+                if speed < 1e-9 {
+                    return Command::Unicycle {
+                        speed: 0.0,
+                        yaw_rate: 0.0,
+                    };
+                }
+                let error = crate::math::wrap_angle(crate::math::angle_of(&v) - ego.heading);
+                Command::Unicycle {
+                    speed: speed * error.cos().max(0.0),
+                    yaw_rate: (HEADING_GAIN * error).clamp(-max_yaw_rate, max_yaw_rate),
+                }
+            }
+            _ => command,
+        }
+    }
+}
+
 /// What the planner asks the base to do until the next plan.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Command {

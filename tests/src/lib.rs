@@ -166,3 +166,28 @@ pub fn recv_until<T>(
     }
     None
 }
+
+/// `zenohd` from $GAPFLEET_ZENOHD or PATH (tests/run.sh installs 1.10.2).
+pub fn zenohd() -> String {
+    let zenohd = std::env::var("GAPFLEET_ZENOHD").unwrap_or_else(|_| "zenohd".to_owned());
+    let version = std::process::Command::new(&zenohd)
+        .arg("--version")
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("{zenohd}: {e}; run `bash tests/run.sh` (it installs zenohd 1.10.2) or set GAPFLEET_ZENOHD")
+        });
+    let text = String::from_utf8_lossy(&version.stdout);
+    assert!(text.contains("1.10.2"), "{zenohd} is not 1.10.2: {text}");
+    zenohd
+}
+
+/// A `zenohd` process, killed when dropped.
+#[derive(Debug)]
+pub struct Zenohd(pub std::process::Child);
+
+impl Drop for Zenohd {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}

@@ -18,6 +18,7 @@ use agent::runtime::{AgentConfig, AgentCounters, run_agent};
 use coordinator::fleet::{CoordinatorConfig, Status, run_coordinator};
 use coordinator::site::Identity;
 use coordinator::site::{SitePaths, TemporarySite};
+use gapfleet_tests::{Zenohd, zenohd};
 use schemas::{Channel, CommandMsg, Keys, Motion, P2, SafetyZone, encode};
 use std::path::Path;
 use std::sync::{Arc, Mutex};
@@ -413,30 +414,6 @@ fn forged_commands_have_no_effect_on_a_secured_fleet() {
         forge_against_a_fleet(router, paths).await
     });
     check_forgeries_failed(&seen, forged_for_1);
-}
-
-/// `zenohd` from $GAPFLEET_ZENOHD or PATH (tests/run.sh installs 1.10.2).
-fn zenohd() -> String {
-    let zenohd = std::env::var("GAPFLEET_ZENOHD").unwrap_or_else(|_| "zenohd".to_owned());
-    let version = std::process::Command::new(&zenohd)
-        .arg("--version")
-        .output()
-        .unwrap_or_else(|e| {
-            panic!("{zenohd}: {e}; run `bash tests/run.sh` (it installs zenohd 1.10.2) or set GAPFLEET_ZENOHD")
-        });
-    let text = String::from_utf8_lossy(&version.stdout);
-    assert!(text.contains("1.10.2"), "{zenohd} is not 1.10.2: {text}");
-    zenohd
-}
-
-/// A `zenohd` process, killed when dropped.
-struct Zenohd(std::process::Child);
-
-impl Drop for Zenohd {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
 }
 
 #[test]

@@ -4,6 +4,13 @@
 //! gapfleet-agent --robot-id 3 --planner pgp+orca --connect tcp/127.0.0.1:7447
 //! ```
 //! Runs until SIGINT or SIGTERM, then safe-stops its robot and withdraws its liveliness token.
+//!
+//! With `--ros` it drives a ROS 2 robot over rmw_zenoh instead (odometry, scan and people in,
+//! `cmd_vel` out) through the goals given, without a coordinator:
+//!
+//! ```text
+//! gapfleet-agent --ros --namespace /robot1 --base differential --goal 3,0 --goal 3,3
+//! ```
 
 use agent::planner::PlannerSpec;
 use agent::runtime::net::{NetArgs, Role, config};
@@ -16,9 +23,9 @@ use std::time::Duration;
 #[derive(Debug, Parser)]
 #[command(version, about)]
 struct Args {
-    /// The robot this agent drives.
-    #[arg(long)]
-    robot_id: u32,
+    /// The robot this agent drives (its fleet id; not needed with --ros).
+    #[arg(long, required_unless_present = "ros")]
+    robot_id: Option<u32>,
     /// Planner stack: dwa, orca, sf, foigp, igp-diag, igp-lin or mc, each optionally behind
     /// pgp+ (e.g. pgp+orca). The foIGP family does not see walls or shelves.
     #[arg(long, default_value = "pgp+orca")]
@@ -47,7 +54,62 @@ struct Args {
     #[arg(long, hide = true, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=60_000))]
     fault_plan_delay_ms: u64,
     #[command(flatten)]
+    ros: RosArgs,
+    #[command(flatten)]
     net: NetArgs,
+}
+
+/// Driving a ROS 2 robot over rmw_zenoh (schemas/ros2/README.md).
+#[derive(Debug, Clone, clap::Args)]
+struct RosArgs {
+    /// Drive a ROS 2 robot over rmw_zenoh through --goal points, without a coordinator.
+    #[arg(long)]
+    ros: bool,
+    /// The robot's namespace; relative topics resolve in it.
+    #[arg(long, default_value = "/", requires = "ros")]
+    namespace: String,
+    /// ROS_DOMAIN_ID.
+    #[arg(long, default_value_t = 0, requires = "ros", value_parser = clap::value_parser!(u32).range(0..=232))]
+    domain_id: u32,
+    /// The robot's ROS 2 distribution: humble, jazzy or kilted (type hashes in keys).
+    #[arg(long, default_value = "jazzy", requires = "ros")]
+    distro: ros2_wire::Distro,
+    /// Publish geometry_msgs/TwistStamped on cmd_vel (Nav2's default since Jazzy) instead of Twist.
+    #[arg(long, requires = "ros")]
+    stamped_cmd: bool,
+    /// The map frame; when odometry is in another frame, map→odom comes from /tf.
+    #[arg(long, default_value = "map", requires = "ros")]
+    map_frame: String,
+    /// The base's drive: holonomic, or differential (velocity commands become turn-and-drive).
+    #[arg(long, value_enum, default_value = "holonomic", requires = "ros")]
+    base: BaseArg,
+    /// A goal in the map frame, "x,y" (repeatable, visited in order).
+    #[arg(long = "goal", value_parser = parse_goal, requires = "ros")]
+    goals: Vec<agent::math::Vec2>,
+    /// The robot's body radius (m).
+    #[arg(long, default_value_t = 0.3, requires = "ros")]
+    robot_radius: f64,
+    /// Exit once the last goal is reached (else hold the robot stopped until SIGINT/SIGTERM).
+    #[arg(long, requires = "ros")]
+    exit_at_last_goal: bool,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum BaseArg {
+    Holonomic,
+    Differential,
+}
+
+fn parse_goal(s: &str) -> Result<agent::math::Vec2, String> {
+    let (x, y) = s.split_once(',').ok_or("a goal is x,y")?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && v.abs() <= 1e5)
+            .ok_or(format!("`{v}` is not a coordinate within 100 km"))
+    };
+    Ok(agent::math::Vec2::new(parse(x)?, parse(y)?))
 }
 
 #[tokio::main(flavor = "multi_thread", worker_threads = 2)]
@@ -73,7 +135,13 @@ async fn main() -> anyhow::Result<()> {
     let session = zenoh::open(config(&net, Role::Client)?)
         .await
         .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
-    let mut agent_config = AgentConfig::new(args.robot_id, &args.site, args.planner);
+    if args.ros.ros {
+        return run_ros(args, &session).await;
+    }
+    let Some(robot_id) = args.robot_id else {
+        anyhow::bail!("--robot-id is required without --ros");
+    };
+    let mut agent_config = AgentConfig::new(robot_id, &args.site, args.planner);
     agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
     agent_config.share_fan = args.share_fan;
     agent_config.fault_plan_delay = Duration::from_millis(args.fault_plan_delay_ms);
@@ -94,9 +162,70 @@ async fn main() -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
     eprintln!(
         "gapfleet-agent {}: {} plans, {} rejected messages",
-        args.robot_id,
+        robot_id,
         counters.plans.load(std::sync::atomic::Ordering::Relaxed),
         counters.rejected.load(std::sync::atomic::Ordering::Relaxed)
+    );
+    Ok(())
+}
+
+/// `--ros`: the robot's own topics in, its cmd_vel out, through the goals.
+async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
+    use agent::runtime::ros::{RosAgentConfig, RosConfig, RosCounters, run_ros_agent};
+    if args.ros.goals.is_empty() {
+        anyhow::bail!("--ros needs at least one --goal x,y");
+    }
+    let limits = agent::safety::SafetyLimits::SIMULATED_ROBOT;
+    let base = match args.ros.base {
+        BaseArg::Holonomic => agent::model::Base::Holonomic,
+        BaseArg::Differential => agent::model::Base::Differential {
+            max_yaw_rate: limits.max_yaw_rate,
+        },
+    };
+    let config = RosAgentConfig {
+        ros: RosConfig {
+            domain_id: args.ros.domain_id,
+            namespace: args.ros.namespace.clone(),
+            distro: args.ros.distro,
+            stamped_cmd: args.ros.stamped_cmd,
+            map_frame: args.ros.map_frame.clone(),
+            robot_radius: args.ros.robot_radius,
+            ..RosConfig::default()
+        },
+        planner: args.planner,
+        safety: (!args.no_safety).then_some(limits),
+        base,
+        goals: args.ros.goals.clone(),
+        goal_tolerance: 0.3,
+        period: Duration::from_millis(100),
+        map: agent::map::StaticMap::empty(),
+        scan: agent::scan::ScanParams::default(),
+        exit_at_last_goal: args.ros.exit_at_last_goal,
+    };
+    let goals = config.goals.len();
+    let counters = Arc::new(AgentCounters::default());
+    let ros_counters = Arc::new(RosCounters::default());
+    let reached = run_ros_agent(
+        session,
+        config,
+        counters.clone(),
+        ros_counters.clone(),
+        agent::runtime::shutdown_signal(),
+    )
+    .await?;
+    let load = |c: &std::sync::atomic::AtomicU64| c.load(std::sync::atomic::Ordering::Relaxed);
+    eprintln!(
+        "gapfleet-agent (ROS 2, {}): {reached} of {goals} goals, {} plans, {} odometry, {} scans, {} people messages, {} refused, {} commands; safety layer: {} slowed, {} protective, {} yields",
+        args.ros.namespace,
+        load(&counters.plans),
+        load(&ros_counters.odom),
+        load(&ros_counters.scans),
+        load(&ros_counters.people),
+        load(&ros_counters.rejected),
+        load(&ros_counters.commands),
+        load(&counters.warned),
+        load(&counters.protective),
+        load(&counters.yielded),
     );
     Ok(())
 }

@@ -11,6 +11,7 @@
 //! withdraws its token. Bad messages are counted and logged, never fatal.
 
 pub mod net;
+pub mod ros;
 pub mod wire;
 
 use crate::guard::Guard;

@@ -1,0 +1,609 @@
+//! The robot an agent drives, when it is a ROS 2 robot on rmw_zenoh: the agent joins the
+//! robot's Zenoh network as a ROS 2 node (`gapfleet_agent` in the robot's namespace, with
+//! rmw_zenoh's liveliness tokens, so `ros2 node list` and `ros2 topic info` show it), reads
+//! `nav_msgs/Odometry`, `sensor_msgs/LaserScan`, `people_msgs/People` and, when the map frame is
+//! not the odometry frame, `/tf`, and publishes `geometry_msgs/Twist` (or `TwistStamped`) on
+//! `cmd_vel`. Keys, tokens, CDR and attachments come from `ros2_wire`.
+//!
+//! Every payload is decoded strictly (`ros2_wire::decode`); a bad one is counted and logged,
+//! rate-limited, and never stops the agent. [`RosLink::sensed`] turns the newest of each into
+//! what the planners take: the robot's state in the map frame, the tracked people, the scan.
+
+use crate::math::{Real, Vec2};
+use crate::model::{AgentKind, Command, EgoState, Neighbour};
+use crate::scan::Scan;
+use ros2_wire::graph::{self, Attachment, EntityKind, Node, Qos, gid_of};
+use ros2_wire::msg::{
+    Header, LaserScan, Odometry, People, TFMessage, Time, Twist, TwistStamped, Vector3,
+};
+use ros2_wire::{Distro, Message, decode, encode};
+use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+/// How the agent finds the robot on ROS 2.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RosConfig {
+    /// `ROS_DOMAIN_ID`.
+    pub domain_id: u32,
+    /// The robot's namespace (`/robot1`; `/` for none). Relative topics resolve in it.
+    pub namespace: String,
+    /// The distribution the robot runs (type hashes in keys).
+    pub distro: Distro,
+    /// Publish `TwistStamped` (Jazzy's Nav2 default) instead of `Twist`.
+    pub stamped_cmd: bool,
+    /// The map frame's name. When odometry's frame is another, the agent needs map→odom on
+    /// `/tf`; when it is this frame, odometry is already in the map frame.
+    pub map_frame: String,
+    /// Topics (relative ones in the namespace).
+    pub odom_topic: String,
+    /// Laser scan topic.
+    pub scan_topic: String,
+    /// Tracked people topic.
+    pub people_topic: String,
+    /// Command topic.
+    pub cmd_topic: String,
+    /// Transform topic.
+    pub tf_topic: String,
+    /// The robot's body radius (m).
+    pub robot_radius: Real,
+    /// A person's body radius for the planners (m): `people_msgs` carries none.
+    pub person_radius: Real,
+    /// Odometry older than this is not the robot's state any more (the agent stops).
+    pub odom_timeout: Duration,
+}
+
+impl Default for RosConfig {
+    fn default() -> Self {
+        Self {
+            domain_id: 0,
+            namespace: "/".into(),
+            distro: Distro::Jazzy,
+            stamped_cmd: false,
+            map_frame: "map".into(),
+            odom_topic: "odom".into(),
+            scan_topic: "scan".into(),
+            people_topic: "people".into(),
+            cmd_topic: "cmd_vel".into(),
+            tf_topic: "/tf".into(),
+            robot_radius: 0.3,
+            person_radius: 0.3,
+            odom_timeout: Duration::from_millis(500),
+        }
+    }
+}
+
+/// Counts of what arrived from the robot.
+#[derive(Debug, Default)]
+pub struct RosCounters {
+    /// Odometry messages accepted.
+    pub odom: AtomicU64,
+    /// Scans accepted.
+    pub scans: AtomicU64,
+    /// People messages accepted.
+    pub people: AtomicU64,
+    /// Transform messages accepted.
+    pub tf: AtomicU64,
+    /// Payloads refused (bad CDR, out of bounds, unknown frame).
+    pub rejected: AtomicU64,
+    /// Commands published.
+    pub commands: AtomicU64,
+}
+
+/// What the robot reported most recently.
+#[derive(Debug, Default)]
+struct Latest {
+    odom: Option<(Odometry, Instant)>,
+    /// map → odom (x, y, yaw), from `/tf`.
+    map_from_odom: Option<(Vec2, Real)>,
+    people: Option<People>,
+    scan: Option<LaserScan>,
+}
+
+/// The robot as the planners see it, in the map frame.
+#[derive(Debug, Clone)]
+pub struct Sensed {
+    /// The robot.
+    pub ego: EgoState,
+    /// Tracked people.
+    pub people: Vec<Neighbour>,
+    /// The newest scan, placed at the robot's pose.
+    pub scan: Option<Scan>,
+}
+
+/// Why the link could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum RosError {
+    /// A bad namespace, topic or node name.
+    #[error(transparent)]
+    Name(#[from] graph::NameError),
+    /// Zenoh refused a declaration.
+    #[error("{what}: {source}")]
+    Zenoh {
+        /// What was being declared.
+        what: String,
+        /// Zenoh's error.
+        source: zenoh::Error,
+    },
+}
+
+/// An agent's ROS 2 side: its node, subscriptions and command publisher, live while held.
+#[derive(Debug)]
+pub struct RosLink {
+    config: RosConfig,
+    latest: Arc<Mutex<Latest>>,
+    counters: Arc<RosCounters>,
+    cmd_pub: zenoh::pubsub::Publisher<'static>,
+    cmd_gid: [u8; 16],
+    cmd_seq: AtomicI64,
+    _tokens: Vec<zenoh::liveliness::LivelinessToken>,
+    _subscribers: Vec<zenoh::pubsub::Subscriber<()>>,
+}
+
+/// Logs the 1st, 10th, 100th, … rejection of a kind.
+fn log_now(n: u64) -> bool {
+    n > 0 && 10u64.pow(n.ilog10()) == n
+}
+
+impl RosLink {
+    /// Declares the node, its subscriptions and its command publisher on `session`.
+    pub async fn declare(
+        session: &zenoh::Session,
+        config: RosConfig,
+        counters: Arc<RosCounters>,
+    ) -> Result<Self, RosError> {
+        let namespace = graph::namespace(&config.namespace)?;
+        let node = Node {
+            domain_id: config.domain_id,
+            session_id: session.zid().to_string(),
+            node_id: 0,
+            namespace: namespace.clone(),
+            name: graph::node_name("gapfleet_agent")?.to_owned(),
+        };
+        let zerr = |what: String| move |source: zenoh::Error| RosError::Zenoh { what, source };
+        let mut tokens = vec![
+            session
+                .liveliness()
+                .declare_token(node.token())
+                .await
+                .map_err(zerr("node token".into()))?,
+        ];
+        let latest = Arc::new(Mutex::new(Latest::default()));
+        let mut subscribers = Vec::new();
+        let mut entity = 0u32;
+        let d = config.distro;
+        macro_rules! sub {
+            ($ty:ty, $topic:expr, $qos:expr, $accept:expr) => {{
+                let fq = graph::fully_qualified(&namespace, $topic)?;
+                let key = graph::topic_key::<$ty>(config.domain_id, &fq, d);
+                entity += 1;
+                let token = node.endpoint_token::<$ty>(entity, EntityKind::Subscription, &fq, d, $qos);
+                let latest = latest.clone();
+                let counters = counters.clone();
+                let accept = $accept;
+                let topic = fq.clone();
+                let on = Box::new(move |bytes: &[u8]| match decode::<$ty>(bytes) {
+                    Ok(m) => {
+                        let mut l = latest.lock().unwrap_or_else(|e| e.into_inner());
+                        accept(&mut l, m, &counters);
+                    }
+                    Err(e) => {
+                        let n = counters.rejected.fetch_add(1, Ordering::Relaxed) + 1;
+                        if log_now(n) {
+                            tracing::warn!(topic = %topic, rejected = n, "bad {} refused: {e}", <$ty>::NAME);
+                        }
+                    }
+                });
+                tokens.push(
+                    session
+                        .liveliness()
+                        .declare_token(token)
+                        .await
+                        .map_err(zerr(format!("token for {fq}")))?,
+                );
+                subscribers.push(
+                    session
+                        .declare_subscriber(key)
+                        .callback(move |sample| on(&sample.payload().to_bytes()))
+                        .await
+                        .map_err(zerr(format!("subscriber on {fq}")))?,
+                );
+            }};
+        }
+        let map_frame = config.map_frame.clone();
+        sub!(
+            Odometry,
+            &config.odom_topic,
+            Qos::SENSOR_DATA,
+            move |l: &mut Latest, m: Odometry, c: &RosCounters| {
+                c.odom.fetch_add(1, Ordering::Relaxed);
+                l.odom = Some((m, Instant::now()));
+            }
+        );
+        sub!(
+            LaserScan,
+            &config.scan_topic,
+            Qos::SENSOR_DATA,
+            move |l: &mut Latest, m: LaserScan, c: &RosCounters| {
+                c.scans.fetch_add(1, Ordering::Relaxed);
+                l.scan = Some(m);
+            }
+        );
+        sub!(
+            People,
+            &config.people_topic,
+            Qos::DEFAULT_10,
+            move |l: &mut Latest, m: People, c: &RosCounters| {
+                c.people.fetch_add(1, Ordering::Relaxed);
+                l.people = Some(m);
+            }
+        );
+        sub!(
+            TFMessage,
+            &config.tf_topic,
+            Qos::DEFAULT_10,
+            move |l: &mut Latest, m: TFMessage, c: &RosCounters| {
+                for t in &m.transforms {
+                    if t.header.frame_id.trim_start_matches('/') == map_frame {
+                        c.tf.fetch_add(1, Ordering::Relaxed);
+                        let tr = &t.transform;
+                        l.map_from_odom = Some((
+                            Vec2::new(tr.translation.x, tr.translation.y),
+                            tr.rotation.yaw(),
+                        ));
+                    }
+                }
+            }
+        );
+        let cmd_fq = graph::fully_qualified(&namespace, &config.cmd_topic)?;
+        let (cmd_key, cmd_token) = if config.stamped_cmd {
+            (
+                graph::topic_key::<TwistStamped>(config.domain_id, &cmd_fq, d),
+                node.endpoint_token::<TwistStamped>(
+                    10,
+                    EntityKind::Publisher,
+                    &cmd_fq,
+                    d,
+                    Qos::DEFAULT_10,
+                ),
+            )
+        } else {
+            (
+                graph::topic_key::<Twist>(config.domain_id, &cmd_fq, d),
+                node.endpoint_token::<Twist>(
+                    10,
+                    EntityKind::Publisher,
+                    &cmd_fq,
+                    d,
+                    Qos::DEFAULT_10,
+                ),
+            )
+        };
+        let cmd_gid = gid_of(&cmd_token);
+        tokens.push(
+            session
+                .liveliness()
+                .declare_token(cmd_token)
+                .await
+                .map_err(zerr("command publisher token".into()))?,
+        );
+        let cmd_pub = session
+            .declare_publisher(cmd_key)
+            .await
+            .map_err(zerr("command publisher".into()))?;
+        tracing::info!(namespace = %namespace, cmd = %cmd_fq, distro = %d, "ROS 2 node gapfleet_agent up");
+        Ok(Self {
+            config,
+            latest,
+            counters,
+            cmd_pub,
+            cmd_gid,
+            cmd_seq: AtomicI64::new(0),
+            _tokens: tokens,
+            _subscribers: subscribers,
+        })
+    }
+
+    /// The robot's newest state in the map frame, its tracked people and its scan; `None`
+    /// until fresh odometry (and, if the odometry frame is not the map frame, map→odom) came.
+    pub fn sensed(&self) -> Option<Sensed> {
+        let l = self.latest.lock().unwrap_or_else(|e| e.into_inner());
+        let (odom, at) = l.odom.as_ref()?;
+        if at.elapsed() > self.config.odom_timeout {
+            return None;
+        }
+        let odom_frame = odom.header.frame_id.trim_start_matches('/');
+        let (offset, rotation) = if odom_frame == self.config.map_frame {
+            (Vec2::zeros(), 0.0)
+        } else {
+            l.map_from_odom?
+        };
+        let to_map = |p: Vec2| offset + rotate(p, rotation);
+        let pose = &odom.pose.pose;
+        let heading = pose.orientation.yaw() + rotation;
+        let body_v = &odom.twist.twist.linear;
+        let ego = EgoState {
+            position: to_map(Vec2::new(pose.position.x, pose.position.y)),
+            heading,
+            // Odometry's twist is in the child (base) frame.
+            velocity: rotate(Vec2::new(body_v.x, body_v.y), heading),
+            yaw_rate: odom.twist.twist.angular.z,
+            radius: self.config.robot_radius,
+        };
+        let people = l
+            .people
+            .as_ref()
+            .filter(|p| {
+                let frame = p.header.frame_id.trim_start_matches('/');
+                frame == self.config.map_frame || frame == odom_frame
+            })
+            .map(|p| {
+                let in_odom = p.header.frame_id.trim_start_matches('/') != self.config.map_frame;
+                p.people
+                    .iter()
+                    .enumerate()
+                    .map(|(i, person)| {
+                        let pos = Vec2::new(person.position.x, person.position.y);
+                        let vel = Vec2::new(person.velocity.x, person.velocity.y);
+                        let (pos, vel) = if in_odom {
+                            (to_map(pos), rotate(vel, rotation))
+                        } else {
+                            (pos, vel)
+                        };
+                        Neighbour::new(
+                            i as u64 + 1,
+                            pos,
+                            vel,
+                            self.config.person_radius,
+                            AgentKind::Human,
+                        )
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        // The scanner is taken to sit at the base's centre, facing forward.
+        let scan = l.scan.as_ref().map(|s| Scan {
+            origin: ego.position,
+            bearing0: heading + Real::from(s.angle_min),
+            increment: Real::from(s.angle_increment),
+            range_min: Real::from(s.range_min),
+            range_max: Real::from(s.range_max),
+            ranges: s.ranges.clone(),
+        });
+        Some(Sensed { ego, people, scan })
+    }
+
+    /// Sends `command` (already executable on the base) to the robot's `cmd_vel`, in the base
+    /// frame of a robot heading `heading` in the map frame.
+    pub async fn drive(&self, command: Command, heading: Real) {
+        let twist = twist_of(command, heading);
+        let now = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .unwrap_or_default();
+        let bytes = if self.config.stamped_cmd {
+            encode(&TwistStamped {
+                header: Header {
+                    stamp: Time::from_secs(now.as_secs_f64()),
+                    frame_id: "base_link".into(),
+                },
+                twist,
+            })
+        } else {
+            encode(&twist)
+        };
+        let attachment = Attachment {
+            sequence: self.cmd_seq.fetch_add(1, Ordering::Relaxed) + 1,
+            timestamp_ns: i64::try_from(now.as_nanos()).unwrap_or(i64::MAX),
+            gid: self.cmd_gid,
+        };
+        match self
+            .cmd_pub
+            .put(bytes)
+            .attachment(attachment.to_bytes().to_vec())
+            .await
+        {
+            Ok(()) => {
+                self.counters.commands.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(e) => tracing::warn!("cmd_vel not sent: {e}"),
+        }
+    }
+}
+
+fn rotate(v: Vec2, angle: Real) -> Vec2 {
+    let (s, c) = angle.sin_cos();
+    Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+}
+
+/// A command as a base-frame twist for a robot heading `heading`: a velocity command's world
+/// velocity turned into the base frame (an omnidirectional base's `linear.y`), a unicycle
+/// command as forward speed and turn rate.
+pub fn twist_of(command: Command, heading: Real) -> Twist {
+    match command {
+        Command::Velocity(v) => {
+            let body = rotate(v, -heading);
+            Twist {
+                linear: Vector3 {
+                    x: body.x,
+                    y: body.y,
+                    z: 0.0,
+                },
+                angular: Vector3::default(),
+            }
+        }
+        Command::Unicycle { speed, yaw_rate } => Twist {
+            linear: Vector3 {
+                x: speed,
+                y: 0.0,
+                z: 0.0,
+            },
+            angular: Vector3 {
+                x: 0.0,
+                y: 0.0,
+                z: yaw_rate,
+            },
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_become_base_frame_twists() {
+        let t = twist_of(
+            Command::Velocity(Vec2::new(0.0, 1.0)),
+            std::f64::consts::FRAC_PI_2,
+        );
+        assert!((t.linear.x - 1.0).abs() < 1e-12 && t.linear.y.abs() < 1e-12);
+        let t = twist_of(
+            Command::Unicycle {
+                speed: 0.5,
+                yaw_rate: -0.2,
+            },
+            1.0,
+        );
+        assert_eq!((t.linear.x, t.angular.z), (0.5, -0.2));
+    }
+
+    #[test]
+    fn rejections_are_logged_at_powers_of_ten() {
+        let logged: Vec<u64> = (0..2000).filter(|&n| log_now(n)).collect();
+        assert_eq!(logged, vec![1, 10, 100, 1000]);
+    }
+}
+
+/// A ROS 2 robot driven to a list of goals by the planner stack, without a coordinator.
+#[derive(Debug, Clone)]
+pub struct RosAgentConfig {
+    /// How to find the robot.
+    pub ros: RosConfig,
+    /// Planner stack.
+    pub planner: crate::planner::PlannerSpec,
+    /// The safety layer's base limits (`None`: no layer).
+    pub safety: Option<crate::safety::SafetyLimits>,
+    /// The base's drive.
+    pub base: crate::model::Base,
+    /// Goals in the map frame, in order.
+    pub goals: Vec<Vec2>,
+    /// A goal is reached within this distance (m).
+    pub goal_tolerance: Real,
+    /// Control period.
+    pub period: Duration,
+    /// Walls and shelves in the map frame (empty: the scan is the only wall sensor).
+    pub map: crate::map::StaticMap,
+    /// How scan returns become bodies.
+    pub scan: crate::scan::ScanParams,
+    /// Return once the last goal is reached (else hold the robot stopped until shutdown).
+    pub exit_at_last_goal: bool,
+}
+
+/// Drives the robot through `config.goals`, then holds it stopped, until `shutdown`. Returns
+/// how many goals were reached.
+pub async fn run_ros_agent(
+    session: &zenoh::Session,
+    config: RosAgentConfig,
+    counters: Arc<super::AgentCounters>,
+    ros_counters: Arc<RosCounters>,
+    shutdown: impl std::future::Future<Output = ()>,
+) -> Result<usize, RosError> {
+    use crate::guard::Guard;
+    use crate::planner::{PlannerStack, PlanningInput};
+    use crate::safety::Zone;
+
+    let link = RosLink::declare(session, config.ros.clone(), ros_counters).await?;
+    let mut stack = PlannerStack::new(config.planner);
+    let mut guard = config
+        .safety
+        .map(|limits| Guard::new(limits).on_base(config.base));
+    let mut next_goal = 0usize;
+    let mut ticker = tokio::time::interval(config.period);
+    ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    let mut moving = false;
+    let mut waiting_logged = false;
+    tokio::pin!(shutdown);
+    loop {
+        tokio::select! {
+            () = &mut shutdown => break,
+            _ = ticker.tick() => {}
+        }
+        let Some(sensed) = link.sensed() else {
+            if !waiting_logged {
+                tracing::info!(
+                    "waiting for odometry (and map→odom on /tf when odometry is not in the map frame)"
+                );
+                waiting_logged = true;
+            }
+            if moving {
+                // Odometry stopped: the robot's state is unknown, so it stops.
+                link.drive(Command::STOP, 0.0).await;
+                counters.safe_stops.fetch_add(1, Ordering::Relaxed);
+                moving = false;
+            }
+            continue;
+        };
+        waiting_logged = false;
+        counters.received.fetch_add(1, Ordering::Relaxed);
+        while let Some(goal) = config.goals.get(next_goal)
+            && (goal - sensed.ego.position).norm() < config.goal_tolerance
+        {
+            next_goal += 1;
+            tracing::info!(
+                "goal {next_goal} of {} reached at ({:.2}, {:.2})",
+                config.goals.len(),
+                sensed.ego.position.x,
+                sensed.ego.position.y
+            );
+        }
+        let Some(&goal) = config.goals.get(next_goal) else {
+            if moving {
+                link.drive(Command::STOP, sensed.ego.heading).await;
+                moving = false;
+            }
+            if config.exit_at_last_goal {
+                break;
+            }
+            continue;
+        };
+        let mut neighbours = sensed.people.clone();
+        if let Some(scan) = &sensed.scan {
+            neighbours.extend(crate::scan::unexplained_bodies(
+                scan,
+                &config.map,
+                &sensed.people,
+                &config.scan,
+            ));
+        }
+        let input = PlanningInput {
+            ego: &sensed.ego,
+            neighbours: &neighbours,
+            map: &config.map,
+            goal,
+            dt: config.period.as_secs_f64(),
+            visibility: None,
+            safety: None,
+        };
+        let command = match &mut guard {
+            Some(guard) => {
+                let (plan, guarded) = guard.plan(&mut stack, &input);
+                match guarded.zone {
+                    Zone::Clear => {}
+                    Zone::Warning => _ = counters.warned.fetch_add(1, Ordering::Relaxed),
+                    Zone::Protective => _ = counters.protective.fetch_add(1, Ordering::Relaxed),
+                    Zone::Yield => _ = counters.yielded.fetch_add(1, Ordering::Relaxed),
+                }
+                plan.command
+            }
+            None => config
+                .base
+                .executable(stack.plan(&input).command, &sensed.ego),
+        };
+        counters.plans.fetch_add(1, Ordering::Relaxed);
+        link.drive(command, sensed.ego.heading).await;
+        moving = true;
+    }
+    link.drive(Command::STOP, 0.0).await;
+    counters.safe_stops.fetch_add(1, Ordering::Relaxed);
+    Ok(next_goal)
+}
