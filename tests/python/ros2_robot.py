@@ -6,7 +6,9 @@ it, never reacting to the robot, and:
   1.5 rad/s^2; stops when commands pause 0.5 s);
 - publishes nav_msgs/Odometry (frame `map`: the room is the map), a 360-ray
   sensor_msgs/LaserScan of the walls and people, and people_msgs/People (unless --no-people);
-- logs every step as one JSON line: time, robot pose and speed, people, and contacts.
+- logs every step as one JSON line: time, robot pose and speed, people, and contacts;
+- once commands come, asks the ROS graph who publishes `cmd_vel` and who subscribes to `odom`
+  (the SDK's `ros2 topic info --verbose`, from the liveliness tokens) and logs the answer.
 
     python tests/python/ros2_robot.py --namespace /robot1 --router 127.0.0.1:7447 --seconds 60 --log robot.jsonl
 
@@ -122,7 +124,7 @@ def main():
     args = ap.parse_args()
 
     import numpy as np
-    from zenoh_ros2_sdk import ROS2Publisher, ROS2Subscriber
+    from zenoh_ros2_sdk import ROS2Publisher, ROS2Subscriber, get_topic_info
     from zenoh_ros2_sdk.message_registry import get_registry
 
     get_registry(str(message_dir()))
@@ -163,6 +165,7 @@ def main():
     start = time.monotonic()
     step = 0
     touching = set()
+    graph_logged = False
     while True:
         now = time.monotonic()
         t = now - start
@@ -253,6 +256,28 @@ def main():
             )
             + "\n"
         )
+        if not graph_logged and received["n"] > 0:
+            graph_logged = True
+
+            def endpoints(infos):
+                return [
+                    {"node": e.node_name, "namespace": e.node_namespace, "type": e.topic_type, "hash": e.type_hash}
+                    for e in infos
+                ]
+
+            cmd_info = get_topic_info(f"{ns}/cmd_vel", router_ip=host, router_port=int(port), verbose=True)
+            odom_info = get_topic_info(f"{ns}/odom", router_ip=host, router_port=int(port), verbose=True)
+            log.write(
+                json.dumps(
+                    {
+                        "graph": {
+                            "cmd_vel_publishers": endpoints(cmd_info.publishers if cmd_info else []),
+                            "odom_subscribers": endpoints(odom_info.subscribers if odom_info else []),
+                        }
+                    }
+                )
+                + "\n"
+            )
         log.flush()
         step += 1
         time.sleep(max(0.0, start + step * dt - time.monotonic()))

@@ -32,6 +32,7 @@ fn a_recorded_demo_replays_bit_for_bit() {
         traffic_policy: true,
         sinks: dashboards::Sinks::default(),
         round_trips: None,
+        ros: false,
     };
     let rt = gapfleet_tests::runtime();
     let report = rt

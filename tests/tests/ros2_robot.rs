@@ -111,10 +111,32 @@ fn drive(no_people: bool) {
         "{stderr}"
     );
 
-    let rows: Vec<serde_json::Value> = std::fs::read_to_string(&log)
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&log)
         .expect("the robot's log")
         .lines()
         .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    // The independent implementation reads our liveliness tokens as ROS 2 graph entries.
+    let graph = lines
+        .iter()
+        .find_map(|l| l.get("graph"))
+        .expect("the robot queried the graph");
+    println!("graph as zenoh-ros2-sdk reads it: {graph}");
+    let ours = |list: &str, ty: &str| {
+        graph[list].as_array().is_some_and(|eps| {
+            eps.iter().any(|e| {
+                e["node"] == "gapfleet_agent" && e["namespace"] == "/robot1" && e["type"] == ty
+            })
+        })
+    };
+    assert!(
+        ours("cmd_vel_publishers", "geometry_msgs/msg/Twist"),
+        "{graph}"
+    );
+    assert!(ours("odom_subscribers", "nav_msgs/msg/Odometry"), "{graph}");
+    let rows: Vec<serde_json::Value> = lines
+        .into_iter()
+        .filter(|l| l.get("graph").is_none())
         .collect();
     assert!(rows.len() > 20, "the robot ran: {} steps", rows.len());
     let num = |r: &serde_json::Value, k: &str| r[k].as_f64().expect("a number");
@@ -179,4 +201,52 @@ fn the_agent_drives_a_python_rmw_zenoh_robot_to_three_goals() {
 #[test]
 fn people_seen_only_in_the_scan_are_not_touched_either() {
     drive(true);
+}
+
+/// `gapfleet demo --ros`: the simulator plays every robot as a ROS 2 robot and every agent
+/// drives its robot through those topics. The fleet works, nothing on the ROS side is refused,
+/// and no robot drives into anyone.
+#[test]
+fn a_fleet_of_simulated_ros_robots_works_through_its_topics() {
+    let out = Command::new(binary("gapfleet"))
+        .args([
+            "demo",
+            "--ros",
+            "--robots",
+            "4",
+            "--humans",
+            "10",
+            "--seconds",
+            "60",
+            "--speed",
+            "2",
+        ])
+        .stdin(Stdio::null())
+        .output()
+        .expect("gapfleet demo runs");
+    let text =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{text}");
+    let line = |prefix: &str| {
+        text.lines()
+            .find(|l| l.starts_with(prefix))
+            .unwrap_or_else(|| panic!("no `{prefix}` line in:\n{text}"))
+            .to_owned()
+    };
+    let tasks_line = line("tasks done");
+    println!("{tasks_line}\n{}", line("contacts (onsets)"));
+    let tasks: u64 = tasks_line
+        .split_whitespace()
+        .nth(2)
+        .and_then(|n| n.parse().ok())
+        .expect("a task count");
+    assert!(tasks >= 2, "{tasks_line}");
+    assert!(
+        tasks_line.contains("rejected messages 0 (coordinator) 0 (agents)"),
+        "{tasks_line}"
+    );
+    assert!(
+        line("contacts (onsets)").contains("with people 0 robot-caused"),
+        "{text}"
+    );
 }

@@ -34,6 +34,10 @@ use std::time::{Duration, Instant};
 /// on two cores) or one last observation was already on its way when the coordinator stopped.
 pub const DEFAULT_OBS_TIMEOUT: Duration = Duration::from_millis(400);
 
+/// In ROS mode, how long a plan waits for the robot's odometry of the observation's instant
+/// when the two share a clock (`ros::RosLink::wait_for_odometry`).
+const ODOMETRY_WAIT: Duration = Duration::from_millis(20);
+
 /// How long an agent waits for the coordinator's map before trying again (1 s later).
 const MAP_QUERY_TIMEOUT: Duration = Duration::from_millis(500);
 
@@ -56,6 +60,10 @@ pub struct AgentConfig {
     /// Fault injection for tests: every plan holds the agent's thread this much longer, as a
     /// slow planner would (zero in normal use).
     pub fault_plan_delay: Duration,
+    /// Drive a ROS 2 robot ([`ros`]): its own odometry, people and scan replace the
+    /// observation's ego state and people, and each command also goes to its `cmd_vel`. The
+    /// goal, the other robots and their intents still come from the coordinator.
+    pub ros: Option<ros::RosConfig>,
 }
 
 impl AgentConfig {
@@ -69,6 +77,7 @@ impl AgentConfig {
             share_fan: false,
             safety: Some(SafetyLimits::SIMULATED_ROBOT),
             fault_plan_delay: Duration::ZERO,
+            ros: None,
         }
     }
 }
@@ -100,6 +109,8 @@ pub struct AgentCounters {
     pub protective: AtomicU64,
     /// Commands the safety layer replaced with a way out (yields).
     pub yielded: AtomicU64,
+    /// What came from the robot in ROS mode ([`ros`]).
+    pub ros: Arc<ros::RosCounters>,
 }
 
 /// Runs one agent on `session` until `shutdown` completes.
@@ -187,6 +198,14 @@ pub async fn run_agent(
         .await
         .map_err(zerr("coordinator liveliness subscriber"))?;
 
+    let ros_link = match config.ros.clone() {
+        Some(ros) => Some(
+            ros::RosLink::declare(session, ros, counters.ros.clone())
+                .await
+                .map_err(AgentError::Ros)?,
+        ),
+        None => None,
+    };
     let planner_name = config.planner.to_string();
     let mut stack = PlannerStack::new(config.planner);
     let mut guard = config.safety.map(Guard::new);
@@ -242,11 +261,18 @@ pub async fn run_agent(
                 }
                 // The command goes out first: it closes the control loop; the intent and the fan
                 // follow right after it.
-                let (command, extras) = match (&map, obs.goal) {
-                    (Some((_, m)), Some(goal)) => {
-                        let ego = wire::ego(&obs);
-                        let neighbours = wire::neighbours(&obs);
-                        let profile = wire::visibility(&obs);
+                // In ROS mode the robot's own sensing; without fresh odometry it stands.
+                if let Some(link) = &ros_link {
+                    link.wait_for_odometry(obs.sim_time, ODOMETRY_WAIT).await;
+                }
+                let sensed = match (&ros_link, &map) {
+                    (Some(link), Some((_, m))) => link.sensed().map(|s| sensed_world(s, &obs, m)),
+                    (Some(_), None) => None,
+                    (None, _) => Some((wire::ego(&obs), wire::neighbours(&obs))),
+                };
+                let (command, extras) = match (&map, obs.goal, sensed) {
+                    (Some((_, m)), Some(goal), Some((ego, neighbours))) => {
+                        let profile = if ros_link.is_some() { None } else { wire::visibility(&obs) };
                         let started = Instant::now();
                         let input = PlanningInput {
                             ego: &ego,
@@ -306,6 +332,10 @@ pub async fn run_agent(
                         None,
                     ),
                 };
+                if let Some(link) = &ros_link {
+                    let heading = link.sensed().map_or(obs.heading, |s| s.ego.heading);
+                    link.drive(wire::command(command.motion), heading).await;
+                }
                 if let Err(e) = cmd_pub.put(encode(&command)).await {
                     tracing::warn!(robot = id, "command not sent: {e}");
                 }
@@ -323,6 +353,9 @@ pub async fn run_agent(
             () = tokio::time::sleep_until(deadline), if !stopped => {
                 tracing::warn!(robot = id, "observations stopped: safe stop");
                 safe_stop(&cmd_pub, id, last, &counters).await;
+                if let Some(link) = &ros_link {
+                    link.drive(Command::STOP, 0.0).await;
+                }
                 stopped = true;
             }
             sample = coordinator_sub.recv_async() => {
@@ -335,6 +368,9 @@ pub async fn run_agent(
                     zenoh::sample::SampleKind::Delete => {
                         tracing::warn!(robot = id, "coordinator gone: safe stop");
                         safe_stop(&cmd_pub, id, last, &counters).await;
+                if let Some(link) = &ros_link {
+                    link.drive(Command::STOP, 0.0).await;
+                }
                         stopped = true;
                     }
                 }
@@ -358,6 +394,9 @@ pub async fn run_agent(
         }
     }
     safe_stop(&cmd_pub, id, last, &counters).await;
+    if let Some(link) = &ros_link {
+        link.drive(Command::STOP, 0.0).await;
+    }
     drop(token);
     drop(obs_sub);
     tracing::info!(robot = id, "agent down");
@@ -448,6 +487,32 @@ pub enum AgentError {
     /// The site name cannot be part of a key expression.
     #[error("agent: {0}")]
     Key(#[from] schemas::KeyError),
+    /// The ROS 2 side could not be declared.
+    #[error("agent: ROS 2: {0}")]
+    Ros(#[from] ros::RosError),
+}
+
+/// The robot's own sensing in ROS mode as the planners' input: its odometry for the ego state,
+/// the coordinator's robots (with their intents), its tracked people, and its scan's returns
+/// that none of those nor the map explains.
+fn sensed_world(
+    sensed: ros::Sensed,
+    obs: &Observation,
+    map: &StaticMap,
+) -> (crate::model::EgoState, Vec<crate::model::Neighbour>) {
+    let mut ego = sensed.ego;
+    ego.radius = obs.radius;
+    let mut neighbours: Vec<_> = wire::neighbours(obs)
+        .into_iter()
+        .filter(|n| n.kind == crate::model::AgentKind::Robot)
+        .collect();
+    neighbours.extend(sensed.people);
+    if let Some(scan) = &sensed.scan {
+        let params = crate::scan::ScanParams::default();
+        let unexplained = crate::scan::unexplained_bodies(scan, map, &neighbours, &params);
+        neighbours.extend(unexplained);
+    }
+    (ego, neighbours)
 }
 
 /// Why the static map could not be had from the coordinator (the agent retries).

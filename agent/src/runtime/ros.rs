@@ -73,6 +73,14 @@ impl Default for RosConfig {
     }
 }
 
+/// Odometry stamped within this of an observation's time is on the same clock (s).
+pub const SHARED_CLOCK_S: Real = 1.0;
+
+/// Odometry poses kept to place scans at their own time (2 s at 10 Hz).
+const POSE_HISTORY: usize = 20;
+/// A scan is placed at an odometry pose at most this far from its stamp (s).
+pub const SCAN_POSE_TOLERANCE_S: Real = 0.06;
+
 /// Counts of what arrived from the robot.
 #[derive(Debug, Default)]
 pub struct RosCounters {
@@ -94,6 +102,10 @@ pub struct RosCounters {
 #[derive(Debug, Default)]
 struct Latest {
     odom: Option<(Odometry, Instant)>,
+    /// Recent odometry poses (stamp in s, position, yaw in the odometry frame), oldest first:
+    /// a scan is placed at the pose of its own stamp, since its samples need not arrive in
+    /// step with odometry's.
+    poses: std::collections::VecDeque<(Real, Vec2, Real)>,
     /// map → odom (x, y, yaw), from `/tf`.
     map_from_odom: Option<(Vec2, Real)>,
     people: Option<People>,
@@ -132,6 +144,8 @@ pub enum RosError {
 pub struct RosLink {
     config: RosConfig,
     latest: Arc<Mutex<Latest>>,
+    /// Signalled on every accepted odometry, scan and people message.
+    odom_arrived: Arc<tokio::sync::Notify>,
     counters: Arc<RosCounters>,
     cmd_pub: zenoh::pubsub::Publisher<'static>,
     cmd_gid: [u8; 16],
@@ -211,13 +225,27 @@ impl RosLink {
             }};
         }
         let map_frame = config.map_frame.clone();
+        let odom_arrived = Arc::new(tokio::sync::Notify::new());
+        let arrived = odom_arrived.clone();
+        let scan_arrived = odom_arrived.clone();
+        let people_arrived = odom_arrived.clone();
         sub!(
             Odometry,
             &config.odom_topic,
             Qos::SENSOR_DATA,
             move |l: &mut Latest, m: Odometry, c: &RosCounters| {
                 c.odom.fetch_add(1, Ordering::Relaxed);
+                let p = &m.pose.pose;
+                if l.poses.len() == POSE_HISTORY {
+                    l.poses.pop_front();
+                }
+                l.poses.push_back((
+                    m.header.stamp.as_secs(),
+                    Vec2::new(p.position.x, p.position.y),
+                    p.orientation.yaw(),
+                ));
                 l.odom = Some((m, Instant::now()));
+                arrived.notify_waiters();
             }
         );
         sub!(
@@ -227,6 +255,7 @@ impl RosLink {
             move |l: &mut Latest, m: LaserScan, c: &RosCounters| {
                 c.scans.fetch_add(1, Ordering::Relaxed);
                 l.scan = Some(m);
+                scan_arrived.notify_waiters();
             }
         );
         sub!(
@@ -236,6 +265,7 @@ impl RosLink {
             move |l: &mut Latest, m: People, c: &RosCounters| {
                 c.people.fetch_add(1, Ordering::Relaxed);
                 l.people = Some(m);
+                people_arrived.notify_waiters();
             }
         );
         sub!(
@@ -295,6 +325,7 @@ impl RosLink {
         Ok(Self {
             config,
             latest,
+            odom_arrived,
             counters,
             cmd_pub,
             cmd_gid,
@@ -302,6 +333,39 @@ impl RosLink {
             _tokens: tokens,
             _subscribers: subscribers,
         })
+    }
+
+    /// Waits up to `timeout` for odometry (and people and scan, if the robot sends them)
+    /// stamped at `time` or later, when the robot's clock is
+    /// the caller's (within [`SHARED_CLOCK_S`]: the simulator's robots stamp with simulated
+    /// time, as its observations do), so that a plan uses the robot's state at the
+    /// observation's instant rather than one period before it. A robot on a clock of its own
+    /// returns at once.
+    pub async fn wait_for_odometry(&self, time: Real, timeout: Duration) {
+        let deadline = tokio::time::Instant::now() + timeout;
+        loop {
+            let arrived = self.odom_arrived.notified();
+            let caught_up = {
+                let l = self.latest.lock().unwrap_or_else(|e| e.into_inner());
+                // Each stream the robot has (odometry always; people and scan once seen) is at
+                // `time`, or on a clock of its own.
+                let at =
+                    |stamp: Real| stamp >= time - 1e-6 || (stamp - time).abs() > SHARED_CLOCK_S;
+                l.odom
+                    .as_ref()
+                    .is_some_and(|(o, _)| at(o.header.stamp.as_secs()))
+                    && l.people
+                        .as_ref()
+                        .is_none_or(|p| at(p.header.stamp.as_secs()))
+                    && l.scan.as_ref().is_none_or(|s| at(s.header.stamp.as_secs()))
+            };
+            if caught_up {
+                return;
+            }
+            if tokio::time::timeout_at(deadline, arrived).await.is_err() {
+                return;
+            }
+        }
     }
 
     /// The robot's newest state in the map frame, its tracked people and its scan; `None`
@@ -351,7 +415,7 @@ impl RosLink {
                             (pos, vel)
                         };
                         Neighbour::new(
-                            i as u64 + 1,
+                            person_id(&person.name, i),
                             pos,
                             vel,
                             self.config.person_radius,
@@ -361,14 +425,24 @@ impl RosLink {
                     .collect()
             })
             .unwrap_or_default();
-        // The scanner is taken to sit at the base's centre, facing forward.
-        let scan = l.scan.as_ref().map(|s| Scan {
-            origin: ego.position,
-            bearing0: heading + Real::from(s.angle_min),
-            increment: Real::from(s.angle_increment),
-            range_min: Real::from(s.range_min),
-            range_max: Real::from(s.range_max),
-            ranges: s.ranges.clone(),
+        // The scanner is taken to sit at the base's centre, facing forward, and the scan is
+        // placed at the odometry pose nearest its stamp; a scan with no pose within
+        // SCAN_POSE_TOLERANCE_S of its stamp is not used.
+        let scan = l.scan.as_ref().and_then(|s| {
+            let at = s.header.stamp.as_secs();
+            let &(_, position, yaw) = l
+                .poses
+                .iter()
+                .min_by(|a, b| (a.0 - at).abs().total_cmp(&(b.0 - at).abs()))
+                .filter(|(t, ..)| (t - at).abs() <= SCAN_POSE_TOLERANCE_S)?;
+            Some(Scan {
+                origin: to_map(position),
+                bearing0: yaw + rotation + Real::from(s.angle_min),
+                increment: Real::from(s.angle_increment),
+                range_min: Real::from(s.range_min),
+                range_max: Real::from(s.range_max),
+                ranges: s.ranges.clone(),
+            })
         });
         Some(Sensed { ego, people, scan })
     }
@@ -408,6 +482,19 @@ impl RosLink {
             Err(e) => tracing::warn!("cmd_vel not sent: {e}"),
         }
     }
+}
+
+/// A tracked person's id, stable while the tracker keeps the name: a 47-bit hash of it above
+/// 2⁴⁷ (above any robot's id, below the scan bodies'); the index when the name is empty.
+fn person_id(name: &str, index: usize) -> u64 {
+    const HIGH: u64 = 1 << 47;
+    if name.is_empty() {
+        return HIGH + index as u64;
+    }
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    });
+    HIGH | (hash & (HIGH - 1))
 }
 
 fn rotate(v: Vec2, angle: Real) -> Vec2 {

@@ -95,6 +95,7 @@ pub async fn bench_fleet(
         traffic_policy: true,
         sinks: dashboards::Sinks::default(),
         round_trips: Some(round_trips_tx),
+        ros: false,
     };
     // The raw probe runs beside the fleet until the fleet is done.
     let probe = RawProbe::open().await?;

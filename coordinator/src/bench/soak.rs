@@ -276,6 +276,7 @@ pub async fn bench_soak(
         traffic_policy: true,
         sinks: dashboards::Sinks::default(),
         round_trips: Some(round_trips_tx),
+        ros: false,
     };
     let started = Instant::now();
     let windows = Arc::new(Mutex::new(Vec::<SoakWindow>::new()));

@@ -60,6 +60,11 @@ pub struct DemoArgs {
     /// planners run (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
     no_safety: bool,
+    /// Play every robot as a ROS 2 robot over rmw_zenoh (namespace /robot<i>: odom, scan,
+    /// people out, cmd_vel in) and run every agent in ROS mode, driving it through those
+    /// topics (schemas/ros2/README.md).
+    #[arg(long)]
+    ros: bool,
     #[command(flatten)]
     rerun: RerunArgs,
 }
@@ -133,6 +138,7 @@ impl DemoArgs {
             traffic_policy: !self.no_traffic_policy,
             sinks: self.rerun.sinks(),
             round_trips: None,
+            ros: self.ros,
         };
         eprintln!(
             "gapfleet demo: {robots} robots ({}), {humans} people, {} s at {}x; Ctrl-C stops early",

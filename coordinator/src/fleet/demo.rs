@@ -47,6 +47,9 @@ pub struct DemoOptions {
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
     pub round_trips: Option<std::sync::mpsc::Sender<RoundTrip>>,
+    /// Every robot a ROS 2 robot over rmw_zenoh (`super::ros_robots`), every agent in ROS mode
+    /// driving it through its topics.
+    pub ros: bool,
 }
 
 /// How the demo's sessions connect.
@@ -182,6 +185,15 @@ pub async fn run_demo(
         agent_config.safety = robot
             .safety
             .then(|| robot.safety_limits(options.scenario.dt_s));
+        if options.ros {
+            agent_config.ros = Some(agent::runtime::ros::RosConfig {
+                namespace: super::ros_robots::namespace(id as usize),
+                robot_radius: robot.radius_m,
+                // people_msgs carries no size; the site's people model does.
+                person_radius: options.scenario.humans.radius_m,
+                ..Default::default()
+            });
+        }
         let mut stop = stop_rx.clone();
         agents.push(tokio::spawn(async move {
             let shutdown = async move {
@@ -206,6 +218,7 @@ pub async fn run_demo(
     config.speed = options.speed;
     config.round_trips = options.round_trips;
     config.journal = options.journal;
+    config.ros = options.ros.then(super::ros_robots::RosSimConfig::default);
     // The demo holds the coordinator's token itself and drops it after its agents have shut
     // down: the end of a demo is planned, not a lost coordinator.
     config.announce_presence = false;
@@ -291,7 +304,8 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             .sum()
     };
     let plans = sum(|c| &c.plans);
-    let rejected = sum(|c| &c.rejected);
+    // In ROS mode the robots' own topics count too.
+    let rejected = sum(|c| &c.rejected) + sum(|c| &c.ros.rejected);
     let warned = sum(|c| &c.warned);
     let protective = sum(|c| &c.protective);
     let yielded = sum(|c| &c.yielded);

@@ -18,6 +18,7 @@ pub mod demo;
 pub mod journal;
 mod links;
 mod messages;
+pub mod ros_robots;
 mod status;
 
 pub use messages::{map_message, map_version, observation, traffic_message};
@@ -96,6 +97,8 @@ struct Wire<'s> {
     /// The served map's version, named in every observation.
     map_version: u32,
     _presence: Option<zenoh::liveliness::LivelinessToken>,
+    /// The robots as ROS 2 robots, when the coordinator plays them (`CoordinatorConfig::ros`).
+    ros: Option<ros_robots::RosRobots>,
 }
 
 impl<'s> Wire<'s> {
@@ -198,6 +201,14 @@ impl<'s> Wire<'s> {
             .declare_publisher(keys.metrics())
             .await
             .map_err(zerr("metrics publisher"))?;
+        let ros = match &config.ros {
+            Some(ros) => Some(
+                ros_robots::RosRobots::declare(session, n, fleet.world.map.clone(), ros)
+                    .await
+                    .map_err(|(what, source)| CoordinatorError::Ros { what, source })?,
+            ),
+            None => None,
+        };
         Ok(Self {
             keys,
             alive,
@@ -214,6 +225,7 @@ impl<'s> Wire<'s> {
             map_server,
             map_version,
             _presence: presence,
+            ros,
         })
     }
 }
@@ -354,6 +366,14 @@ impl Coordinator<'_> {
             let zone = self.status.safety.get(i).copied().unwrap_or_default();
             let layer_held = matches!(zone, SafetyZone::Protective | SafetyZone::Yield);
             self.fleet.set_layer_held(i, fresh.is_some() && layer_held);
+            // A ROS 2 robot drives on its cmd_vel; the agent's fleet command says it answered.
+            let fresh = match (&self.wire.ros, fresh) {
+                (Some(ros), Some(_)) => {
+                    let heading = self.fleet.world.robots[i].state.heading;
+                    Some(ros.command(i, heading).unwrap_or(Command::STOP))
+                }
+                (_, fresh) => fresh,
+            };
             match fresh {
                 Some(command) => commands[i] = command,
                 None if link.alive && self.fleet.job(i).is_some() && link.next_seq > 0 => {
@@ -497,6 +517,11 @@ impl Coordinator<'_> {
                     self.links[i].next_seq,
                     self.wire.map_version,
                 );
+                // The robot's own topics go first, so an agent in ROS mode has them when the
+                // observation comes.
+                if let Some(ros) = &mut self.wire.ros {
+                    ros.publish(&obs).await;
+                }
                 let bytes = encode(&obs);
                 self.links[i].sent(obs.seq);
                 self.status.observations += 1;

@@ -41,6 +41,9 @@ pub struct CoordinatorConfig {
     /// goes on (`gapfleet coordinator` measures it in the background, so that a restart is not
     /// held up by it); empty: no efficiency.
     pub free_flow: Arc<OnceLock<world_sim::efficiency::FreeFlow>>,
+    /// Play every robot as a ROS 2 robot over rmw_zenoh (`super::ros_robots`): odometry, scan
+    /// and people out, driven by its `cmd_vel`.
+    pub ros: Option<super::ros_robots::RosSimConfig>,
 }
 
 /// Where a resumed run picks up.
@@ -67,6 +70,7 @@ impl CoordinatorConfig {
             free_flow: Arc::default(),
             journal: None,
             resume: None,
+            ros: None,
         }
     }
 }
@@ -163,6 +167,14 @@ pub enum CoordinatorError {
     /// Bad site name.
     #[error(transparent)]
     Key(#[from] schemas::KeyError),
+    /// The session refused a ROS 2 robot's declaration.
+    #[error("zenoh: ROS 2 {what}: {source}")]
+    Ros {
+        /// What was being declared.
+        what: String,
+        /// Zenoh's error.
+        source: zenoh::Error,
+    },
 }
 
 /// Watches a running coordinator (dashboards, tests, the demo's status line). A closure

@@ -542,13 +542,14 @@ impl Message for LaserScan {
     };
     fn check(&self) -> Result<(), CdrError> {
         self.header.check()?;
-        let full_turn = 2.0 * std::f64::consts::PI + 1e-3;
-        bounded("angle_min", f64::from(self.angle_min), full_turn)?;
-        bounded("angle_max", f64::from(self.angle_max), full_turn)?;
+        // A full turn may start anywhere in [−2π, 2π] and so end below 4π.
+        let two_turns = 4.0 * std::f64::consts::PI + 1e-3;
+        bounded("angle_min", f64::from(self.angle_min), two_turns)?;
+        bounded("angle_max", f64::from(self.angle_max), two_turns)?;
         bounded(
             "angle_increment",
             f64::from(self.angle_increment),
-            full_turn,
+            two_turns,
         )?;
         if self.angle_increment == 0.0 && self.ranges.len() > 1 {
             return Err(CdrError::OutOfBounds {
