@@ -171,7 +171,7 @@ async fn main() -> anyhow::Result<()> {
 
 /// `--ros`: the robot's own topics in, its cmd_vel out, through the goals.
 async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
-    use agent::runtime::ros::{RosAgentConfig, RosConfig, RosCounters, run_ros_agent};
+    use agent::runtime::ros::{RosAgentConfig, RosConfig, run_ros_agent};
     if args.ros.goals.is_empty() {
         anyhow::bail!("--ros needs at least one --goal x,y");
     }
@@ -204,16 +204,15 @@ async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
     };
     let goals = config.goals.len();
     let counters = Arc::new(AgentCounters::default());
-    let ros_counters = Arc::new(RosCounters::default());
     let reached = run_ros_agent(
         session,
         config,
         counters.clone(),
-        ros_counters.clone(),
         agent::runtime::shutdown_signal(),
     )
     .await?;
     let load = |c: &std::sync::atomic::AtomicU64| c.load(std::sync::atomic::Ordering::Relaxed);
+    let ros_counters = &counters.ros;
     eprintln!(
         "gapfleet-agent (ROS 2, {}): {reached} of {goals} goals, {} plans, {} odometry, {} scans, {} people messages, {} refused, {} commands; safety layer: {} slowed, {} protective, {} yields",
         args.ros.namespace,

@@ -372,79 +372,11 @@ impl RosLink {
     /// until fresh odometry (and, if the odometry frame is not the map frame, map→odom) came.
     pub fn sensed(&self) -> Option<Sensed> {
         let l = self.latest.lock().unwrap_or_else(|e| e.into_inner());
-        let (odom, at) = l.odom.as_ref()?;
+        let (_, at) = l.odom.as_ref()?;
         if at.elapsed() > self.config.odom_timeout {
             return None;
         }
-        let odom_frame = odom.header.frame_id.trim_start_matches('/');
-        let (offset, rotation) = if odom_frame == self.config.map_frame {
-            (Vec2::zeros(), 0.0)
-        } else {
-            l.map_from_odom?
-        };
-        let to_map = |p: Vec2| offset + rotate(p, rotation);
-        let pose = &odom.pose.pose;
-        let heading = pose.orientation.yaw() + rotation;
-        let body_v = &odom.twist.twist.linear;
-        let ego = EgoState {
-            position: to_map(Vec2::new(pose.position.x, pose.position.y)),
-            heading,
-            // Odometry's twist is in the child (base) frame.
-            velocity: rotate(Vec2::new(body_v.x, body_v.y), heading),
-            yaw_rate: odom.twist.twist.angular.z,
-            radius: self.config.robot_radius,
-        };
-        let people = l
-            .people
-            .as_ref()
-            .filter(|p| {
-                let frame = p.header.frame_id.trim_start_matches('/');
-                frame == self.config.map_frame || frame == odom_frame
-            })
-            .map(|p| {
-                let in_odom = p.header.frame_id.trim_start_matches('/') != self.config.map_frame;
-                p.people
-                    .iter()
-                    .enumerate()
-                    .map(|(i, person)| {
-                        let pos = Vec2::new(person.position.x, person.position.y);
-                        let vel = Vec2::new(person.velocity.x, person.velocity.y);
-                        let (pos, vel) = if in_odom {
-                            (to_map(pos), rotate(vel, rotation))
-                        } else {
-                            (pos, vel)
-                        };
-                        Neighbour::new(
-                            person_id(&person.name, i),
-                            pos,
-                            vel,
-                            self.config.person_radius,
-                            AgentKind::Human,
-                        )
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
-        // The scanner is taken to sit at the base's centre, facing forward, and the scan is
-        // placed at the odometry pose nearest its stamp; a scan with no pose within
-        // SCAN_POSE_TOLERANCE_S of its stamp is not used.
-        let scan = l.scan.as_ref().and_then(|s| {
-            let at = s.header.stamp.as_secs();
-            let &(_, position, yaw) = l
-                .poses
-                .iter()
-                .min_by(|a, b| (a.0 - at).abs().total_cmp(&(b.0 - at).abs()))
-                .filter(|(t, ..)| (t - at).abs() <= SCAN_POSE_TOLERANCE_S)?;
-            Some(Scan {
-                origin: to_map(position),
-                bearing0: yaw + rotation + Real::from(s.angle_min),
-                increment: Real::from(s.angle_increment),
-                range_min: Real::from(s.range_min),
-                range_max: Real::from(s.range_max),
-                ranges: s.ranges.clone(),
-            })
-        });
-        Some(Sensed { ego, people, scan })
+        sense(&l, &self.config)
     }
 
     /// Sends `command` (already executable on the base) to the robot's `cmd_vel`, in the base
@@ -482,6 +414,81 @@ impl RosLink {
             Err(e) => tracing::warn!("cmd_vel not sent: {e}"),
         }
     }
+}
+
+/// The newest of each stream as the planners' input in the map frame; `None` without odometry
+/// or, when odometry is not in the map frame, without map→odom.
+fn sense(l: &Latest, config: &RosConfig) -> Option<Sensed> {
+    let (odom, _) = l.odom.as_ref()?;
+    let odom_frame = odom.header.frame_id.trim_start_matches('/');
+    let (offset, rotation) = if odom_frame == config.map_frame {
+        (Vec2::zeros(), 0.0)
+    } else {
+        l.map_from_odom?
+    };
+    let to_map = |p: Vec2| offset + rotate(p, rotation);
+    let pose = &odom.pose.pose;
+    let heading = pose.orientation.yaw() + rotation;
+    let body_v = &odom.twist.twist.linear;
+    let ego = EgoState {
+        position: to_map(Vec2::new(pose.position.x, pose.position.y)),
+        heading,
+        // Odometry's twist is in the child (base) frame.
+        velocity: rotate(Vec2::new(body_v.x, body_v.y), heading),
+        yaw_rate: odom.twist.twist.angular.z,
+        radius: config.robot_radius,
+    };
+    let people = l
+        .people
+        .as_ref()
+        .filter(|p| {
+            let frame = p.header.frame_id.trim_start_matches('/');
+            frame == config.map_frame || frame == odom_frame
+        })
+        .map(|p| {
+            let in_odom = p.header.frame_id.trim_start_matches('/') != config.map_frame;
+            p.people
+                .iter()
+                .enumerate()
+                .map(|(i, person)| {
+                    let pos = Vec2::new(person.position.x, person.position.y);
+                    let vel = Vec2::new(person.velocity.x, person.velocity.y);
+                    let (pos, vel) = if in_odom {
+                        (to_map(pos), rotate(vel, rotation))
+                    } else {
+                        (pos, vel)
+                    };
+                    Neighbour::new(
+                        person_id(&person.name, i),
+                        pos,
+                        vel,
+                        config.person_radius,
+                        AgentKind::Human,
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    // The scanner is taken to sit at the base's centre, facing forward, and the scan is
+    // placed at the odometry pose nearest its stamp; a scan with no pose within
+    // SCAN_POSE_TOLERANCE_S of its stamp is not used.
+    let scan = l.scan.as_ref().and_then(|s| {
+        let at = s.header.stamp.as_secs();
+        let &(_, position, yaw) = l
+            .poses
+            .iter()
+            .min_by(|a, b| (a.0 - at).abs().total_cmp(&(b.0 - at).abs()))
+            .filter(|(t, ..)| (t - at).abs() <= SCAN_POSE_TOLERANCE_S)?;
+        Some(Scan {
+            origin: to_map(position),
+            bearing0: yaw + rotation + Real::from(s.angle_min),
+            increment: Real::from(s.angle_increment),
+            range_min: Real::from(s.range_min),
+            range_max: Real::from(s.range_max),
+            ranges: s.ranges.clone(),
+        })
+    });
+    Some(Sensed { ego, people, scan })
 }
 
 /// A tracked person's id, stable while the tracker keeps the name: a 47-bit hash of it above
@@ -554,6 +561,96 @@ mod tests {
         assert_eq!((t.linear.x, t.angular.z), (0.5, -0.2));
     }
 
+    fn odometry(frame: &str, stamp: f64, x: Real, y: Real, yaw: Real, forward: Real) -> Odometry {
+        let mut o = Odometry::default();
+        o.header = Header {
+            stamp: Time::from_secs(stamp),
+            frame_id: frame.into(),
+        };
+        o.pose.pose.position = ros2_wire::msg::Point { x, y, z: 0.0 };
+        o.pose.pose.orientation = ros2_wire::msg::Quaternion::from_yaw(yaw);
+        o.twist.twist.linear.x = forward;
+        o
+    }
+
+    fn near(a: Vec2, b: Vec2) -> bool {
+        (a - b).norm() < 1e-9
+    }
+
+    /// Odometry in `odom`, map→odom from /tf (1 m along x, a quarter turn), people in the odom
+    /// frame, and a scan older than the newest odometry: all land in the map frame, the scan
+    /// at the pose of its own stamp.
+    #[test]
+    fn frames_compose_into_the_map_frame() {
+        use std::f64::consts::FRAC_PI_2;
+        let config = RosConfig::default();
+        let mut l = Latest::default();
+        l.odom = Some((odometry("odom", 2.0, 2.0, 0.0, 0.0, 0.5), Instant::now()));
+        l.poses.push_back((1.9, Vec2::new(1.95, 0.0), 0.0));
+        l.poses.push_back((2.0, Vec2::new(2.0, 0.0), 0.0));
+        assert!(sense(&l, &config).is_none(), "no map→odom yet");
+        l.map_from_odom = Some((Vec2::new(1.0, 0.0), FRAC_PI_2));
+        l.people = Some(People {
+            header: Header {
+                stamp: Time::from_secs(2.0),
+                frame_id: "odom".into(),
+            },
+            people: vec![ros2_wire::msg::Person {
+                name: "a".into(),
+                position: ros2_wire::msg::Point {
+                    x: 3.0,
+                    y: 0.0,
+                    z: 0.0,
+                },
+                velocity: ros2_wire::msg::Point {
+                    x: 1.0,
+                    y: 0.0,
+                    z: 0.0,
+                },
+                ..Default::default()
+            }],
+        });
+        l.scan = Some(LaserScan {
+            header: Header {
+                stamp: Time::from_secs(1.9),
+                frame_id: "base_scan".into(),
+            },
+            angle_min: 0.5,
+            angle_increment: 0.01,
+            range_max: 10.0,
+            ranges: vec![1.0],
+            ..Default::default()
+        });
+        let s = sense(&l, &config).expect("sensed");
+        // (2, 0) in odom is (1, 2) in the map; heading a quarter turn; forward is map +y.
+        assert!(
+            near(s.ego.position, Vec2::new(1.0, 2.0)),
+            "{:?}",
+            s.ego.position
+        );
+        assert!((s.ego.heading - FRAC_PI_2).abs() < 1e-12);
+        assert!(
+            near(s.ego.velocity, Vec2::new(0.0, 0.5)),
+            "{:?}",
+            s.ego.velocity
+        );
+        assert!(near(s.people[0].position, Vec2::new(1.0, 3.0)));
+        assert!(near(s.people[0].velocity, Vec2::new(0.0, 1.0)));
+        let scan = s.scan.expect("the scan, at its own pose");
+        assert!(near(scan.origin, Vec2::new(1.0, 1.95)), "{:?}", scan.origin);
+        assert!((scan.bearing0 - (FRAC_PI_2 + 0.5)).abs() < 1e-6);
+        // A scan with no odometry near its stamp is not used.
+        if let Some(scan) = l.scan.as_mut() {
+            scan.header.stamp = Time::from_secs(1.0);
+        }
+        assert!(sense(&l, &config).expect("sensed").scan.is_none());
+        // People in another frame are refused.
+        if let Some(p) = l.people.as_mut() {
+            p.header.frame_id = "camera".into();
+        }
+        assert!(sense(&l, &config).expect("sensed").people.is_empty());
+    }
+
     #[test]
     fn rejections_are_logged_at_powers_of_ten() {
         let logged: Vec<u64> = (0..2000).filter(|&n| log_now(n)).collect();
@@ -592,14 +689,13 @@ pub async fn run_ros_agent(
     session: &zenoh::Session,
     config: RosAgentConfig,
     counters: Arc<super::AgentCounters>,
-    ros_counters: Arc<RosCounters>,
     shutdown: impl std::future::Future<Output = ()>,
 ) -> Result<usize, RosError> {
     use crate::guard::Guard;
     use crate::planner::{PlannerStack, PlanningInput};
     use crate::safety::Zone;
 
-    let link = RosLink::declare(session, config.ros.clone(), ros_counters).await?;
+    let link = RosLink::declare(session, config.ros.clone(), counters.ros.clone()).await?;
     let mut stack = PlannerStack::new(config.planner);
     let mut guard = config
         .safety
