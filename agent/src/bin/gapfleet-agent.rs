@@ -5,10 +5,12 @@
 //! ```
 //! Runs until SIGINT or SIGTERM, then safe-stops its robot and withdraws its liveliness token.
 //!
-//! With `--ros` it drives a ROS 2 robot over rmw_zenoh instead (odometry, scan and people in,
-//! `cmd_vel` out) through the goals given, without a coordinator:
+//! With `--ros` it drives a ROS 2 robot over rmw_zenoh (odometry, scan and people in, `cmd_vel`
+//! out): in the fleet with `--robot-id` (goals and the other robots' intents from the
+//! coordinator), or alone through the goals given:
 //!
 //! ```text
+//! gapfleet-agent --ros --robot-id 1 --namespace /robot1 --connect tcp/<coordinator>:7447
 //! gapfleet-agent --ros --namespace /robot1 --base differential --goal 3,0 --goal 3,3
 //! ```
 
@@ -62,7 +64,8 @@ struct Args {
 /// Driving a ROS 2 robot over rmw_zenoh (schemas/ros2/README.md).
 #[derive(Debug, Clone, clap::Args)]
 struct RosArgs {
-    /// Drive a ROS 2 robot over rmw_zenoh through --goal points, without a coordinator.
+    /// Drive a ROS 2 robot over rmw_zenoh: in the fleet with --robot-id, or alone through
+    /// --goal points.
     #[arg(long)]
     ros: bool,
     /// The robot's namespace; relative topics resolve in it.
@@ -83,8 +86,8 @@ struct RosArgs {
     /// The base's drive: holonomic, or differential (velocity commands become turn-and-drive).
     #[arg(long, value_enum, default_value = "holonomic", requires = "ros")]
     base: BaseArg,
-    /// A goal in the map frame, "x,y" (repeatable, visited in order).
-    #[arg(long = "goal", value_parser = parse_goal, requires = "ros")]
+    /// A goal in the map frame, "x,y" (repeatable, visited in order; "-1.5,2" works too).
+    #[arg(long = "goal", value_parser = parse_goal, requires = "ros", allow_hyphen_values = true)]
     goals: Vec<agent::math::Vec2>,
     /// The robot's body radius (m).
     #[arg(long, default_value_t = 0.3, requires = "ros")]
@@ -135,8 +138,13 @@ async fn main() -> anyhow::Result<()> {
     let session = zenoh::open(config(&net, Role::Client)?)
         .await
         .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
-    if args.ros.ros {
+    if args.ros.ros && args.robot_id.is_none() {
         return run_ros(args, &session).await;
+    }
+    if args.ros.ros && !args.ros.goals.is_empty() {
+        anyhow::bail!(
+            "--goal is for a robot driven alone; with --robot-id the coordinator gives the goals"
+        );
     }
     let Some(robot_id) = args.robot_id else {
         anyhow::bail!("--robot-id is required without --ros");
@@ -147,6 +155,10 @@ async fn main() -> anyhow::Result<()> {
     agent_config.fault_plan_delay = Duration::from_millis(args.fault_plan_delay_ms);
     if args.no_safety {
         agent_config.safety = None;
+    }
+    if args.ros.ros {
+        agent_config.ros = Some(ros_config(&args.ros));
+        agent_config.base = base_of(args.ros.base);
     }
     let counters = Arc::new(AgentCounters::default());
     run_agent(
@@ -169,29 +181,39 @@ async fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `--ros`: the robot's own topics in, its cmd_vel out, through the goals.
-async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
-    use agent::runtime::ros::{RosAgentConfig, RosConfig, run_ros_agent};
-    if args.ros.goals.is_empty() {
-        anyhow::bail!("--ros needs at least one --goal x,y");
-    }
-    let limits = agent::safety::SafetyLimits::SIMULATED_ROBOT;
-    let base = match args.ros.base {
+/// The base as the flag gives it (turn rates within the layer's limits).
+fn base_of(base: BaseArg) -> agent::model::Base {
+    match base {
         BaseArg::Holonomic => agent::model::Base::Holonomic,
         BaseArg::Differential => agent::model::Base::Differential {
-            max_yaw_rate: limits.max_yaw_rate,
+            max_yaw_rate: agent::safety::SafetyLimits::SIMULATED_ROBOT.max_yaw_rate,
         },
-    };
+    }
+}
+
+/// The robot's ROS 2 side as the flags give it.
+fn ros_config(ros: &RosArgs) -> agent::runtime::ros::RosConfig {
+    agent::runtime::ros::RosConfig {
+        domain_id: ros.domain_id,
+        namespace: ros.namespace.clone(),
+        distro: ros.distro,
+        stamped_cmd: ros.stamped_cmd,
+        map_frame: ros.map_frame.clone(),
+        robot_radius: ros.robot_radius,
+        ..Default::default()
+    }
+}
+
+/// `--ros` without `--robot-id`: the robot's own topics in, its cmd_vel out, through the goals.
+async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
+    use agent::runtime::ros::{RosAgentConfig, run_ros_agent};
+    if args.ros.goals.is_empty() {
+        anyhow::bail!("--ros needs --robot-id (in a fleet) or at least one --goal x,y (alone)");
+    }
+    let limits = agent::safety::SafetyLimits::SIMULATED_ROBOT;
+    let base = base_of(args.ros.base);
     let config = RosAgentConfig {
-        ros: RosConfig {
-            domain_id: args.ros.domain_id,
-            namespace: args.ros.namespace.clone(),
-            distro: args.ros.distro,
-            stamped_cmd: args.ros.stamped_cmd,
-            map_frame: args.ros.map_frame.clone(),
-            robot_radius: args.ros.robot_radius,
-            ..RosConfig::default()
-        },
+        ros: ros_config(&args.ros),
         planner: args.planner,
         safety: (!args.no_safety).then_some(limits),
         base,
@@ -243,5 +265,31 @@ mod tests {
         assert!(parse("9").is_err());
         assert!(parse("3600001").is_err());
         assert_eq!(parse("500").expect("valid").obs_timeout_ms, 500);
+    }
+
+    /// `--ros` alone needs goals or a robot id; the ROS flags need `--ros`; goals parse as x,y.
+    #[test]
+    fn ros_flags_parse() {
+        let parse = |args: &[&str]| Args::try_parse_from([&["gapfleet-agent"], args].concat());
+        let fleet = parse(&[
+            "--ros",
+            "--robot-id",
+            "2",
+            "--namespace",
+            "/robot2",
+            "--stamped-cmd",
+        ])
+        .expect("fleet ROS mode");
+        assert!(fleet.ros.ros && fleet.ros.stamped_cmd && fleet.robot_id == Some(2));
+        let alone = parse(&["--ros", "--goal", "3,0", "--goal", "-1.5, 2"]).expect("alone");
+        assert_eq!(alone.ros.goals.len(), 2);
+        assert_eq!(alone.ros.goals[1], agent::math::Vec2::new(-1.5, 2.0));
+        assert!(
+            parse(&["--namespace", "/r"]).is_err(),
+            "ROS flags need --ros"
+        );
+        assert!(parse(&["--ros", "--goal", "1"]).is_err());
+        assert!(parse(&["--ros", "--goal", "1,nan"]).is_err());
+        assert!(parse(&["--ros", "--distro", "iron", "--goal", "1,1"]).is_err());
     }
 }

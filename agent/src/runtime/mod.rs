@@ -64,6 +64,9 @@ pub struct AgentConfig {
     /// observation's ego state and people, and each command also goes to its `cmd_vel`. The
     /// goal, the other robots and their intents still come from the coordinator.
     pub ros: Option<ros::RosConfig>,
+    /// The robot's drive: a differential base gets its velocity commands as forward speed and
+    /// turn rate, checked by the safety layer as such.
+    pub base: crate::model::Base,
 }
 
 impl AgentConfig {
@@ -78,6 +81,7 @@ impl AgentConfig {
             safety: Some(SafetyLimits::SIMULATED_ROBOT),
             fault_plan_delay: Duration::ZERO,
             ros: None,
+            base: crate::model::Base::Holonomic,
         }
     }
 }
@@ -208,7 +212,9 @@ pub async fn run_agent(
     };
     let planner_name = config.planner.to_string();
     let mut stack = PlannerStack::new(config.planner);
-    let mut guard = config.safety.map(Guard::new);
+    let mut guard = config
+        .safety
+        .map(|limits| Guard::new(limits).on_base(config.base));
     stack.set_record_fan(config.share_fan);
     let mut map: Option<(u32, StaticMap)> = None;
     let mut last_map_attempt: Option<Instant> = None;

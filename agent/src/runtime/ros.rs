@@ -562,10 +562,12 @@ mod tests {
     }
 
     fn odometry(frame: &str, stamp: f64, x: Real, y: Real, yaw: Real, forward: Real) -> Odometry {
-        let mut o = Odometry::default();
-        o.header = Header {
-            stamp: Time::from_secs(stamp),
-            frame_id: frame.into(),
+        let mut o = Odometry {
+            header: Header {
+                stamp: Time::from_secs(stamp),
+                frame_id: frame.into(),
+            },
+            ..Default::default()
         };
         o.pose.pose.position = ros2_wire::msg::Point { x, y, z: 0.0 };
         o.pose.pose.orientation = ros2_wire::msg::Quaternion::from_yaw(yaw);
@@ -584,8 +586,10 @@ mod tests {
     fn frames_compose_into_the_map_frame() {
         use std::f64::consts::FRAC_PI_2;
         let config = RosConfig::default();
-        let mut l = Latest::default();
-        l.odom = Some((odometry("odom", 2.0, 2.0, 0.0, 0.0, 0.5), Instant::now()));
+        let mut l = Latest {
+            odom: Some((odometry("odom", 2.0, 2.0, 0.0, 0.0, 0.5), Instant::now())),
+            ..Default::default()
+        };
         l.poses.push_back((1.9, Vec2::new(1.95, 0.0), 0.0));
         l.poses.push_back((2.0, Vec2::new(2.0, 0.0), 0.0));
         assert!(sense(&l, &config).is_none(), "no map→odom yet");
