@@ -276,6 +276,8 @@ pub async fn run_agent(
                     (Some(_), None) => None,
                     (None, _) => Some((wire::ego(&obs), wire::neighbours(&obs))),
                 };
+                // The heading the command is turned into the robot's base frame with.
+                let heading = sensed.as_ref().map_or(obs.heading, |(ego, _)| ego.heading);
                 let (command, extras) = match (&map, obs.goal, sensed) {
                     (Some((_, m)), Some(goal), Some((ego, neighbours))) => {
                         let profile = if ros_link.is_some() { None } else { wire::visibility(&obs) };
@@ -339,7 +341,6 @@ pub async fn run_agent(
                     ),
                 };
                 if let Some(link) = &ros_link {
-                    let heading = link.sensed().map_or(obs.heading, |s| s.ego.heading);
                     link.drive(wire::command(command.motion), heading).await;
                 }
                 if let Err(e) = cmd_pub.put(encode(&command)).await {
