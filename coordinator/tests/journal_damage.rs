@@ -105,6 +105,7 @@ fn drive(
             intents,
             layer_held: (0..n as u32).filter(|&i| layer_held[i as usize]).collect(),
             fingerprint: None,
+            placed: Vec::new(),
         };
         let mut events = fleet.step(&commands);
         events.extend(fleet.dispatch());

@@ -320,6 +320,17 @@ impl Message for CommandMsg {
     const MAX_BYTES: usize = 512;
     fn validate(&self) -> Result<(), DecodeError> {
         time("stamp", self.stamp)?;
+        if let Some(state) = &self.state {
+            finite_p("state.p", &state.p)?;
+            within("state.heading", state.heading, 1e3, "beyond ±1000 rad")?;
+            velocity("state.vel", &state.vel)?;
+            within(
+                "state.yaw_rate",
+                state.yaw_rate,
+                MAX_YAW_RATE,
+                "faster than 100 rad/s",
+            )?;
+        }
         match self.motion {
             Motion::Velocity(v) => velocity("motion", &v),
             Motion::Unicycle(speed, yaw_rate) => {

@@ -161,6 +161,25 @@ pub struct CommandMsg {
     /// from an agent without the layer).
     #[serde(default)]
     pub safety: SafetyZone,
+    /// Where the robot was when it planned this command, from its own odometry: sent by an
+    /// agent that drives a real robot (ROS mode). A coordinator that does not simulate the
+    /// robot takes its state from here; one that does ignores it. Absent from agents of
+    /// simulated robots and from older agents.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state: Option<RobotState>,
+}
+
+/// A real robot's state as its agent reports it, in the site's map frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RobotState {
+    /// Position (m).
+    pub p: P2,
+    /// Heading (rad).
+    pub heading: f64,
+    /// Velocity (m/s).
+    pub vel: P2,
+    /// Turn rate (rad/s, counter-clockwise positive).
+    pub yaw_rate: f64,
 }
 
 /// The safety layer's verdict on a command. On the wire a string: `"clear"`, `"warning"`,

@@ -25,10 +25,12 @@ fn every_message_round_trips() {
         motion: Motion::Unicycle(0.5, -0.2),
         safe_stop: true,
         safety: SafetyZone::Clear,
+        state: None,
         ..command()
     });
     round_trip(CommandMsg {
         safety: SafetyZone::Protective,
+        state: None,
         ..command()
     });
     round_trip(info());
@@ -231,6 +233,7 @@ fn a_command_without_a_safety_zone_is_clear_and_unknown_zones_are_rejected() {
     assert_eq!(decoded.safety, SafetyZone::Clear);
     let text = String::from_utf8_lossy(&encode(&CommandMsg {
         safety: SafetyZone::Warning,
+        state: None,
         ..command()
     }))
     .into_owned();

@@ -291,6 +291,7 @@ fn forged(robot: u32, obs_seq: u64) -> Vec<u8> {
         motion: Motion::Velocity(P2(1.0, 0.0)),
         safe_stop: false,
         safety: SafetyZone::Clear,
+        state: None,
     })
 }
 

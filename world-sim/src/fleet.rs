@@ -213,6 +213,29 @@ impl Fleet {
         self.held[i] = held;
     }
 
+    /// Makes robot `i` a real robot the fleet does not simulate (or a simulated one again):
+    /// its body moves only when placed ([`Fleet::place`]), from what the robot reports.
+    pub fn set_external(&mut self, i: usize, external: bool) {
+        self.world.robots[i].external = external;
+    }
+
+    /// Whether robot `i` is a real robot the fleet does not simulate.
+    pub fn is_external(&self, i: usize) -> bool {
+        self.world.robots[i].external
+    }
+
+    /// Puts robot `i`'s body where the robot reported itself, before the next step.
+    pub fn place(
+        &mut self,
+        i: usize,
+        position: Vec2,
+        heading: Real,
+        velocity: Vec2,
+        yaw_rate: Real,
+    ) {
+        self.world.robots[i].place(position, heading, velocity, yaw_rate);
+    }
+
     /// Whether robot `i` is held.
     pub fn is_held(&self, i: usize) -> bool {
         self.held[i]

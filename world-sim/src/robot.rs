@@ -15,6 +15,10 @@ pub struct RobotBody {
     pub goal: Vec2,
     /// Limits.
     pub spec: RobotSpec,
+    /// A real robot the world does not move: it stands where it was last placed
+    /// ([`RobotBody::place`]), as its own odometry reported it, whatever its command.
+    #[serde(default)]
+    pub external: bool,
 }
 
 impl RobotBody {
@@ -28,11 +32,30 @@ impl RobotBody {
             yaw_rate: 0.0,
             radius: spec.radius_m,
         };
-        Self { state, goal, spec }
+        Self {
+            state,
+            goal,
+            spec,
+            external: false,
+        }
     }
 
-    /// Executes `command` for `dt` seconds within the limits.
+    /// Puts the body where its robot reported itself: position, heading, velocity and turn
+    /// rate (the radius is the body's own).
+    pub fn place(&mut self, position: Vec2, heading: Real, velocity: Vec2, yaw_rate: Real) {
+        let s = &mut self.state;
+        s.position = position;
+        s.heading = heading;
+        s.velocity = velocity;
+        s.yaw_rate = yaw_rate;
+    }
+
+    /// Executes `command` for `dt` seconds within the limits; an external body stays where it
+    /// was placed.
     pub fn apply(&mut self, command: Command, dt: Real) {
+        if self.external {
+            return;
+        }
         let s = &mut self.state;
         let lim = &self.spec;
         match command {

@@ -278,6 +278,12 @@ pub async fn run_agent(
                 };
                 // The heading the command is turned into the robot's base frame with.
                 let heading = sensed.as_ref().map_or(obs.heading, |(ego, _)| ego.heading);
+                // A real robot reports where its odometry puts it, for a coordinator that does
+                // not simulate it.
+                let reported = match (&ros_link, &sensed) {
+                    (Some(_), Some((ego, _))) => Some(wire::robot_state(ego)),
+                    _ => None,
+                };
                 let (command, extras) = match (&map, obs.goal, sensed) {
                     (Some((_, m)), Some(goal), Some((ego, neighbours))) => {
                         let profile = if ros_link.is_some() { None } else { wire::visibility(&obs) };
@@ -336,10 +342,13 @@ pub async fn run_agent(
                             motion: wire::motion(Command::STOP),
                             safe_stop: false,
                             safety: SafetyZone::Clear,
+                            state: None,
                         },
                         None,
                     ),
                 };
+                let mut command = command;
+                command.state = reported;
                 if let Some(link) = &ros_link {
                     link.drive(wire::command(command.motion), heading).await;
                 }
@@ -578,6 +587,7 @@ async fn safe_stop(
         motion: wire::motion(Command::STOP),
         safe_stop: true,
         safety: SafetyZone::Clear,
+        state: None,
     };
     counters.safe_stops.fetch_add(1, Ordering::Relaxed);
     if let Err(e) = publisher.put(encode(&stop)).await {

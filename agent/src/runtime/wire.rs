@@ -56,6 +56,16 @@ pub fn ego(obs: &Observation) -> EgoState {
     }
 }
 
+/// A robot's state as its agent reports it ([`schemas::CommandMsg::state`]).
+pub fn robot_state(ego: &EgoState) -> schemas::RobotState {
+    schemas::RobotState {
+        p: p2(ego.position),
+        heading: ego.heading,
+        vel: p2(ego.velocity),
+        yaw_rate: ego.yaw_rate,
+    }
+}
+
 /// The perceived bodies of an observation.
 pub fn neighbours(obs: &Observation) -> Vec<Neighbour> {
     obs.neighbours
@@ -136,6 +146,7 @@ pub fn answer(obs: &Observation, planner: &str, plan: &Plan) -> (CommandMsg, Int
         motion: motion(plan.command),
         safe_stop: false,
         safety: schemas::SafetyZone::Clear,
+        state: None,
     };
     let intent = IntentMsg {
         robot_id: obs.robot_id,

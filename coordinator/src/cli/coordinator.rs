@@ -1,6 +1,6 @@
 //! `gapfleet coordinator`: the warehouse world served to `gapfleet-agent` processes over Zenoh.
 
-use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime, speed};
+use super::{Overrides, RerunArgs, RobotSet, ScenarioRef, init_logging, positive, runtime, speed};
 use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
@@ -56,6 +56,12 @@ pub struct CoordinatorArgs {
     /// shows once it is in).
     #[arg(long, default_value = "pgp+orca")]
     free_flow_planner: agent::planner::PlannerSpec,
+    /// Real robots the coordinator does not simulate: `all`, or ids such as `0-3,6`. Each
+    /// stands where its agent reports it (an agent driving a ROS 2 robot, `gapfleet-agent
+    /// --ros --robot-id`); one whose reports stop is lost (held, no tasks) until they return.
+    /// With `--humans 0` the coordinator simulates nothing at all.
+    #[arg(long, default_value = "none", value_name = "ROBOTS")]
+    live: RobotSet,
     #[command(flatten)]
     net: NetArgs,
     #[command(flatten)]
@@ -73,6 +79,9 @@ impl CoordinatorArgs {
             ..Overrides::default()
         };
         let scenario = self.scenario.fleet_site(overrides)?;
+        let live = self
+            .live
+            .ids(scenario.fleet_size().map_or(0, |(robots, _)| robots))?;
         // A folder with a journal: the run goes on from it, from its newest snapshot and the
         // ticks after it.
         let (journal, recorded) = match &self.state {
@@ -109,7 +118,8 @@ impl CoordinatorArgs {
                     self.scenario.source(overrides),
                     !self.no_intent_sharing,
                     !self.no_traffic_policy,
-                );
+                )
+                .with_live(live.clone());
                 let (journal, recorded) = Journal::open(dir, &header)?;
                 (Some(journal), recorded)
             }
@@ -151,6 +161,7 @@ impl CoordinatorArgs {
         config_.seconds = self.seconds;
         config_.journal = journal.as_ref().map(Journal::sink);
         config_.resume = resume;
+        config_.live = live.clone();
         // The free flow (one robot alone, for the efficiency) is measured beside the run, so
         // that a start or a restart does not wait for it; efficiency shows once it is in.
         {
@@ -183,9 +194,10 @@ impl CoordinatorArgs {
                 .await
                 .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
             eprintln!(
-                "gapfleet coordinator: site {:?}, {} robots, {} people, listening {:?} connecting {:?}",
+                "gapfleet coordinator: site {:?}, {} robots ({} real), {} people, listening {:?} connecting {:?}",
                 self.site,
                 fleet.robots(),
+                live.len(),
                 fleet.world.humans.crowd.len(),
                 net.listen,
                 net.connect

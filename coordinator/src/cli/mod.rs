@@ -7,6 +7,7 @@ pub mod coordinator;
 pub mod demo;
 #[cfg(feature = "studies")]
 pub mod experiment;
+pub mod hardware;
 pub mod replay;
 pub mod site;
 
@@ -42,6 +43,10 @@ pub enum Command {
     Demo(demo::DemoArgs),
     /// Run the warehouse world and serve agents over Zenoh (`gapfleet-agent` processes).
     Coordinator(coordinator::CoordinatorArgs),
+    /// The robots' hardware, played by the simulator: the site's people and robots, each
+    /// robot a ROS 2 robot over rmw_zenoh driven by its `cmd_vel`, for agents in ROS mode and a
+    /// coordinator with `--live`.
+    Hardware(hardware::HardwareArgs),
     /// A secured site: its certificate authority, identities and Zenoh configs.
     #[command(subcommand)]
     Site(site::Site),
@@ -59,6 +64,7 @@ impl Command {
             Command::Bench(b) => b.run(),
             Command::Demo(d) => d.run(),
             Command::Coordinator(c) => c.run(),
+            Command::Hardware(h) => h.run(),
             Command::Site(s) => s.run(),
             Command::Replay(r) => r.run(),
         }
@@ -163,6 +169,69 @@ pub fn speed(text: &str) -> Result<f64, String> {
             "{x} is not in [0.001, 1000] simulated seconds per wall second"
         )),
         Err(e) => Err(e.to_string()),
+    }
+}
+
+/// A set of robots on the command line: `all`, `none`, or ids and ranges such as `0-3,6`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RobotSet {
+    /// Every robot of the site.
+    All,
+    /// These ids (sorted, without repeats).
+    Ids(Vec<u32>),
+}
+
+impl RobotSet {
+    /// The ids among `n` robots; an id the site does not have is an error.
+    pub fn ids(&self, n: usize) -> Result<Vec<u32>> {
+        match self {
+            RobotSet::All => Ok((0..n as u32).collect()),
+            RobotSet::Ids(ids) => {
+                if let Some(&bad) = ids.iter().find(|&&i| i as usize >= n) {
+                    anyhow::bail!(
+                        "robot {bad} named, but the site has {n} robots (0-{})",
+                        n.saturating_sub(1)
+                    );
+                }
+                Ok(ids.clone())
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for RobotSet {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text {
+            "all" => return Ok(RobotSet::All),
+            "none" => return Ok(RobotSet::Ids(Vec::new())),
+            _ => {}
+        }
+        let id = |t: &str| {
+            t.trim().parse::<u32>().map_err(|e| {
+                format!("{t:?} is not a robot id: {e} (give all, none, or ids like 0-3,6)")
+            })
+        };
+        let mut ids = Vec::new();
+        for part in text.split(',') {
+            match part.split_once('-') {
+                Some((a, b)) => {
+                    let (a, b) = (id(a)?, id(b)?);
+                    if a > b {
+                        return Err(format!("{part:?}: the range runs backwards"));
+                    }
+                    if b - a > 100_000 {
+                        return Err(format!("{part:?}: more than 100000 robots"));
+                    }
+                    ids.extend(a..=b);
+                }
+                None => ids.push(id(part)?),
+            }
+        }
+        ids.sort_unstable();
+        ids.dedup();
+        Ok(RobotSet::Ids(ids))
     }
 }
 

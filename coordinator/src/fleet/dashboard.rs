@@ -489,6 +489,8 @@ impl Observer for DashboardObserver {
                 Event::Joined(i) => Some((*i, None)),
                 Event::Left(i) => Some((*i, Some("left"))),
                 Event::Crashed(i) => Some((*i, Some("crashed"))),
+                Event::Lost(i) => Some((*i, Some("lost"))),
+                Event::Found(i) => Some((*i, None)),
                 Event::TaskDone { .. } => None,
             };
             if let Some((i, how)) = gone
@@ -500,6 +502,8 @@ impl Observer for DashboardObserver {
                 Event::Joined(i) => (format!("agent {i} joined"), *i, false),
                 Event::Left(i) => (format!("agent {i} left"), *i, true),
                 Event::Crashed(i) => (format!("agent {i} crashed: robot stopped"), *i, true),
+                Event::Lost(i) => (format!("robot {i} lost: no state report"), *i, true),
+                Event::Found(i) => (format!("robot {i} reports again"), *i, false),
                 Event::TaskDone { robot, task } => {
                     (format!("robot {robot} finished task {task}"), *robot, false)
                 }

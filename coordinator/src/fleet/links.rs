@@ -5,7 +5,7 @@
 use super::status::{CoordinatorConfig, Event, RoundTrip, Status};
 use agent::model::Command;
 use agent::runtime::{percentile, wire};
-use schemas::{CommandMsg, Keys, SafetyZone, decode};
+use schemas::{CommandMsg, Keys, RobotState, SafetyZone, decode};
 use std::collections::VecDeque;
 use std::time::Instant;
 use world_sim::fleet::Fleet;
@@ -32,6 +32,14 @@ pub(super) struct Link {
     pub(super) next_seq: u64,
     /// Recent observations: sequence number, wall time published, whether answered.
     sent: VecDeque<(u64, Instant, bool)>,
+    /// A real robot's newest state report, not yet placed in the fleet.
+    pub(super) report: Option<RobotState>,
+    /// When the newest state report arrived.
+    reported_at: Option<Instant>,
+    /// When the agent's token last came.
+    joined_at: Option<Instant>,
+    /// A real robot whose agent stopped reporting its state.
+    pub(super) lost: bool,
 }
 
 impl Link {
@@ -136,6 +144,8 @@ pub(super) fn liveliness_change(
             link.alive = true;
             link.flagged = false;
             link.command = None;
+            link.joined_at = Some(Instant::now());
+            link.lost = false;
             fleet.set_held(id as usize, false);
             tracing::info!(robot = id, "agent joined");
             emit(status, config, Event::Joined(id));
@@ -144,6 +154,7 @@ pub(super) fn liveliness_change(
             link.alive = false;
             link.flagged = true;
             link.leaving = true;
+            link.lost = false;
             fleet.set_held(id as usize, true);
         }
     }
@@ -171,6 +182,54 @@ fn settle_exit(id: u32, link: &mut Link, status: &mut Status, config: &Coordinat
         "agent gone: {event:?}; robot stopped and flagged"
     );
     emit(status, config, event);
+}
+
+/// Real robots (`config.live`) with a live agent: one that reports its state is released
+/// (it gets tasks); one whose agent has reported nothing for `config.lost_after` since its
+/// last report or its joining is held and flagged lost, until its reports come back. A
+/// robot's first report releases it without an event; before it, it is held.
+pub(super) fn watch_reports(
+    links: &mut [Link],
+    fleet: &mut Fleet,
+    status: &mut Status,
+    config: &CoordinatorConfig,
+    now: Instant,
+) {
+    for &id in &config.live {
+        let Some(link) = links.get_mut(id as usize) else {
+            continue;
+        };
+        if !link.alive {
+            continue;
+        }
+        let within = |t: Option<Instant>| {
+            t.is_some_and(|t| now.saturating_duration_since(t) <= config.lost_after)
+        };
+        if within(link.reported_at) {
+            fleet.set_held(id as usize, false);
+            if link.lost {
+                link.lost = false;
+                tracing::info!(robot = id, "robot reports again: released");
+                emit(status, config, Event::Found(id));
+            }
+        } else {
+            fleet.set_held(id as usize, true);
+            if !link.lost && !within(link.joined_at) {
+                link.lost = true;
+                let never = if link.reported_at.is_none() {
+                    " (it never did: is its agent driving a real robot, `--ros`?)"
+                } else {
+                    ""
+                };
+                tracing::warn!(
+                    robot = id,
+                    "robot lost: no state report for {:?}{never}; held",
+                    config.lost_after
+                );
+                emit(status, config, Event::Lost(id));
+            }
+        }
+    }
 }
 
 /// Takes in every command that arrived: the newest per robot is kept; answers to recent
@@ -227,6 +286,10 @@ fn take_command(
         }
     };
     status.commands += 1;
+    if let Some(state) = cmd.state {
+        link.report = Some(state);
+        link.reported_at = Some(arrived);
+    }
     if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
         && !entry.2
         && !cmd.safe_stop
@@ -252,6 +315,9 @@ pub(super) fn refresh(status: &mut Status, links: &[Link], round_trips_us: &[u32
     status.flagged = (0..links.len() as u32)
         .filter(|&i| links[i as usize].flagged)
         .collect();
+    status.lost = (0..links.len() as u32)
+        .filter(|&i| links[i as usize].lost)
+        .collect();
     let mut sorted = round_trips_us.to_vec();
     status.round_trip_ms = (
         percentile(&mut sorted, 0.5) / 1000.0,
@@ -272,6 +338,7 @@ mod tests {
             motion: Motion::Velocity(P2(vx, 0.0)),
             safe_stop: false,
             safety: SafetyZone::Clear,
+            state: None,
         })
     }
 

@@ -15,6 +15,7 @@
 
 pub mod dashboard;
 pub mod demo;
+pub mod hardware;
 pub mod journal;
 mod links;
 mod messages;
@@ -277,6 +278,13 @@ impl Coordinator<'_> {
                 &self.config,
             );
         }
+        links::watch_reports(
+            &mut self.links,
+            &mut self.fleet,
+            &mut self.status,
+            &self.config,
+            Instant::now(),
+        );
         self.status.rejected += self.wire.cmd_overflow.swap(0, Ordering::Relaxed);
     }
 
@@ -360,6 +368,14 @@ impl Coordinator<'_> {
     /// dispatches tasks; returns the tick's fleet events.
     fn step(&mut self) -> Vec<FleetEvent> {
         let n = self.links.len();
+        // Real robots stand where their agents last reported them.
+        let mut placed = Vec::new();
+        for &id in &self.config.live {
+            if let Some(state) = self.links[id as usize].report.take() {
+                journal::place(&mut self.fleet, id as usize, &state);
+                placed.push((id, state));
+            }
+        }
         let mut commands = vec![Command::STOP; n];
         for (i, link) in self.links.iter().enumerate() {
             let fresh = link.fresh_command(self.config.stale_ticks);
@@ -387,7 +403,7 @@ impl Coordinator<'_> {
             .config
             .journal
             .is_some()
-            .then(|| self.journal_input(&commands));
+            .then(|| self.journal_input(&commands, placed));
         let mut events = self.fleet.step(&commands);
         events.extend(self.fleet.dispatch());
         if let (Some(journal), Some(mut input)) = (&self.config.journal, input.take()) {
@@ -411,7 +427,11 @@ impl Coordinator<'_> {
 
     /// This tick's inputs for the journal: held flags changed since the last tick, and the
     /// command each moving robot drives on.
-    fn journal_input(&mut self, commands: &[Command]) -> journal::TickInput {
+    fn journal_input(
+        &mut self,
+        commands: &[Command],
+        placed: Vec<(u32, schemas::RobotState)>,
+    ) -> journal::TickInput {
         let mut held = Vec::new();
         for (i, last) in self.journal_held.iter_mut().enumerate() {
             let now = self.fleet.is_held(i);
@@ -438,6 +458,7 @@ impl Coordinator<'_> {
             layer_held,
             intents: std::mem::take(&mut self.journal_intents),
             fingerprint: None,
+            placed,
         }
     }
 
@@ -580,6 +601,15 @@ pub async fn run_coordinator(
     // Robots without a live agent are held until one joins.
     for i in 0..n {
         fleet.set_held(i, true);
+    }
+    for &id in &config.live {
+        if id as usize >= n {
+            return Err(CoordinatorError::Live {
+                robot: id,
+                robots: n,
+            });
+        }
+        fleet.set_external(id as usize, true);
     }
     let resume = config.resume.unwrap_or(status::Resume {
         tick: 0,

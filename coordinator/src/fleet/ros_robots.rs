@@ -51,6 +51,9 @@ pub fn namespace(i: usize) -> String {
 pub const SCAN_RANGE_M: Real = 12.0;
 /// Rays per turn of the simulated scanner.
 pub const SCAN_RAYS: usize = 360;
+/// A simulated base stops when its newest `cmd_vel` is older than this (wall time), as a real
+/// base's command watchdog does.
+pub const CMD_VEL_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(500);
 
 struct Publisher {
     publisher: zenoh::pubsub::Publisher<'static>,
@@ -81,7 +84,8 @@ struct Robot {
     odom: Publisher,
     scan: Publisher,
     people: Publisher,
-    cmd: Arc<Mutex<Option<Twist>>>,
+    /// The newest `cmd_vel` and when it came.
+    cmd: Arc<Mutex<Option<(Twist, std::time::Instant)>>>,
     _subscriber: zenoh::pubsub::Subscriber<()>,
     _tokens: Vec<zenoh::liveliness::LivelinessToken>,
 }
@@ -95,7 +99,8 @@ impl std::fmt::Debug for Robot {
 /// Every simulated robot's ROS 2 side.
 #[derive(Debug)]
 pub struct RosRobots {
-    robots: Vec<Robot>,
+    /// By robot id; `None` for a robot this process does not play.
+    robots: Vec<Option<Robot>>,
     map: StaticMap,
     local: LocalMap,
     /// `cmd_vel` payloads refused.
@@ -113,10 +118,24 @@ impl RosRobots {
         map: StaticMap,
         config: &RosSimConfig,
     ) -> ZResult<Self> {
+        Self::declare_some(session, &vec![true; n], map, config).await
+    }
+
+    /// Declares the robots whose entry in `played` is true (by robot id).
+    pub async fn declare_some(
+        session: &zenoh::Session,
+        played: &[bool],
+        map: StaticMap,
+        config: &RosSimConfig,
+    ) -> ZResult<Self> {
         let rejected = Arc::new(AtomicU64::new(0));
-        let mut robots = Vec::with_capacity(n);
-        for i in 0..n {
-            robots.push(declare_robot(session, i, config, rejected.clone()).await?);
+        let mut robots = Vec::with_capacity(played.len());
+        for (i, &plays) in played.iter().enumerate() {
+            robots.push(if plays {
+                Some(declare_robot(session, i, config, rejected.clone()).await?)
+            } else {
+                None
+            });
         }
         Ok(Self {
             robots,
@@ -128,7 +147,7 @@ impl RosRobots {
 
     /// Publishes robot `obs.robot_id`'s odometry, scan and people for `obs`.
     pub async fn publish(&mut self, obs: &Observation) {
-        let Some(robot) = self.robots.get_mut(obs.robot_id as usize) else {
+        let Some(Some(robot)) = self.robots.get_mut(obs.robot_id as usize) else {
             return;
         };
         let stamp = Time::from_secs(obs.sim_time);
@@ -240,16 +259,18 @@ impl RosRobots {
 
     /// Robot `i`'s newest `cmd_vel` as a simulator command for a robot heading `heading`: a
     /// twist without turn as a world velocity (the simulator's robots are holonomic), one with
-    /// a turn as forward speed and turn rate.
+    /// a turn as forward speed and turn rate. `None` before the first `cmd_vel`, and once the
+    /// newest is older than [`CMD_VEL_TIMEOUT`] (a base's watchdog stops it then).
     pub fn command(&self, i: usize, heading: Real) -> Option<Command> {
-        let twist = self
+        let (twist, at) = self
             .robots
             .get(i)?
+            .as_ref()?
             .cmd
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .clone()?;
-        Some(command_of(&twist, heading))
+        (at.elapsed() <= CMD_VEL_TIMEOUT).then(|| command_of(&twist, heading))
     }
 }
 
@@ -336,7 +357,10 @@ async fn declare_robot(
         .declare_subscriber(graph::topic_key::<Twist>(config.domain_id, &cmd_fq, d))
         .callback(
             move |sample| match decode::<Twist>(&sample.payload().to_bytes()) {
-                Ok(twist) => *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(twist),
+                Ok(twist) => {
+                    let now = std::time::Instant::now();
+                    *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some((twist, now));
+                }
                 Err(e) => {
                     let n = rejected.fetch_add(1, Ordering::Relaxed) + 1;
                     if n.is_power_of_two() {

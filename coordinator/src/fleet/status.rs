@@ -3,7 +3,7 @@
 
 use schemas::FleetMetrics;
 use std::sync::{Arc, OnceLock};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use world_sim::fleet::{Fleet, FleetEvent};
 
 /// How a coordinator runs.
@@ -44,6 +44,13 @@ pub struct CoordinatorConfig {
     /// Play every robot as a ROS 2 robot over rmw_zenoh (`super::ros_robots`): odometry, scan
     /// and people out, driven by its `cmd_vel`.
     pub ros: Option<super::ros_robots::RosSimConfig>,
+    /// Real robots the coordinator does not simulate (by id): each one's body is placed where
+    /// its agent reports it ([`schemas::CommandMsg::state`]), and tasks, the traffic policy,
+    /// shared intents, metrics, the journal and the dashboards take it from there.
+    pub live: Vec<u32>,
+    /// A real robot whose agent has reported no state for this long (wall time) is lost: held,
+    /// given no task and flagged, until its reports come back.
+    pub lost_after: Duration,
 }
 
 /// Where a resumed run picks up.
@@ -54,6 +61,11 @@ pub struct Resume {
     /// Tasks already done.
     pub tasks_done: u64,
 }
+
+/// How long a real robot may go without a state report before it is lost: five missed
+/// reports at 10 Hz, so that a robot is flagged within a second of its last one, tick lag
+/// included.
+pub const LOST_AFTER: Duration = Duration::from_millis(500);
 
 impl CoordinatorConfig {
     /// Real time on `site`, until shutdown, 3-tick staleness (0.3 s at 10 Hz).
@@ -71,6 +83,8 @@ impl CoordinatorConfig {
             journal: None,
             resume: None,
             ros: None,
+            live: Vec::new(),
+            lost_after: LOST_AFTER,
         }
     }
 }
@@ -95,6 +109,11 @@ pub enum Event {
     Left(u32),
     /// An agent's token vanished without a safe stop.
     Crashed(u32),
+    /// A real robot's agent stopped reporting where the robot is (its hardware or its
+    /// odometry is gone): the robot is held and gets no task.
+    Lost(u32),
+    /// A lost robot reports again and is released.
+    Found(u32),
     /// A robot finished a task.
     TaskDone {
         /// Robot.
@@ -148,6 +167,8 @@ pub struct Status {
     pub fans: Vec<Option<schemas::FanMsg>>,
     /// Robots flagged (agent crashed or left), by id.
     pub flagged: Vec<u32>,
+    /// Real robots lost (their agents report no state), by id.
+    pub lost: Vec<u32>,
     /// Which field of each robot's safety layer acted on its newest command (index = robot
     /// id; `Clear` before any command and for agents without the layer).
     pub safety: Vec<schemas::SafetyZone>,
@@ -167,6 +188,14 @@ pub enum CoordinatorError {
     /// Bad site name.
     #[error(transparent)]
     Key(#[from] schemas::KeyError),
+    /// A real robot named that the site does not have.
+    #[error("live robot {robot}: the site has {robots} robots")]
+    Live {
+        /// The robot named.
+        robot: u32,
+        /// The site's robots.
+        robots: usize,
+    },
     /// The session refused a ROS 2 robot's declaration.
     #[error("zenoh: ROS 2 {what}: {source}")]
     Ros {

@@ -75,6 +75,7 @@ pub fn command() -> CommandMsg {
         motion: Motion::Velocity(P2(0.5, -0.1)),
         safe_stop: false,
         safety: SafetyZone::Clear,
+        state: None,
     }
 }
 

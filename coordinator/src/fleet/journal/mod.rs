@@ -51,7 +51,7 @@ use ledger::task_of;
 pub use ledger::{TaskRecord, ledger_step};
 use read::read_db;
 pub use read::{Integrity, Recorded, read};
-pub use replay::{Replayed, fingerprint, fingerprint_with_held, replay, resume};
+pub use replay::{Replayed, fingerprint, fingerprint_with_held, place, replay, resume};
 
 const META: TableDefinition<&str, &[u8]> = TableDefinition::new("meta");
 const TICKS: TableDefinition<u64, &[u8]> = TableDefinition::new("ticks");
@@ -171,6 +171,10 @@ pub struct Header {
     pub share_intents: bool,
     /// Whether the traffic policy ran.
     pub traffic_policy: bool,
+    /// The real robots the coordinator did not simulate: their bodies moved only where their
+    /// agents reported them ([`TickInput::placed`]).
+    #[serde(default)]
+    pub live: Vec<u32>,
 }
 
 impl Header {
@@ -187,7 +191,14 @@ impl Header {
             scenario,
             share_intents,
             traffic_policy,
+            live: Vec::new(),
         }
+    }
+
+    /// The same run with `live` as its real robots.
+    pub fn with_live(mut self, live: Vec<u32>) -> Self {
+        self.live = live;
+        self
     }
 }
 
@@ -207,6 +218,10 @@ pub struct TickInput {
     pub layer_held: Vec<u32>,
     /// The world's fingerprint after this tick's step, every [`FINGERPRINT_EVERY`] ticks.
     pub fingerprint: Option<u64>,
+    /// Real robots placed where their agents reported them, before this tick's step (only
+    /// robots with a report new since the last tick).
+    #[serde(default)]
+    pub placed: Vec<(u32, schemas::RobotState)>,
 }
 
 /// An intent as the coordinator set it in the fleet.

@@ -125,6 +125,15 @@ fn new_fleet(recorded: &Recorded) -> Result<Fleet, JournalError> {
     let scenario = recorded.header.scenario.scenario()?;
     let mut fleet = Fleet::new(&scenario).map_err(|e| JournalError::Scenario(e.to_string()))?;
     fleet.share_intents = recorded.header.share_intents;
+    for &robot in &recorded.header.live {
+        if robot as usize >= fleet.robots() {
+            return Err(JournalError::Record(format!(
+                "live robot {robot} of {}",
+                fleet.robots()
+            )));
+        }
+        fleet.set_external(robot as usize, true);
+    }
     if recorded.header.traffic_policy {
         fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
     }
@@ -179,6 +188,12 @@ fn run_inputs(
                 return Err(JournalError::Record(format!("robot {robot} of {n}")));
             }
             fleet.set_layer_held(robot as usize, true);
+        }
+        for &(robot, state) in &input.placed {
+            if robot as usize >= n {
+                return Err(JournalError::Record(format!("robot {robot} of {n}")));
+            }
+            place(&mut fleet, robot as usize, &state);
         }
         commands.fill(agent::model::Command::STOP);
         for &(robot, motion) in &input.commands {
@@ -274,4 +289,15 @@ fn same_as_snapshot(
         )));
     }
     Ok(())
+}
+
+/// Puts real robot `i` where its agent reported it, as the coordinator does before a step.
+pub fn place(fleet: &mut Fleet, i: usize, state: &schemas::RobotState) {
+    fleet.place(
+        i,
+        wire::vec(state.p),
+        state.heading,
+        wire::vec(state.vel),
+        state.yaw_rate,
+    );
 }

@@ -1,0 +1,123 @@
+//! `gapfleet hardware`: the robots' hardware, played by the simulator, as ROS 2 robots.
+
+use super::{Overrides, RobotSet, ScenarioRef, init_logging, positive, runtime, speed};
+use agent::runtime::net::{NetArgs, Role, config};
+use anyhow::Result;
+use coordinator::fleet::hardware::{HardwareConfig, HardwareReport, run_hardware};
+use coordinator::fleet::ros_robots::RosSimConfig;
+use world_sim::fleet::Fleet;
+
+/// `gapfleet hardware`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct HardwareArgs {
+    /// Built-in fleet site or a scenario file: the world the robots drive in.
+    #[arg(long, default_value = "warehouse")]
+    scenario: ScenarioRef,
+    /// Override the scenario's robot count.
+    #[arg(long)]
+    robots: Option<usize>,
+    /// Override the scenario's people count.
+    #[arg(long)]
+    humans: Option<usize>,
+    /// Override the scenario's seed.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// The robots this process plays: `all`, or ids such as `0-3,6` (the others are parked
+    /// off the site, for another hardware process to play).
+    #[arg(long, default_value = "all", value_name = "ROBOTS")]
+    play: RobotSet,
+    /// Simulated seconds per wall second, in [0.001, 1000].
+    #[arg(long, default_value_t = 1.0, value_parser = speed)]
+    speed: f64,
+    /// Stop after this many simulated seconds (default: run until SIGINT/SIGTERM).
+    #[arg(long, value_parser = positive)]
+    seconds: Option<f64>,
+    /// ROS_DOMAIN_ID of the robots.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=232))]
+    domain_id: u32,
+    /// The robots' ROS 2 distribution: humble, jazzy or kilted (type hashes in keys).
+    #[arg(long, default_value = "jazzy")]
+    distro: ros2_wire::Distro,
+    #[command(flatten)]
+    net: NetArgs,
+}
+
+/// One line of the hardware's status.
+fn status_line(r: &HardwareReport) -> String {
+    format!(
+        "t {:6.1} s | driven {} starved {} robot-ticks | {:.0} m | contacts: robot-caused {} person-caused {} robot-robot {} | cmd_vel refused {}",
+        r.sim_time,
+        r.driven,
+        r.starved,
+        r.path_length_m,
+        r.robot_caused_contacts,
+        r.person_caused_contacts,
+        r.robot_robot_contacts,
+        r.rejected
+    )
+}
+
+impl HardwareArgs {
+    /// Plays the robots until the time is up or SIGINT/SIGTERM.
+    pub fn run(self) -> Result<()> {
+        init_logging("info,zenoh=warn");
+        let overrides = Overrides {
+            robots: self.robots,
+            humans: self.humans,
+            seed: self.seed,
+            ..Overrides::default()
+        };
+        let scenario = self.scenario.fleet_site(overrides)?;
+        let fleet = Fleet::new(&scenario)?;
+        let n = fleet.robots();
+        let mut played = vec![false; n];
+        for id in self.play.ids(n)? {
+            played[id as usize] = true;
+        }
+        let mut net = self.net.clone();
+        if net.listen.is_empty() && net.connect.is_empty() && net.zenoh_config.is_none() {
+            net.connect.push("tcp/127.0.0.1:7447".to_owned());
+        }
+        let hardware = HardwareConfig {
+            speed: self.speed,
+            seconds: self.seconds,
+            played: played.clone(),
+            ros: RosSimConfig {
+                domain_id: self.domain_id,
+                distro: self.distro,
+            },
+        };
+        runtime()?.block_on(async {
+            let session = zenoh::open(config(&net, Role::Client)?)
+                .await
+                .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
+            eprintln!(
+                "gapfleet hardware: {} of {} robots as ROS 2 robots /robot<i> (domain {}, {}), {} people, connecting {:?}",
+                played.iter().filter(|&&p| p).count(),
+                n,
+                self.domain_id,
+                self.distro,
+                fleet.world.humans.crowd.len(),
+                net.connect
+            );
+            let report = run_hardware(
+                &session,
+                fleet,
+                hardware,
+                agent::runtime::shutdown_signal(),
+                |r| eprintln!("{}", status_line(r)),
+            )
+            .await?;
+            eprintln!("{}", status_line(&report));
+            eprintln!(
+                "stopped after {:.1} simulated seconds ({} ticks)",
+                report.sim_time, report.ticks
+            );
+            session
+                .close()
+                .await
+                .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
+            Ok(())
+        })
+    }
+}
