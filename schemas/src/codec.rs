@@ -330,6 +330,13 @@ impl Message for CommandMsg {
                 MAX_YAW_RATE,
                 "faster than 100 rad/s",
             )?;
+            within("state.age", state.age, 1e3, "older than 1000 s")?;
+            if state.age < 0.0 {
+                return Err(DecodeError::Invalid {
+                    field: "state.age",
+                    reason: "negative",
+                });
+            }
         }
         match self.motion {
             Motion::Velocity(v) => velocity("motion", &v),

@@ -180,6 +180,10 @@ pub struct RobotState {
     pub vel: P2,
     /// Turn rate (rad/s, counter-clockwise positive).
     pub yaw_rate: f64,
+    /// How long before the command was sent the odometry behind this state arrived (s, wall
+    /// time): a coordinator judges whether the robot is still heard from by it.
+    #[serde(default)]
+    pub age: f64,
 }
 
 /// The safety layer's verdict on a command. On the wire a string: `"clear"`, `"warning"`,

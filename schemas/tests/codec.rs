@@ -33,6 +33,10 @@ fn every_message_round_trips() {
         state: None,
         ..command()
     });
+    round_trip(CommandMsg {
+        state: Some(robot_state()),
+        ..command()
+    });
     round_trip(info());
     round_trip(task());
     round_trip(metrics());
@@ -610,4 +614,119 @@ fn agent_info_without_the_map_fields_decodes() {
     };
     let info = decode::<AgentInfo>(&with_version(SCHEMA_VERSION, &older)).expect("decodes");
     assert_eq!((info.plans, info.maps, info.map_version), (10, 0, 0));
+}
+
+fn robot_state() -> RobotState {
+    RobotState {
+        p: P2(3.0, -2.5),
+        heading: 1.2,
+        vel: P2(0.4, 0.1),
+        yaw_rate: -0.3,
+        age: 0.04,
+    }
+}
+
+/// A real robot's reported state: absent from older agents (and then not on the wire at all),
+/// and every field checked when present.
+#[test]
+fn a_reported_robot_state_is_optional_and_checked() {
+    let plain = encode(&command());
+    assert!(!String::from_utf8_lossy(&plain).contains("state"));
+    assert_eq!(decode::<CommandMsg>(&plain).map(|c| c.state), Ok(None));
+    // An agent that sends no age: the odometry counts as fresh.
+    #[derive(Serialize)]
+    struct NoAge {
+        p: P2,
+        heading: f64,
+        vel: P2,
+        yaw_rate: f64,
+    }
+    #[derive(Serialize)]
+    struct Cmd {
+        v: u16,
+        robot_id: u32,
+        obs_seq: u64,
+        stamp: f64,
+        motion: Motion,
+        safe_stop: bool,
+        state: NoAge,
+    }
+    let bytes = rmp_serde::to_vec_named(&Cmd {
+        v: SCHEMA_VERSION,
+        robot_id: 0,
+        obs_seq: 1,
+        stamp: 0.1,
+        motion: Motion::Velocity(P2(0.0, 0.0)),
+        safe_stop: false,
+        state: NoAge {
+            p: P2(1.0, 2.0),
+            heading: 0.0,
+            vel: P2(0.0, 0.0),
+            yaw_rate: 0.0,
+        },
+    })
+    .expect("encodes");
+    assert_eq!(
+        decode::<CommandMsg>(&bytes).map(|c| c.state.map(|s| s.age)),
+        Ok(Some(0.0))
+    );
+    let bad = [
+        (
+            "state.p",
+            RobotState {
+                p: P2(f64::NAN, 0.0),
+                ..robot_state()
+            },
+        ),
+        (
+            "state.p",
+            RobotState {
+                p: P2(2e6, 0.0),
+                ..robot_state()
+            },
+        ),
+        (
+            "state.heading",
+            RobotState {
+                heading: f64::INFINITY,
+                ..robot_state()
+            },
+        ),
+        (
+            "state.vel",
+            RobotState {
+                vel: P2(60.0, 0.0),
+                ..robot_state()
+            },
+        ),
+        (
+            "state.yaw_rate",
+            RobotState {
+                yaw_rate: 1e3,
+                ..robot_state()
+            },
+        ),
+        (
+            "state.age",
+            RobotState {
+                age: -0.5,
+                ..robot_state()
+            },
+        ),
+        (
+            "state.age",
+            RobotState {
+                age: f64::NAN,
+                ..robot_state()
+            },
+        ),
+    ];
+    for (field, state) in bad {
+        let cmd = CommandMsg {
+            state: Some(state),
+            ..command()
+        };
+        let err = decode::<CommandMsg>(&encode(&cmd)).expect_err(field);
+        assert!(err.to_string().contains(field), "{field}: {err}");
+    }
 }

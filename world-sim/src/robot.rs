@@ -99,6 +99,27 @@ mod tests {
         RobotBody::new(vec2(0.0, 0.0), vec2(10.0, 0.0), spec)
     }
 
+    /// A real robot's body goes where it is placed and nowhere else, whatever its command.
+    #[test]
+    fn an_external_body_stays_where_it_was_placed() {
+        let mut b = body();
+        b.external = true;
+        b.place(vec2(2.0, 1.0), 0.5, vec2(0.3, 0.0), 0.1);
+        for _ in 0..10 {
+            b.apply(Command::Velocity(vec2(1.0, 1.0)), 0.1);
+        }
+        assert_eq!(b.state.position, vec2(2.0, 1.0));
+        assert_eq!(b.state.velocity, vec2(0.3, 0.0));
+        assert_eq!((b.state.heading, b.state.yaw_rate), (0.5, 0.1));
+        b.external = false;
+        b.apply(Command::Velocity(vec2(1.0, 0.0)), 0.1);
+        assert_ne!(
+            b.state.position,
+            vec2(2.0, 1.0),
+            "simulated again, it moves"
+        );
+    }
+
     #[test]
     fn velocity_commands_respect_acceleration_and_speed() {
         let mut b = body();

@@ -272,20 +272,24 @@ pub async fn run_agent(
                     link.wait_for_odometry(obs.sim_time, ODOMETRY_WAIT).await;
                 }
                 let sensed = match (&ros_link, &map) {
-                    (Some(link), Some((_, m))) => link.sensed().map(|s| sensed_world(s, &obs, m)),
+                    (Some(link), Some((_, m))) => link.sensed().map(|s| {
+                        let age = s.odom_age;
+                        let (ego, neighbours) = sensed_world(s, &obs, m);
+                        (ego, neighbours, age)
+                    }),
                     (Some(_), None) => None,
-                    (None, _) => Some((wire::ego(&obs), wire::neighbours(&obs))),
+                    (None, _) => Some((wire::ego(&obs), wire::neighbours(&obs), Duration::ZERO)),
                 };
                 // The heading the command is turned into the robot's base frame with.
-                let heading = sensed.as_ref().map_or(obs.heading, |(ego, _)| ego.heading);
+                let heading = sensed.as_ref().map_or(obs.heading, |(ego, ..)| ego.heading);
                 // A real robot reports where its odometry puts it, for a coordinator that does
                 // not simulate it.
                 let reported = match (&ros_link, &sensed) {
-                    (Some(_), Some((ego, _))) => Some(wire::robot_state(ego)),
+                    (Some(_), Some((ego, _, age))) => Some(wire::robot_state(ego, *age)),
                     _ => None,
                 };
                 let (command, extras) = match (&map, obs.goal, sensed) {
-                    (Some((_, m)), Some(goal), Some((ego, neighbours))) => {
+                    (Some((_, m)), Some(goal), Some((ego, neighbours, _))) => {
                         let profile = if ros_link.is_some() { None } else { wire::visibility(&obs) };
                         let started = Instant::now();
                         let input = PlanningInput {

@@ -121,6 +121,8 @@ pub struct Sensed {
     pub people: Vec<Neighbour>,
     /// The newest scan, placed at the robot's pose.
     pub scan: Option<Scan>,
+    /// How long ago the odometry behind `ego` arrived.
+    pub odom_age: Duration,
 }
 
 /// Why the link could not be set up.
@@ -373,10 +375,11 @@ impl RosLink {
     pub fn sensed(&self) -> Option<Sensed> {
         let l = self.latest.lock().unwrap_or_else(|e| e.into_inner());
         let (_, at) = l.odom.as_ref()?;
-        if at.elapsed() > self.config.odom_timeout {
+        let odom_age = at.elapsed();
+        if odom_age > self.config.odom_timeout {
             return None;
         }
-        sense(&l, &self.config)
+        sense(&l, &self.config).map(|s| Sensed { odom_age, ..s })
     }
 
     /// Sends `command` (already executable on the base) to the robot's `cmd_vel`, in the base
@@ -488,7 +491,12 @@ fn sense(l: &Latest, config: &RosConfig) -> Option<Sensed> {
             ranges: s.ranges.clone(),
         })
     });
-    Some(Sensed { ego, people, scan })
+    Some(Sensed {
+        ego,
+        people,
+        scan,
+        odom_age: Duration::ZERO,
+    })
 }
 
 /// A tracked person's id, stable while the tracker keeps the name: a 47-bit hash of it above

@@ -56,13 +56,15 @@ pub fn ego(obs: &Observation) -> EgoState {
     }
 }
 
-/// A robot's state as its agent reports it ([`schemas::CommandMsg::state`]).
-pub fn robot_state(ego: &EgoState) -> schemas::RobotState {
+/// A robot's state as its agent reports it ([`schemas::CommandMsg::state`]), from odometry
+/// that arrived `age` ago.
+pub fn robot_state(ego: &EgoState, age: std::time::Duration) -> schemas::RobotState {
     schemas::RobotState {
         p: p2(ego.position),
         heading: ego.heading,
         vel: p2(ego.velocity),
         yaw_rate: ego.yaw_rate,
+        age: age.as_secs_f64(),
     }
 }
 

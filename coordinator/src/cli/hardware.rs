@@ -86,6 +86,10 @@ impl HardwareArgs {
                 domain_id: self.domain_id,
                 distro: self.distro,
             },
+            // The robots' own clock, as a ROS 2 robot's: the Unix time.
+            clock_offset_s: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0.0, |d| d.as_secs_f64()),
         };
         runtime()?.block_on(async {
             let session = zenoh::open(config(&net, Role::Client)?)

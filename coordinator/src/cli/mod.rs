@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod coordinator;
 pub mod demo;
+pub mod deployment;
 #[cfg(feature = "studies")]
 pub mod experiment;
 pub mod hardware;
@@ -47,6 +48,10 @@ pub enum Command {
     /// robot a ROS 2 robot over rmw_zenoh driven by its `cmd_vel`, for agents in ROS mode and a
     /// coordinator with `--live`.
     Hardware(hardware::HardwareArgs),
+    /// The deployment topology on this machine: a real `zenohd`, the robots' hardware, one
+    /// agent per robot driving it over ROS 2, and a coordinator that simulates no robot, each
+    /// its own process.
+    Loop(deployment::LoopArgs),
     /// A secured site: its certificate authority, identities and Zenoh configs.
     #[command(subcommand)]
     Site(site::Site),
@@ -65,6 +70,7 @@ impl Command {
             Command::Demo(d) => d.run(),
             Command::Coordinator(c) => c.run(),
             Command::Hardware(h) => h.run(),
+            Command::Loop(l) => l.run(),
             Command::Site(s) => s.run(),
             Command::Replay(r) => r.run(),
         }
@@ -281,6 +287,8 @@ pub fn init_logging(default: &str) {
                 .unwrap_or_else(|_| default.into()),
         )
         .with_writer(std::io::stderr)
+        // Colours for a terminal only: a log file gets plain text.
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
 }
 

@@ -31,6 +31,10 @@ pub struct HardwareConfig {
     pub played: Vec<bool>,
     /// How the robots appear on ROS 2.
     pub ros: RosSimConfig,
+    /// The robots' clock at simulated time 0 (s): their stamps are this plus the simulated
+    /// time. Robots stamp with their own clock (a ROS 2 robot's is the Unix time), not the
+    /// coordinator's; `gapfleet hardware` takes the Unix time at its start.
+    pub clock_offset_s: f64,
 }
 
 /// What the hardware saw, for its summary.
@@ -85,6 +89,7 @@ pub async fn run_hardware(
     let mut ros = RosRobots::declare_some(session, &played, fleet.world.map.clone(), &config.ros)
         .await
         .map_err(|(what, source)| super::CoordinatorError::Ros { what, source })?;
+    ros.clock_offset_s = config.clock_offset_s;
     let dt = fleet.world.dt;
     let tick_wall = Duration::from_secs_f64(dt / config.speed);
     let mut ticker = tokio::time::interval(tick_wall);

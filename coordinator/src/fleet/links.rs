@@ -288,7 +288,9 @@ fn take_command(
     status.commands += 1;
     if let Some(state) = cmd.state {
         link.report = Some(state);
-        link.reported_at = Some(arrived);
+        // The robot was last heard from when the odometry behind the report arrived.
+        let age = std::time::Duration::from_secs_f64(state.age);
+        link.reported_at = Some(arrived.checked_sub(age).unwrap_or(arrived));
     }
     if let Some(entry) = link.sent.iter_mut().find(|e| e.0 == cmd.obs_seq)
         && !entry.2

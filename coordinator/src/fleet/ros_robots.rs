@@ -105,6 +105,9 @@ pub struct RosRobots {
     local: LocalMap,
     /// `cmd_vel` payloads refused.
     pub rejected: Arc<AtomicU64>,
+    /// Added to the simulated time in every stamp (s): 0 when the robots share the
+    /// coordinator's clock; a hardware process stamps with a clock of its own, as robots do.
+    pub clock_offset_s: f64,
 }
 
 type ZResult<T> = Result<T, (String, zenoh::Error)>;
@@ -142,6 +145,7 @@ impl RosRobots {
             map,
             local: LocalMap::default(),
             rejected,
+            clock_offset_s: 0.0,
         })
     }
 
@@ -150,8 +154,9 @@ impl RosRobots {
         let Some(Some(robot)) = self.robots.get_mut(obs.robot_id as usize) else {
             return;
         };
-        let stamp = Time::from_secs(obs.sim_time);
-        let stamp_ns = (obs.sim_time * 1e9) as i64;
+        let t = obs.sim_time + self.clock_offset_s;
+        let stamp = Time::from_secs(t);
+        let stamp_ns = (t * 1e9) as i64;
         let header = |frame: &str| Header {
             stamp: stamp.clone(),
             frame_id: frame.to_owned(),

@@ -1,0 +1,253 @@
+//! The deployment topology in the loop, each part its own process behind a real `zenohd`: the
+//! robots' hardware (`gapfleet hardware`, two processes of two robots each), one agent per
+//! robot driving it over ROS 2 (`gapfleet-agent --ros --robot-id`), and a coordinator that
+//! simulates no robot and no person (`gapfleet coordinator --live all --humans 0`).
+//!
+//! One hardware process is killed: its two robots are flagged lost and the fleet goes on with
+//! the other two. The coordinator is killed and started again on its journal: it resumes and
+//! manages the same robots. The journal then replays bit for bit, reports of real robots
+//! included.
+
+use gapfleet_tests::{Zenohd, binary, free_endpoint, zenohd};
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// A process killed when dropped.
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A process whose stderr lines are kept with the moment each arrived.
+struct Logged {
+    child: Killed,
+    lines: Arc<Mutex<Vec<(Instant, String)>>>,
+}
+
+impl Logged {
+    fn spawn(command: &mut Command) -> Self {
+        let mut child = command
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the process starts");
+        let lines = Arc::new(Mutex::new(Vec::new()));
+        let sink = lines.clone();
+        let stderr = child.stderr.take().expect("piped stderr");
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                sink.lock().expect("lines").push((Instant::now(), line));
+            }
+        });
+        Self {
+            child: Killed(child),
+            lines,
+        }
+    }
+
+    fn text(&self) -> String {
+        let lines = self.lines.lock().expect("lines");
+        lines
+            .iter()
+            .map(|(_, l)| l.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// The first line after `after` for which `pick` gives something.
+    fn find<T>(&self, after: Instant, pick: impl Fn(&str) -> Option<T>) -> Option<(Instant, T)> {
+        let lines = self.lines.lock().expect("lines");
+        lines
+            .iter()
+            .filter(|(at, _)| *at >= after)
+            .find_map(|(at, l)| pick(l).map(|t| (*at, t)))
+    }
+
+    /// Waits (at most `limit`) for a line after `after` that `pick` accepts.
+    fn wait_for<T>(
+        &self,
+        what: &str,
+        after: Instant,
+        limit: Duration,
+        pick: impl Fn(&str) -> Option<T>,
+    ) -> (Instant, T) {
+        let started = Instant::now();
+        loop {
+            if let Some(found) = self.find(after, &pick) {
+                return found;
+            }
+            assert!(
+                started.elapsed() < limit,
+                "no {what} within {limit:?}; the log:\n{}",
+                self.text()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+/// The task count of a coordinator's status line (`t … | tasks   3 | …`).
+fn tasks(line: &str) -> Option<u64> {
+    let rest = line.split("| tasks").nth(1)?;
+    rest.split('|').next()?.trim().parse().ok()
+}
+
+/// Whether `line` is the coordinator's warning that robot `id` is lost.
+fn lost(line: &str, id: u32) -> bool {
+    line.contains("robot lost") && line.ends_with(&format!("robot={id}"))
+}
+
+#[test]
+fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinator_restart() {
+    let endpoint = free_endpoint();
+    let _zenohd = Zenohd(
+        Command::new(zenohd())
+            .args(["-l", &endpoint, "--no-multicast-scouting"])
+            .env("RUST_LOG", "error")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("zenohd starts"),
+    );
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let state = dir.path().join("state");
+    let site = ["--robots", "4", "--seed", "3"];
+    let coordinator = || {
+        let mut cmd = Command::new(binary("gapfleet"));
+        cmd.arg("coordinator")
+            .args(site)
+            .args(["--humans", "0", "--live", "all", "--speed", "2"])
+            .args(["--connect", &endpoint])
+            .arg("--state")
+            .arg(&state)
+            .env("RUST_LOG", "info,zenoh=warn");
+        Logged::spawn(&mut cmd)
+    };
+    let hardware = |play: &str| {
+        let mut cmd = Command::new(binary("gapfleet"));
+        cmd.arg("hardware")
+            .args(site)
+            .args(["--humans", "10", "--speed", "2", "--play", play])
+            .args(["--connect", &endpoint]);
+        Logged::spawn(&mut cmd)
+    };
+    let first = coordinator();
+    let _hardware_a = hardware("0-1");
+    let mut hardware_b = hardware("2-3");
+    let _agents: Vec<Killed> = (0..4)
+        .map(|i| {
+            Killed(
+                Command::new(binary("gapfleet-agent"))
+                    .args(["--robot-id", &i.to_string(), "--ros", "--namespace"])
+                    .arg(format!("/robot{i}"))
+                    .args(["--connect", &endpoint])
+                    .env("RUST_LOG", "warn")
+                    .stdin(Stdio::null())
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::null())
+                    .spawn()
+                    .expect("an agent starts"),
+            )
+        })
+        .collect();
+    let start = Instant::now();
+
+    // The fleet works with every robot real: tasks get done.
+    let (_, done) = first.wait_for("a finished task", start, Duration::from_secs(120), |l| {
+        tasks(l).filter(|&n| n >= 1)
+    });
+    println!("first task(s) done: {done}");
+    assert!(
+        first.find(start, |l| lost(l, 0).then_some(())).is_none(),
+        "a robot was lost while its hardware ran:\n{}",
+        first.text()
+    );
+
+    // The hardware of robots 2 and 3 dies: both are flagged lost, the other two are not.
+    let _ = hardware_b.child.0.kill();
+    let killed = Instant::now();
+    for id in [2, 3] {
+        let (at, ()) = first.wait_for(
+            &format!("robot {id} lost"),
+            killed,
+            Duration::from_secs(10),
+            |l| lost(l, id).then_some(()),
+        );
+        // Printed, not asserted: tests do not judge wall time (results/deployment reports it).
+        println!(
+            "robot {id} flagged lost {:?} after its hardware died",
+            at - killed
+        );
+    }
+    // The fleet goes on without them: more tasks get done.
+    let before = first.find(killed, tasks).map_or(done, |(_, n)| n.max(done));
+    let (_, after) = first.wait_for(
+        "a task done after the loss",
+        killed,
+        Duration::from_secs(120),
+        |l| tasks(l).filter(|&n| n > before),
+    );
+    println!("tasks went on: {before} -> {after}");
+    for id in [0, 1] {
+        assert!(
+            first.find(start, |l| lost(l, id).then_some(())).is_none(),
+            "robot {id} lost though its hardware runs:\n{}",
+            first.text()
+        );
+    }
+
+    // The coordinator dies and starts again on its journal: it resumes the run and manages
+    // the same robots (tasks go on; the two without hardware are lost again).
+    drop(first);
+    let restarted_at = Instant::now();
+    let second = coordinator();
+    second.wait_for("the resume", restarted_at, Duration::from_secs(60), |l| {
+        l.starts_with("resuming at tick").then_some(())
+    });
+    let (_, resumed) = second.wait_for(
+        "a status line",
+        restarted_at,
+        Duration::from_secs(60),
+        tasks,
+    );
+    let (_, later) = second.wait_for(
+        "a task done after the restart",
+        restarted_at,
+        Duration::from_secs(120),
+        |l| tasks(l).filter(|&n| n > resumed),
+    );
+    println!("after the restart: {resumed} -> {later} tasks");
+    for id in [2, 3] {
+        second.wait_for(
+            &format!("robot {id} lost again"),
+            restarted_at,
+            Duration::from_secs(30),
+            |l| lost(l, id).then_some(()),
+        );
+    }
+    // A clean stop, then the journal replays bit for bit.
+    let _ = Command::new("kill")
+        .args(["-INT", &second.child.0.id().to_string()])
+        .status();
+    let mut second = second;
+    let status = second.child.0.wait().expect("the coordinator exits");
+    assert!(status.success(), "{}", second.text());
+    let replay = Command::new(binary("gapfleet"))
+        .arg("replay")
+        .arg(&state)
+        .output()
+        .expect("gapfleet replay runs");
+    let text = String::from_utf8_lossy(&replay.stdout).to_string()
+        + &String::from_utf8_lossy(&replay.stderr);
+    println!("{text}");
+    assert!(replay.status.success(), "{text}");
+    assert!(text.contains("match the recorded run"), "{text}");
+}
