@@ -57,6 +57,7 @@ fn observation() -> Observation {
         task: None,
         neighbours,
         visibility: None,
+        real: false,
     }
 }
 

@@ -98,6 +98,11 @@ pub struct Observation {
     /// bodies (a scenario's `body_occlusion`); absent from older senders.
     #[serde(default)]
     pub visibility: Option<VisibilityProfile>,
+    /// True for a real robot the coordinator does not simulate (`--live`): the bodies listed
+    /// are the coordinator's, simulated people and robots its own sensors cannot see, and its
+    /// agent plans around them beside what it senses. Absent: false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub real: bool,
 }
 
 /// The free range along evenly spaced bearings around the robot, as a 2-D laser scan reports

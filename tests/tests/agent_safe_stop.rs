@@ -33,6 +33,7 @@ fn observation(seq: u64) -> Observation {
         task: None,
         neighbours: Vec::new(),
         visibility: None,
+        real: false,
     }
 }
 

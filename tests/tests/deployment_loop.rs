@@ -14,6 +14,10 @@ use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+/// Each test runs a whole site of processes: one at a time, so that two do not share the
+/// machine's cores.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
 /// A process killed when dropped.
 struct Killed(Child);
 
@@ -106,6 +110,7 @@ fn lost(line: &str, id: u32) -> bool {
 
 #[test]
 fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinator_restart() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let endpoint = free_endpoint();
     let _zenohd = Zenohd(
         Command::new(zenohd())
@@ -249,5 +254,108 @@ fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinat
         + &String::from_utf8_lossy(&replay.stderr);
     println!("{text}");
     assert!(replay.status.success(), "{text}");
+    assert!(text.contains("match the recorded run"), "{text}");
+}
+
+/// A mixed site: robot 0 is real (its hardware a process of its own, with no people in it),
+/// robots 1 and 2 and ten people are simulated by the coordinator. The real robot's agent plans
+/// around the simulated bodies its sensors cannot see; the fleet gets work done, the real
+/// robot drives and is never lost, and the journal replays with its reports.
+#[test]
+fn a_mixed_site_runs_simulated_people_and_robots_around_a_real_one() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let endpoint = free_endpoint();
+    let _zenohd = Zenohd(
+        Command::new(zenohd())
+            .args(["-l", &endpoint, "--no-multicast-scouting"])
+            .env("RUST_LOG", "error")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("zenohd starts"),
+    );
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let state = dir.path().join("state");
+    let site = ["--robots", "3", "--seed", "4", "--speed", "2"];
+    let mut coordinator = Logged::spawn(
+        Command::new(binary("gapfleet"))
+            .arg("coordinator")
+            .args(site)
+            .args(["--humans", "10", "--live", "0", "--seconds", "80"])
+            .args(["--connect", &endpoint])
+            .arg("--state")
+            .arg(&state)
+            .env("RUST_LOG", "info,zenoh=warn"),
+    );
+    let hardware = Logged::spawn(
+        Command::new(binary("gapfleet"))
+            .arg("hardware")
+            .args(site)
+            .args(["--humans", "0", "--play", "0", "--connect", &endpoint]),
+    );
+    let _agents: Vec<Killed> = (0..3)
+        .map(|i| {
+            let mut cmd = Command::new(binary("gapfleet-agent"));
+            cmd.args(["--robot-id", &i.to_string(), "--connect", &endpoint])
+                .env("RUST_LOG", "warn")
+                .stdin(Stdio::null())
+                .stdout(Stdio::null())
+                .stderr(Stdio::null());
+            if i == 0 {
+                cmd.args(["--ros", "--namespace", "/robot0"]);
+            }
+            Killed(cmd.spawn().expect("an agent starts"))
+        })
+        .collect();
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = coordinator.child.0.try_wait().expect("status") {
+            break status;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(150),
+            "the coordinator did not finish:\n{}",
+            coordinator.text()
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    let log = coordinator.text();
+    assert!(status.success(), "{log}");
+    let done = log.lines().rev().find_map(tasks).expect("a status line");
+    println!("tasks done: {done}");
+    assert!(done >= 1, "{log}");
+    assert!(
+        coordinator
+            .find(started, |l| lost(l, 0).then_some(()))
+            .is_none(),
+        "the real robot was lost:\n{log}"
+    );
+    // The real robot drove: the hardware's odometer.
+    let metres = hardware
+        .find(started, |l| {
+            let m = l.split(" m |").next()?.rsplit('|').next()?.trim();
+            m.parse::<f64>().ok().filter(|&m| m > 5.0)
+        })
+        .map(|(_, m)| m);
+    assert!(
+        metres.is_some(),
+        "robot 0 did not drive:\n{}",
+        hardware.text()
+    );
+    println!(
+        "robot 0 drove {:.0} m on its hardware",
+        metres.unwrap_or(0.0)
+    );
+    let replay = Command::new(binary("gapfleet"))
+        .arg("replay")
+        .arg(&state)
+        .output()
+        .expect("gapfleet replay runs");
+    let text = String::from_utf8_lossy(&replay.stdout).to_string()
+        + &String::from_utf8_lossy(&replay.stderr);
+    println!("{text}");
+    assert!(replay.status.success(), "{text}");
+    assert!(text.contains("real robots [0]: placed from"), "{text}");
     assert!(text.contains("match the recorded run"), "{text}");
 }

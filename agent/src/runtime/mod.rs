@@ -514,7 +514,9 @@ pub enum AgentError {
 
 /// The robot's own sensing in ROS mode as the planners' input: its odometry for the ego state,
 /// the coordinator's robots (with their intents), its tracked people, and its scan's returns
-/// that none of those nor the map explains.
+/// that none of those nor the map explains. For a real robot (`obs.real`) every body the
+/// coordinator lists is kept: its simulated people are not in the robot's sensing. (A robot the
+/// coordinator simulates as a ROS 2 robot senses the same people the observation lists.)
 fn sensed_world(
     sensed: ros::Sensed,
     obs: &Observation,
@@ -524,7 +526,7 @@ fn sensed_world(
     ego.radius = obs.radius;
     let mut neighbours: Vec<_> = wire::neighbours(obs)
         .into_iter()
-        .filter(|n| n.kind == crate::model::AgentKind::Robot)
+        .filter(|n| obs.real || n.kind == crate::model::AgentKind::Robot)
         .collect();
     neighbours.extend(sensed.people);
     if let Some(scan) = &sensed.scan {
@@ -675,6 +677,7 @@ mod tests {
             task: None,
             neighbours: Vec::new(),
             visibility: None,
+            real: false,
         }
     }
 

@@ -50,6 +50,13 @@ impl ReplayArgs {
                 None => ", no clean end (the coordinator stopped without one)".to_owned(),
             }
         );
+        if !h.live.is_empty() {
+            let placed: usize = recorded.ticks.iter().map(|t| t.placed.len()).sum();
+            println!(
+                "real robots {:?}: placed from {placed} reports of their agents",
+                h.live
+            );
+        }
         if recorded.integrity == Integrity::Recovered {
             println!(
                 "warning: the journal was damaged on disk: its newest commit does not verify; \

@@ -146,6 +146,9 @@ pub(super) fn liveliness_change(
             link.command = None;
             link.joined_at = Some(Instant::now());
             link.lost = false;
+            // A new agent: what an earlier one reported is not its robot's state.
+            link.report = None;
+            link.reported_at = None;
             fleet.set_held(id as usize, false);
             tracing::info!(robot = id, "agent joined");
             emit(status, config, Event::Joined(id));
@@ -214,7 +217,9 @@ pub(super) fn watch_reports(
             }
         } else {
             fleet.set_held(id as usize, true);
-            if !link.lost && !within(link.joined_at) {
+            // A robot that never reported has from its joining to do so.
+            let waiting = link.reported_at.is_none() && within(link.joined_at);
+            if !link.lost && !waiting {
                 link.lost = true;
                 let never = if link.reported_at.is_none() {
                     " (it never did: is its agent driving a real robot, `--ros`?)"
@@ -373,5 +378,90 @@ mod tests {
         take(Some(0), b"\x93garbage", &mut links, &mut status);
         assert_eq!(status.rejected, 5);
         assert_eq!(links[0].fresh_command(5), Some(fresh));
+    }
+
+    /// A real robot is released by its first report, lost 0.5 s after the odometry behind its
+    /// newest report (not after the report's arrival), found again by a new report; one that
+    /// never reports is lost 0.5 s after joining. Simulated robots are never lost.
+    #[test]
+    fn real_robots_are_lost_when_their_reports_stop_and_found_when_they_return() {
+        let scenario = world_sim::scenario::Scenario::builtin("warehouse").expect("built in");
+        let mut fleet = Fleet::new(&scenario).expect("a warehouse");
+        let mut config = CoordinatorConfig::new("test");
+        config.live = vec![0, 1];
+        let mut links = vec![Link::default(); fleet.robots()];
+        let mut status = Status::default();
+        let mut trips = RoundTrips::new(None);
+        let t0 = Instant::now();
+        let ms = |n: u64| std::time::Duration::from_millis(n);
+        for (i, link) in links.iter_mut().enumerate().take(3) {
+            link.alive = true;
+            link.joined_at = Some(t0);
+            fleet.set_held(i, false);
+            link.sent(0);
+        }
+        let report = |age: f64| {
+            encode(&CommandMsg {
+                state: Some(schemas::RobotState {
+                    p: P2(1.0, 2.0),
+                    heading: 0.0,
+                    vel: P2(0.0, 0.0),
+                    yaw_rate: 0.0,
+                    age,
+                }),
+                ..CommandMsg {
+                    robot_id: 0,
+                    obs_seq: 0,
+                    stamp: 0.0,
+                    motion: Motion::Velocity(P2(0.0, 0.0)),
+                    safe_stop: false,
+                    safety: SafetyZone::Clear,
+                    state: None,
+                }
+            })
+        };
+        // Robot 0 reports at once, from odometry 0.2 s old; robot 1 never does.
+        take_command(
+            Some(0),
+            &report(0.2),
+            t0,
+            &mut links,
+            &mut status,
+            &mut trips,
+        );
+        let watch = |now, links: &mut [Link], fleet: &mut Fleet, status: &mut Status| {
+            watch_reports(links, fleet, status, &config, now);
+        };
+        watch(t0 + ms(100), &mut links, &mut fleet, &mut status);
+        assert!(!fleet.is_held(0), "released by its report");
+        assert!(fleet.is_held(1), "held until its first report");
+        assert!(status.events.is_empty());
+        // 0.5 s after robot 0's odometry (0.3 s after its report arrived): lost. Robot 1,
+        // 0.6 s after joining with no report: lost. Robot 2 is simulated: never lost.
+        watch(t0 + ms(290), &mut links, &mut fleet, &mut status);
+        assert!(status.events.is_empty(), "{:?}", status.events);
+        watch(t0 + ms(310), &mut links, &mut fleet, &mut status);
+        assert_eq!(status.events, vec![Event::Lost(0)]);
+        watch(t0 + ms(600), &mut links, &mut fleet, &mut status);
+        assert_eq!(status.events, vec![Event::Lost(0), Event::Lost(1)]);
+        assert!(fleet.is_held(0) && fleet.is_held(1) && !fleet.is_held(2));
+        // Robot 0 reports again: found and released, once.
+        let back = t0 + ms(900);
+        take_command(
+            Some(0),
+            &report(0.0),
+            back,
+            &mut links,
+            &mut status,
+            &mut trips,
+        );
+        watch(back, &mut links, &mut fleet, &mut status);
+        watch(back + ms(100), &mut links, &mut fleet, &mut status);
+        assert_eq!(
+            status.events,
+            vec![Event::Lost(0), Event::Lost(1), Event::Found(0)]
+        );
+        assert!(!fleet.is_held(0));
+        assert_eq!(links[0].report.map(|r| r.p), Some(P2(1.0, 2.0)));
     }
 }

@@ -43,6 +43,7 @@ pub fn observation(fleet: &mut Fleet, i: usize, seq: u64, map_version: u32) -> O
             .visibility(i, &mut LocalMap::default())
             .as_ref()
             .map(wire::visibility_to_wire),
+        real: false,
     }
 }
 

@@ -532,12 +532,13 @@ impl Coordinator<'_> {
             }
             previous = Some(tokio::time::Instant::now());
             for &i in chunk {
-                let obs = observation(
+                let mut obs = observation(
                     &mut self.fleet,
                     i,
                     self.links[i].next_seq,
                     self.wire.map_version,
                 );
+                obs.real = self.fleet.is_external(i);
                 // The robot's own topics go first, so an agent in ROS mode has them when the
                 // observation comes.
                 if let Some(ros) = &mut self.wire.ros {

@@ -53,6 +53,7 @@ pub fn observation() -> Observation {
             range: 10.0,
             ranges: vec![10.0, 2.5, 2.5, 10.0, 0.0, 9.5],
         }),
+        real: false,
     }
 }
 

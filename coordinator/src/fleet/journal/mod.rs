@@ -617,13 +617,14 @@ impl Journal {
             if recorded.header != *header {
                 return Err(JournalError::State(format!(
                     "{} holds a run of site {:?}, scenario {} ({:?} robots, {:?} people, seed \
-                     {:?}); this one differs: give a new folder",
+                     {:?}, real robots {:?}); this one differs: give a new folder",
                     path.display(),
                     recorded.header.site,
                     recorded.header.scenario.name,
                     recorded.header.scenario.robots,
                     recorded.header.scenario.humans,
                     recorded.header.scenario.seed,
+                    recorded.header.live,
                 )));
             }
             Some(recorded)
