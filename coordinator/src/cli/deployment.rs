@@ -7,6 +7,8 @@ use super::{ScenarioRef, positive, speed};
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// `gapfleet loop`'s arguments.
@@ -211,7 +213,27 @@ impl LoopArgs {
         let coordinator_log = logs.join("coordinator.log");
         let mut coordinator =
             Process::spawn("coordinator", &mut coordinator_cmd, &coordinator_log)?;
-        let status = coordinator.child.wait()?;
+        // SIGINT or SIGTERM ends the run early, as the coordinator's time would: the
+        // coordinator first (it closes its journal), then the rest. Nothing is left running.
+        let asked_to_stop = Arc::new(AtomicBool::new(false));
+        let flag = asked_to_stop.clone();
+        let signals = super::runtime()?;
+        signals.spawn(async move {
+            agent::runtime::shutdown_signal().await;
+            flag.store(true, Ordering::Relaxed);
+        });
+        let mut interrupted = false;
+        let status = loop {
+            if let Some(status) = coordinator.child.try_wait()? {
+                break status;
+            }
+            if asked_to_stop.load(Ordering::Relaxed) && !interrupted {
+                eprintln!("stopping: the coordinator first, then the agents and the hardware");
+                coordinator.interrupt();
+                interrupted = true;
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        };
         // The agents stop their robots when the coordinator's token goes; then the hardware.
         for agent in &mut agents {
             agent.interrupt();

@@ -45,11 +45,13 @@ pub struct HardwareArgs {
 /// One line of the hardware's status.
 fn status_line(r: &HardwareReport) -> String {
     format!(
-        "t {:6.1} s | driven {} starved {} robot-ticks | {:.0} m | contacts: robot-caused {} person-caused {} robot-robot {} | cmd_vel refused {}",
+        "t {:6.1} s | driven {} starved {} robot-ticks | {:.0} m | closest person {:.2} m, SVR {:.3} | contacts: robot-caused {} person-caused {} robot-robot {} | cmd_vel refused {}",
         r.sim_time,
         r.driven,
         r.starved,
         r.path_length_m,
+        r.min_human_distance_m,
+        r.svr,
         r.robot_caused_contacts,
         r.person_caused_contacts,
         r.robot_robot_contacts,

@@ -56,6 +56,12 @@ pub struct HardwareReport {
     pub robot_robot_contacts: u64,
     /// Metres driven by the played robots.
     pub path_length_m: f64,
+    /// The closest any played robot came to a person (m, centre to centre; infinite with no
+    /// people).
+    pub min_human_distance_m: f64,
+    /// The played robots' mean social violation rate (share of moving steps with someone
+    /// within 1 m), as the demo's fleet SVR.
+    pub svr: f64,
     /// `cmd_vel` payloads refused.
     pub rejected: u64,
 }
@@ -149,5 +155,10 @@ fn tally(fleet: &Fleet, played: &[bool], ros: &RosRobots, report: &mut HardwareR
     report.person_caused_contacts = metrics.iter().map(|m| m.person_caused_contacts).sum();
     report.robot_robot_contacts = metrics.iter().map(|m| m.robot_robot_contacts).sum();
     report.path_length_m = metrics.iter().map(|m| m.path_length_m).sum();
+    report.min_human_distance_m = metrics
+        .iter()
+        .map(|m| m.min_human_distance_m)
+        .fold(f64::INFINITY, f64::min);
+    report.svr = metrics.iter().map(|m| m.svr).sum::<f64>() / metrics.len().max(1) as f64;
     report.rejected = ros.rejected.load(std::sync::atomic::Ordering::Relaxed);
 }
