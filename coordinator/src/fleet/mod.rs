@@ -12,6 +12,11 @@
 //! simulated second a fleet metrics frame (`Coordinator::publish_metrics`). A queryable
 //! serves the static map. The demo ([`demo`]) runs a coordinator and its agents in one
 //! process; [`dashboard`] draws a running fleet.
+//!
+//! Real robots (`CoordinatorConfig::live`) are not simulated: before each step every one with a
+//! new state report from its agent is placed where it reported itself (the reports are
+//! journaled), and one whose reports stop is lost until they return (`links::watch_reports`).
+//! [`hardware`] plays real robots' hardware in a process of its own.
 
 pub mod dashboard;
 pub mod demo;
