@@ -208,7 +208,7 @@ fn ros_config(ros: &RosArgs) -> agent::runtime::ros::RosConfig {
 
 /// `--ros` without `--robot-id`: the robot's own topics in, its cmd_vel out, through the goals.
 async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
-    use agent::runtime::ros::{RosAgentConfig, run_ros_agent};
+    use agent::runtime::standalone::{RosAgentConfig, run_ros_agent};
     if args.ros.goals.is_empty() {
         anyhow::bail!("--ros needs --robot-id (in a fleet) or at least one --goal x,y (alone)");
     }

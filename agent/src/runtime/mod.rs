@@ -12,6 +12,7 @@
 
 pub mod net;
 pub mod ros;
+pub mod standalone;
 pub mod wire;
 
 use crate::guard::Guard;
