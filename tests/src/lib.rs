@@ -185,7 +185,34 @@ pub fn zenohd() -> String {
 #[derive(Debug)]
 pub struct Zenohd(pub std::process::Child);
 
+impl Zenohd {
+    /// The pinned `zenohd` ([`zenohd`]) listening on `endpoint`, without scouting, quiet.
+    pub fn listening(endpoint: &str) -> Self {
+        Self(
+            Command::new(zenohd())
+                .args(["-l", endpoint, "--no-multicast-scouting"])
+                .env("RUST_LOG", "error")
+                .stdin(Stdio::null())
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("zenohd starts"),
+        )
+    }
+}
+
 impl Drop for Zenohd {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Any child process, killed when dropped.
+#[derive(Debug)]
+pub struct Killed(pub Child);
+
+impl Drop for Killed {
     fn drop(&mut self) {
         let _ = self.0.kill();
         let _ = self.0.wait();

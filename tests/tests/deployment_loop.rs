@@ -8,25 +8,15 @@
 //! manages the same robots. The journal then replays bit for bit, reports of real robots
 //! included.
 
-use gapfleet_tests::{Zenohd, binary, free_endpoint, zenohd};
+use gapfleet_tests::{Killed, Zenohd, binary, free_endpoint};
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Each test runs a whole site of processes: one at a time, so that two do not share the
 /// machine's cores.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
-
-/// A process killed when dropped.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// A process whose stderr lines are kept with the moment each arrived.
 struct Logged {
@@ -97,6 +87,20 @@ impl Logged {
     }
 }
 
+/// `gapfleet replay` on the journal in `state`: its output, once it has succeeded.
+fn replayed(state: &std::path::Path) -> String {
+    let replay = Command::new(binary("gapfleet"))
+        .arg("replay")
+        .arg(state)
+        .output()
+        .expect("gapfleet replay runs");
+    let text = String::from_utf8_lossy(&replay.stdout).to_string()
+        + &String::from_utf8_lossy(&replay.stderr);
+    println!("{text}");
+    assert!(replay.status.success(), "{text}");
+    text
+}
+
 /// The task count of a coordinator's status line (`t … | tasks   3 | …`).
 fn tasks(line: &str) -> Option<u64> {
     let rest = line.split("| tasks").nth(1)?;
@@ -112,16 +116,7 @@ fn lost(line: &str, id: u32) -> bool {
 fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinator_restart() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let endpoint = free_endpoint();
-    let _zenohd = Zenohd(
-        Command::new(zenohd())
-            .args(["-l", &endpoint, "--no-multicast-scouting"])
-            .env("RUST_LOG", "error")
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("zenohd starts"),
-    );
+    let _zenohd = Zenohd::listening(&endpoint);
     let dir = tempfile::tempdir().expect("a temporary folder");
     let state = dir.path().join("state");
     let site = ["--robots", "4", "--seed", "3"];
@@ -245,15 +240,7 @@ fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinat
     let mut second = second;
     let status = second.child.0.wait().expect("the coordinator exits");
     assert!(status.success(), "{}", second.text());
-    let replay = Command::new(binary("gapfleet"))
-        .arg("replay")
-        .arg(&state)
-        .output()
-        .expect("gapfleet replay runs");
-    let text = String::from_utf8_lossy(&replay.stdout).to_string()
-        + &String::from_utf8_lossy(&replay.stderr);
-    println!("{text}");
-    assert!(replay.status.success(), "{text}");
+    let text = replayed(&state);
     assert!(text.contains("match the recorded run"), "{text}");
 }
 
@@ -265,16 +252,7 @@ fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinat
 fn a_mixed_site_runs_simulated_people_and_robots_around_a_real_one() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let endpoint = free_endpoint();
-    let _zenohd = Zenohd(
-        Command::new(zenohd())
-            .args(["-l", &endpoint, "--no-multicast-scouting"])
-            .env("RUST_LOG", "error")
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("zenohd starts"),
-    );
+    let _zenohd = Zenohd::listening(&endpoint);
     let dir = tempfile::tempdir().expect("a temporary folder");
     let state = dir.path().join("state");
     let site = ["--robots", "3", "--seed", "4", "--speed", "2"];
@@ -347,15 +325,7 @@ fn a_mixed_site_runs_simulated_people_and_robots_around_a_real_one() {
         "robot 0 drove {:.0} m on its hardware",
         metres.unwrap_or(0.0)
     );
-    let replay = Command::new(binary("gapfleet"))
-        .arg("replay")
-        .arg(&state)
-        .output()
-        .expect("gapfleet replay runs");
-    let text = String::from_utf8_lossy(&replay.stdout).to_string()
-        + &String::from_utf8_lossy(&replay.stderr);
-    println!("{text}");
-    assert!(replay.status.success(), "{text}");
+    let text = replayed(&state);
     assert!(text.contains("real robots [0]: placed from"), "{text}");
     assert!(text.contains("match the recorded run"), "{text}");
 }

@@ -3,7 +3,7 @@
 //! through a real `zenohd`, to three goals in a walled room that two people keep crossing
 //! without reacting. Once with the people on its people topic, once with them in the scan only.
 
-use gapfleet_tests::{Zenohd, binary, free_endpoint, zenohd};
+use gapfleet_tests::{Killed, Zenohd, binary, free_endpoint};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -24,28 +24,11 @@ fn python() -> String {
     python
 }
 
-struct Killed(std::process::Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
 fn drive(no_people: bool) {
     let python = python();
     let endpoint = free_endpoint();
     let router = endpoint.trim_start_matches("tcp/").to_owned();
-    let _zenohd = Zenohd(
-        Command::new(zenohd())
-            .args(["-l", &endpoint, "--no-multicast-scouting"])
-            .env("RUST_LOG", "error")
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .spawn()
-            .expect("zenohd starts"),
-    );
+    let _zenohd = Zenohd::listening(&endpoint);
     let dir = tempfile::tempdir().expect("a temporary folder");
     let log = dir.path().join("robot.jsonl");
     let mut robot_cmd = Command::new(&python);
