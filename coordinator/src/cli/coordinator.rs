@@ -1,6 +1,6 @@
 //! `gapfleet coordinator`: the warehouse world served to `gapfleet-agent` processes over Zenoh.
 
-use super::{Overrides, RerunArgs, RobotSet, ScenarioRef, init_logging, positive, runtime, speed};
+use super::{RerunArgs, RobotSet, SiteArgs, init_logging, positive, runtime, speed};
 use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
@@ -12,18 +12,8 @@ use world_sim::fleet::Fleet;
 /// `gapfleet coordinator`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct CoordinatorArgs {
-    /// Built-in warehouse scenario or a scenario file.
-    #[arg(long, default_value = "warehouse")]
-    scenario: ScenarioRef,
-    /// Override the scenario's robot count.
-    #[arg(long)]
-    robots: Option<usize>,
-    /// Override the scenario's people count.
-    #[arg(long)]
-    humans: Option<usize>,
-    /// Override the scenario's seed.
-    #[arg(long)]
-    seed: Option<u64>,
+    #[command(flatten)]
+    site_args: SiteArgs,
     /// Simulated seconds per wall second, in [0.001, 1000].
     #[arg(long, default_value_t = 1.0, value_parser = speed)]
     speed: f64,
@@ -72,13 +62,8 @@ impl CoordinatorArgs {
     /// Serves the fleet until the time is up or SIGINT/SIGTERM.
     pub fn run(self) -> Result<()> {
         init_logging("info,zenoh=warn");
-        let overrides = Overrides {
-            robots: self.robots,
-            humans: self.humans,
-            seed: self.seed,
-            ..Overrides::default()
-        };
-        let scenario = self.scenario.fleet_site(overrides)?;
+        let overrides = self.site_args.overrides();
+        let scenario = self.site_args.scenario()?;
         let live = self
             .live
             .ids(scenario.fleet_size().map_or(0, |(robots, _)| robots))?;
@@ -115,7 +100,7 @@ impl CoordinatorArgs {
                 }
                 let header = Header::new(
                     &self.site,
-                    self.scenario.source(overrides),
+                    self.site_args.scenario.source(overrides),
                     !self.no_intent_sharing,
                     !self.no_traffic_policy,
                 )

@@ -3,7 +3,7 @@
 //! --robot-id`) and a coordinator that simulates nothing (`gapfleet coordinator --live all
 //! --humans 0`), each its own process, as on a site.
 
-use super::{ScenarioRef, positive, speed};
+use super::{SiteArgs, positive, speed};
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -14,18 +14,8 @@ use std::time::{Duration, Instant};
 /// `gapfleet loop`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct LoopArgs {
-    /// Built-in fleet site or a scenario file.
-    #[arg(long, default_value = "warehouse")]
-    scenario: ScenarioRef,
-    /// Override the scenario's robot count.
-    #[arg(long)]
-    robots: Option<usize>,
-    /// Override the scenario's people count (the hardware's people; the coordinator has none).
-    #[arg(long)]
-    humans: Option<usize>,
-    /// Override the scenario's seed.
-    #[arg(long)]
-    seed: Option<u64>,
+    #[command(flatten)]
+    site_args: SiteArgs,
     /// Simulated seconds the coordinator runs.
     #[arg(long, default_value_t = 300.0, value_parser = positive)]
     seconds: f64,
@@ -130,12 +120,7 @@ impl LoopArgs {
                 self.zenohd.display()
             );
         }
-        let scenario = self.scenario.fleet_site(super::Overrides {
-            robots: self.robots,
-            humans: self.humans,
-            seed: self.seed,
-            ..super::Overrides::default()
-        })?;
+        let scenario = self.site_args.scenario()?;
         let (robots, _) = scenario
             .fleet_size()
             .context("the scenario is no fleet site")?;
@@ -161,12 +146,13 @@ impl LoopArgs {
             Command::new(&self.zenohd).args(["-l", &endpoint, "--no-multicast-scouting"]),
             &logs.join("zenohd.log"),
         )?;
-        let mut site: Vec<String> = vec!["--scenario".into(), self.scenario.name.clone()];
-        if let Some(r) = self.robots {
+        let s = &self.site_args;
+        let mut site: Vec<String> = vec!["--scenario".into(), s.scenario.name.clone()];
+        if let Some(r) = s.robots {
             site.extend(["--robots".into(), r.to_string()]);
         }
-        if let Some(s) = self.seed {
-            site.extend(["--seed".into(), s.to_string()]);
+        if let Some(seed) = s.seed {
+            site.extend(["--seed".into(), seed.to_string()]);
         }
         let speed = self.speed.to_string();
         let mut hardware_cmd = Command::new(&me);
@@ -174,7 +160,7 @@ impl LoopArgs {
             .arg("hardware")
             .args(&site)
             .args(["--speed", &speed, "--connect", &endpoint]);
-        if let Some(h) = self.humans {
+        if let Some(h) = s.humans {
             hardware_cmd.args(["--humans", &h.to_string()]);
         }
         let mut hardware =

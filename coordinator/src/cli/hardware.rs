@@ -1,6 +1,6 @@
 //! `gapfleet hardware`: the robots' hardware, played by the simulator, as ROS 2 robots.
 
-use super::{Overrides, RobotSet, ScenarioRef, init_logging, positive, runtime, speed};
+use super::{RobotSet, SiteArgs, init_logging, positive, runtime, speed};
 use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::fleet::hardware::{HardwareConfig, HardwareReport, run_hardware};
@@ -10,18 +10,8 @@ use world_sim::fleet::Fleet;
 /// `gapfleet hardware`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct HardwareArgs {
-    /// Built-in fleet site or a scenario file: the world the robots drive in.
-    #[arg(long, default_value = "warehouse")]
-    scenario: ScenarioRef,
-    /// Override the scenario's robot count.
-    #[arg(long)]
-    robots: Option<usize>,
-    /// Override the scenario's people count.
-    #[arg(long)]
-    humans: Option<usize>,
-    /// Override the scenario's seed.
-    #[arg(long)]
-    seed: Option<u64>,
+    #[command(flatten)]
+    site_args: SiteArgs,
     /// The robots this process plays: `all`, or ids such as `0-3,6` (the others are parked
     /// off the site, for another hardware process to play).
     #[arg(long, default_value = "all", value_name = "ROBOTS")]
@@ -63,13 +53,7 @@ impl HardwareArgs {
     /// Plays the robots until the time is up or SIGINT/SIGTERM.
     pub fn run(self) -> Result<()> {
         init_logging("info,zenoh=warn");
-        let overrides = Overrides {
-            robots: self.robots,
-            humans: self.humans,
-            seed: self.seed,
-            ..Overrides::default()
-        };
-        let scenario = self.scenario.fleet_site(overrides)?;
+        let scenario = self.site_args.scenario()?;
         let fleet = Fleet::new(&scenario)?;
         let n = fleet.robots();
         let mut played = vec![false; n];

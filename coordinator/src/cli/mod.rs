@@ -50,7 +50,7 @@ pub enum Command {
     Hardware(hardware::HardwareArgs),
     /// The deployment topology on this machine: a real `zenohd`, the robots' hardware, one
     /// agent per robot driving it over ROS 2, and a coordinator that simulates no robot, each
-    /// its own process.
+    /// its own process (`--humans` sets the hardware's people: the coordinator has none).
     Loop(deployment::LoopArgs),
     /// A secured site: its certificate authority, identities and Zenoh configs.
     #[command(subcommand)]
@@ -175,6 +175,41 @@ pub fn speed(text: &str) -> Result<f64, String> {
             "{x} is not in [0.001, 1000] simulated seconds per wall second"
         )),
         Err(e) => Err(e.to_string()),
+    }
+}
+
+/// The fleet site a process runs (`coordinator`, `hardware`, `loop`): a scenario and the
+/// counts and seed given over it.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SiteArgs {
+    /// Built-in fleet site or a scenario file.
+    #[arg(long, default_value = "warehouse")]
+    pub scenario: ScenarioRef,
+    /// Override the scenario's robot count.
+    #[arg(long)]
+    pub robots: Option<usize>,
+    /// Override the scenario's people count.
+    #[arg(long)]
+    pub humans: Option<usize>,
+    /// Override the scenario's seed.
+    #[arg(long)]
+    pub seed: Option<u64>,
+}
+
+impl SiteArgs {
+    /// The counts and seed given.
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            robots: self.robots,
+            humans: self.humans,
+            seed: self.seed,
+            ..Overrides::default()
+        }
+    }
+
+    /// The scenario with the overrides.
+    pub fn scenario(&self) -> Result<Scenario> {
+        self.scenario.fleet_site(self.overrides())
     }
 }
 
