@@ -47,8 +47,15 @@ impl Link {
     /// answers have gone out, and it is not a safe stop.
     pub(super) fn fresh_command(&self, stale_ticks: u64) -> Option<Command> {
         self.command
-            .filter(|c| !c.2 && self.next_seq.saturating_sub(c.0 + 1) <= stale_ticks)
+            .filter(|c| !c.2 && self.unanswered() <= stale_ticks)
             .map(|c| c.1)
+    }
+
+    /// Observations sent after the one the newest command answers (all of them before the
+    /// first command).
+    pub(super) fn unanswered(&self) -> u64 {
+        self.command
+            .map_or(self.next_seq, |c| self.next_seq.saturating_sub(c.0 + 1))
     }
 
     /// Records observation `seq` as published now.

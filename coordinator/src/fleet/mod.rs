@@ -397,7 +397,12 @@ impl Coordinator<'_> {
             };
             match fresh {
                 Some(command) => commands[i] = command,
-                None if link.alive && self.fleet.job(i).is_some() && link.next_seq > 0 => {
+                // Stale: more than `stale_ticks` observations unanswered, or a safe stop.
+                None if link.alive
+                    && self.fleet.job(i).is_some()
+                    && (link.unanswered() > self.config.stale_ticks
+                        || link.command.is_some_and(|c| c.2)) =>
+                {
                     self.status.stale_commands += 1;
                     self.status.stale_per_robot[i] += 1;
                 }

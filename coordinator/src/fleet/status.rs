@@ -150,7 +150,9 @@ pub struct Status {
     pub observations: u64,
     /// Observations answered by a command (each counted once).
     pub answered: u64,
-    /// Ticks in which a robot with a task had no fresh command (it stopped).
+    /// Ticks in which a robot with a task stopped for want of a fresh command: more than
+    /// `stale_ticks` observations went unanswered (counting from its first), or its agent
+    /// sent a safe stop.
     pub stale_commands: u64,
     /// The same per robot.
     pub stale_per_robot: Vec<u64>,
