@@ -54,8 +54,9 @@ status=0
 # bytes to the committed file; this holds the file to rosbags).
 "$pyenv/bin/python" schemas/ros2/fixtures/make_fixtures.py --check || status=$?
 cargo test --workspace --locked 2>&1 | tee "$log" || status=$?
-# Coverage-guided fuzzing of schemas::decode (AFL++, through cargo-afl), a short run: a crash
-# fails the tests. The hour-long run and its figures: schemas/README.md.
+# Coverage-guided fuzzing of schemas::decode and of the ROS 2 decoders (AFL++, through
+# cargo-afl), a short run of each: a crash fails the tests. The hour-long run and its figures:
+# schemas/README.md.
 bash schemas/fuzz/run.sh 60 || status=$?
 # One closing line for the whole workspace (cargo ends on the doc-test summary otherwise).
 awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed/) p += $(i-1); if ($i ~ /^failed/) f += $(i-1); if ($i ~ /^ignored/) s += $(i-1) } }

@@ -6,6 +6,9 @@ it, never reacting to the robot, and:
   1.5 rad/s^2; stops when commands pause 0.5 s);
 - publishes nav_msgs/Odometry (frame `map`: the room is the map), a 360-ray
   sensor_msgs/LaserScan of the walls and people, and people_msgs/People (unless --no-people);
+- mounts its scanner 0.2 m ahead of the base's centre, facing backwards, and says so once, at
+  start, on /tf_static (base_link -> base_scan) as rmw_zenoh publishes a transient-local topic:
+  through a Zenoh AdvancedPublisher whose cache late subscribers query;
 - logs every step as one JSON line: time, robot pose and speed, people, and contacts;
 - once commands come, asks the ROS graph who publishes `cmd_vel` and who subscribes to `odom`
   (the SDK's `ros2 topic info --verbose`, from the liveliness tokens) and logs the answer.
@@ -31,12 +34,13 @@ from rosbags.typesys import Stores, get_typestore
 
 ROOT = Path(__file__).resolve().parents[2]
 PEOPLE_MSGS = ROOT / "schemas" / "ros2" / "fixtures" / "people_msgs" / "msg"
-TYPES = ["nav_msgs/msg/Odometry", "sensor_msgs/msg/LaserScan", "geometry_msgs/msg/Twist"]
+TYPES = ["nav_msgs/msg/Odometry", "sensor_msgs/msg/LaserScan", "geometry_msgs/msg/Twist", "tf2_msgs/msg/TFMessage"]
 ROOM = (-2.0, -2.0, 6.0, 5.0)  # x0, y0, x1, y1: the walls' inner faces
 ROBOT_RADIUS = 0.3
 PERSON_RADIUS = 0.3
 RAYS = 360
 RANGE_MAX = 12.0
+SCANNER_AHEAD = 0.2  # m along the base's heading; the scanner faces backwards (yaw pi)
 
 
 def render(ts, name, out, seen):
@@ -114,6 +118,45 @@ def cast(ox, oy, dx, dy, people):
     return best if best < RANGE_MAX else math.inf
 
 
+def publish_scanner_mount(args, ns, common, store, T):
+    """base_link -> base_scan on /tf_static, once, as rmw_zenoh publishes a transient-local topic:
+    an AdvancedPublisher with a cache of one sample on the topic's key (the SDK declares the
+    key, its liveliness token and the attachment; it has no advanced publisher of its own)."""
+    import zenoh
+    import zenoh.ext
+    from zenoh_ros2_sdk import ROS2Publisher
+    from zenoh_ros2_sdk.qos import QosDurability, QosProfile
+
+    qos = QosProfile(durability=QosDurability.TRANSIENT_LOCAL, history_depth=1)
+    sdk = ROS2Publisher(topic="/tf_static", msg_type="tf2_msgs/msg/TFMessage", qos=qos, **common)
+    publish_scanner_mount.keep = zenoh.ext.declare_advanced_publisher(
+        sdk.session_mgr.session,
+        sdk.keyexpr,
+        cache=zenoh.ext.CacheConfig(max_samples=1),
+        publisher_detection=True,
+    )
+    msg = T["tf2_msgs/msg/TFMessage"](
+        transforms=[
+            T["geometry_msgs/msg/TransformStamped"](
+                header=T["std_msgs/msg/Header"](
+                    stamp=T["builtin_interfaces/msg/Time"](sec=0, nanosec=0), frame_id="base_link"
+                ),
+                child_frame_id="base_scan",
+                transform=T["geometry_msgs/msg/Transform"](
+                    translation=T["geometry_msgs/msg/Vector3"](x=SCANNER_AHEAD, y=0.0, z=0.2),
+                    rotation=T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=1.0, w=0.0),
+                ),
+            )
+        ]
+    )
+    publish_scanner_mount.keep.put(
+        bytes(store.serialize_cdr(msg, "tf2_msgs/msg/TFMessage")),
+        encoding=zenoh.Encoding("application/cdr"),
+        attachment=sdk._create_attachment(1, time.time_ns()),
+    )
+    publish_scanner_mount.sdk = sdk
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--namespace", default="/robot1")
@@ -136,6 +179,7 @@ def main():
     people_pub = ROS2Publisher(topic=f"{ns}/people", msg_type="people_msgs/msg/People", **common)
     store = odom_pub.session_mgr.store
     T = store.types
+    publish_scanner_mount(args, ns, common, store, T)
 
     cmd = {"v": 0.0, "w": 0.0, "at": -1.0}
     lock = threading.Lock()
@@ -209,8 +253,9 @@ def main():
                 ),
             )
             inc = 2 * math.pi / RAYS
+            sx, sy, syaw = x + SCANNER_AHEAD * math.cos(yaw), y + SCANNER_AHEAD * math.sin(yaw), yaw + math.pi
             ranges = np.array(
-                [cast(x, y, math.cos(yaw + k * inc), math.sin(yaw + k * inc), people) for k in range(RAYS)],
+                [cast(sx, sy, math.cos(syaw + k * inc), math.sin(syaw + k * inc), people) for k in range(RAYS)],
                 dtype=np.float32,
             )
             scan_pub.publish(

@@ -2,6 +2,8 @@
 //! Python robot on ROBOTIS's zenoh-ros2-sdk (pure-Python rmw_zenoh; tests/python/ros2_robot.py),
 //! through a real `zenohd`, to three goals in a walled room that two people keep crossing
 //! without reacting. Once with the people on its people topic, once with them in the scan only.
+//! The robot's scanner sits 0.2 m ahead of its centre, facing backwards, as its /tf_static
+//! says; the agent starts after that was said and reads it from the robot's cache.
 
 use gapfleet_tests::{Killed, Zenohd, binary, free_endpoint};
 use std::process::{Command, Stdio};
@@ -51,6 +53,16 @@ fn drive(no_people: bool) {
         robot_cmd.arg("--no-people");
     }
     let _robot = Killed(robot_cmd.spawn().expect("the Python robot starts"));
+    // The agent comes after the robot has said where its scanner is, once, on /tf_static: it
+    // learns the mounting from the robot's transient-local cache, as a late ROS 2 node does.
+    let waiting = Instant::now();
+    while std::fs::metadata(&log).map_or(0, |m| m.len()) == 0 {
+        assert!(
+            waiting.elapsed() < Duration::from_secs(60),
+            "the Python robot did not start"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
     let mut agent_cmd = Command::new(binary("gapfleet-agent"));
     agent_cmd
         .args([
@@ -87,6 +99,16 @@ fn drive(no_people: bool) {
         let _ = pipe.read_to_string(&mut stderr);
     }
     assert!(status.success(), "agent failed: {stderr}");
+    // The scanner, 0.2 m ahead and facing backwards, is placed where /tf_static mounts it.
+    let mounted = stderr
+        .lines()
+        .find(|l| l.contains("scanner mounted"))
+        .unwrap_or_else(|| panic!("the agent never placed the scanner: {stderr}"));
+    println!("{mounted}");
+    assert!(
+        mounted.contains("base_scan at (0.200, 0.000) m, 3.142 rad"),
+        "{mounted}"
+    );
     let summary = stderr.lines().last().unwrap_or_default();
     println!("{summary}");
     assert!(

@@ -80,9 +80,17 @@ struct RosArgs {
     /// Publish geometry_msgs/TwistStamped on cmd_vel (Nav2's default since Jazzy) instead of Twist.
     #[arg(long, requires = "ros")]
     stamped_cmd: bool,
-    /// The map frame; when odometry is in another frame, map→odom comes from /tf.
+    /// The map frame; when odometry is in another frame, map→odom comes from /tf (or from
+    /// --pose-topic).
     #[arg(long, default_value = "map", requires = "ros")]
     map_frame: String,
+    /// Take map→odom from this geometry_msgs/PoseWithCovarianceStamped topic in the map frame
+    /// (AMCL's `amcl_pose`) instead of /tf.
+    #[arg(long, requires = "ros")]
+    pose_topic: Option<String>,
+    /// Where the scanner sits on the base, "x,y,yaw" (m, m, rad), overriding /tf_static.
+    #[arg(long, value_parser = parse_mount, requires = "ros", allow_hyphen_values = true)]
+    scan_mount: Option<(agent::math::Vec2, f64)>,
     /// The base's drive: holonomic, or differential (velocity commands become turn-and-drive).
     #[arg(long, value_enum, default_value = "holonomic", requires = "ros")]
     base: BaseArg,
@@ -101,6 +109,24 @@ struct RosArgs {
 enum BaseArg {
     Holonomic,
     Differential,
+}
+
+fn parse_mount(s: &str) -> Result<(agent::math::Vec2, f64), String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [x, y, yaw] = parts[..] else {
+        return Err("a scanner mount is x,y,yaw".into());
+    };
+    let parse = |v: &str, bound: f64| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && v.abs() <= bound)
+            .ok_or(format!("`{v}` is not a number within ±{bound}"))
+    };
+    Ok((
+        agent::math::Vec2::new(parse(x, 10.0)?, parse(y, 10.0)?),
+        parse(yaw, 2.0 * std::f64::consts::PI)?,
+    ))
 }
 
 fn parse_goal(s: &str) -> Result<agent::math::Vec2, String> {
@@ -201,6 +227,8 @@ fn ros_config(ros: &RosArgs) -> agent::runtime::ros::RosConfig {
         distro: ros.distro,
         stamped_cmd: ros.stamped_cmd,
         map_frame: ros.map_frame.clone(),
+        pose_topic: ros.pose_topic.clone(),
+        scan_mount: ros.scan_mount,
         robot_radius: ros.robot_radius,
         ..Default::default()
     }

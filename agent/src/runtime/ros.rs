@@ -2,7 +2,8 @@
 //! robot's Zenoh network as a ROS 2 node (`gapfleet_agent` in the robot's namespace, with
 //! rmw_zenoh's liveliness tokens, so `ros2 node list` and `ros2 topic info` show it), reads
 //! `nav_msgs/Odometry`, `sensor_msgs/LaserScan`, `people_msgs/People` and, when the map frame is
-//! not the odometry frame, `/tf`, and publishes `geometry_msgs/Twist` (or `TwistStamped`) on
+//! not the odometry frame, `/tf` (or a pose topic such as AMCL's), `/tf_static` for where the
+//! scanner sits on the base, and publishes `geometry_msgs/Twist` (or `TwistStamped`) on
 //! `cmd_vel`. Keys, tokens, CDR and attachments come from `ros2_wire`.
 //!
 //! Every payload is decoded strictly (`ros2_wire::decode`); a bad one is counted and logged,
@@ -12,14 +13,19 @@
 use crate::math::{Real, Vec2};
 use crate::model::{AgentKind, Command, EgoState, Neighbour};
 use crate::scan::Scan;
+use frames::{ask_static_history, mount_of, pose_at, take_map_pose, take_transforms};
 use ros2_wire::graph::{self, Attachment, EntityKind, Node, Qos, gid_of};
 use ros2_wire::msg::{
-    Header, LaserScan, Odometry, People, TFMessage, Time, Twist, TwistStamped, Vector3,
+    Header, LaserScan, Odometry, People, PoseWithCovarianceStamped, TFMessage, Time, Twist,
+    TwistStamped, Vector3,
 };
 use ros2_wire::{Distro, Message, decode, encode};
+use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+mod frames;
 
 /// How the agent finds the robot on ROS 2.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,6 +51,14 @@ pub struct RosConfig {
     pub cmd_topic: String,
     /// Transform topic.
     pub tf_topic: String,
+    /// Static transform topic (transient local): where the scanner sits on the base.
+    pub tf_static_topic: String,
+    /// A pose topic in the map frame (`geometry_msgs/PoseWithCovarianceStamped`, e.g. AMCL's
+    /// `amcl_pose`). When set, map→odom comes from it rather than from `/tf`.
+    pub pose_topic: Option<String>,
+    /// The scanner's mounting on the base (offset in m, yaw in rad); when set, it overrides
+    /// what `/tf` and `/tf_static` say.
+    pub scan_mount: Option<(Vec2, Real)>,
     /// The robot's body radius (m).
     pub robot_radius: Real,
     /// A person's body radius for the planners (m): `people_msgs` carries none.
@@ -66,6 +80,9 @@ impl Default for RosConfig {
             people_topic: "people".into(),
             cmd_topic: "cmd_vel".into(),
             tf_topic: "/tf".into(),
+            tf_static_topic: "/tf_static".into(),
+            pose_topic: None,
+            scan_mount: None,
             robot_radius: 0.3,
             person_radius: 0.3,
             odom_timeout: Duration::from_millis(500),
@@ -78,7 +95,7 @@ pub const SHARED_CLOCK_S: Real = 1.0;
 
 /// Odometry poses kept to place scans at their own time (2 s at 10 Hz).
 const POSE_HISTORY: usize = 20;
-/// A scan is placed at an odometry pose at most this far from its stamp (s).
+/// A scan or a map pose is matched to an odometry pose at most this far from its stamp (s).
 pub const SCAN_POSE_TOLERANCE_S: Real = 0.06;
 
 /// Counts of what arrived from the robot.
@@ -90,8 +107,12 @@ pub struct RosCounters {
     pub scans: AtomicU64,
     /// People messages accepted.
     pub people: AtomicU64,
-    /// Transform messages accepted.
+    /// Transforms accepted (map→odom and the robot's own frames).
     pub tf: AtomicU64,
+    /// Map poses accepted from the pose topic.
+    pub poses: AtomicU64,
+    /// Scans placed at the base's centre because no transform led from their frame to it.
+    pub scans_unplaced: AtomicU64,
     /// Payloads refused (bad CDR, out of bounds, unknown frame).
     pub rejected: AtomicU64,
     /// Commands published.
@@ -106,8 +127,12 @@ struct Latest {
     /// a scan is placed at the pose of its own stamp, since its samples need not arrive in
     /// step with odometry's.
     poses: std::collections::VecDeque<(Real, Vec2, Real)>,
-    /// map → odom (x, y, yaw), from `/tf`.
+    /// map → odom (x, y, yaw), from `/tf` or the pose topic.
     map_from_odom: Option<(Vec2, Real)>,
+    /// The robot's own frames: child → (parent, offset, yaw), from `/tf` and `/tf_static`.
+    frames: BTreeMap<String, (String, Vec2, Real)>,
+    /// A transform came on `/tf_static`.
+    static_seen: bool,
     people: Option<People>,
     scan: Option<LaserScan>,
 }
@@ -123,6 +148,9 @@ pub struct Sensed {
     pub scan: Option<Scan>,
     /// How long ago the odometry behind `ego` arrived.
     pub odom_age: Duration,
+    /// The scan's frame and where it sits on the base, or `None` when no transform led from
+    /// it to the base (the scan is then placed at the base's centre).
+    pub scan_mount: Option<(String, Option<(Vec2, Real)>)>,
 }
 
 /// Why the link could not be set up.
@@ -152,6 +180,8 @@ pub struct RosLink {
     cmd_pub: zenoh::pubsub::Publisher<'static>,
     cmd_gid: [u8; 16],
     cmd_seq: AtomicI64,
+    /// The scanner mounting last logged.
+    logged_mount: Mutex<Option<String>>,
     _tokens: Vec<zenoh::liveliness::LivelinessToken>,
     _subscribers: Vec<zenoh::pubsub::Subscriber<()>>,
 }
@@ -270,23 +300,53 @@ impl RosLink {
                 people_arrived.notify_waiters();
             }
         );
+        // map→odom from /tf unless a pose topic gives it.
+        let map_from_tf = config.pose_topic.is_none();
+        let tf_map_frame = map_frame.clone();
         sub!(
             TFMessage,
             &config.tf_topic,
             Qos::DEFAULT_10,
             move |l: &mut Latest, m: TFMessage, c: &RosCounters| {
-                for t in &m.transforms {
-                    if t.header.frame_id.trim_start_matches('/') == map_frame {
-                        c.tf.fetch_add(1, Ordering::Relaxed);
-                        let tr = &t.transform;
-                        l.map_from_odom = Some((
-                            Vec2::new(tr.translation.x, tr.translation.y),
-                            tr.rotation.yaw(),
-                        ));
-                    }
-                }
+                take_transforms(l, &m, &tf_map_frame, map_from_tf, c);
             }
         );
+        let static_map_frame = map_frame.clone();
+        sub!(
+            TFMessage,
+            &config.tf_static_topic,
+            Qos::TF_STATIC,
+            move |l: &mut Latest, m: TFMessage, c: &RosCounters| {
+                l.static_seen = true;
+                take_transforms(l, &m, &static_map_frame, map_from_tf, c);
+            }
+        );
+        if let Some(pose_topic) = &config.pose_topic {
+            let pose_map_frame = map_frame.clone();
+            sub!(
+                PoseWithCovarianceStamped,
+                pose_topic,
+                Qos::DEFAULT_10,
+                move |l: &mut Latest, m: PoseWithCovarianceStamped, c: &RosCounters| {
+                    take_map_pose(l, &m, &pose_map_frame, c);
+                }
+            );
+        }
+        // /tf_static is transient local: what its publishers sent before this node came is in
+        // their caches (rmw_zenoh's AdvancedPublisher), asked for until one answers.
+        let static_fq = graph::fully_qualified(&namespace, &config.tf_static_topic)?;
+        tokio::spawn(ask_static_history(
+            session.clone(),
+            graph::history_key(&graph::topic_key::<TFMessage>(
+                config.domain_id,
+                &static_fq,
+                d,
+            )),
+            Arc::downgrade(&latest),
+            counters.clone(),
+            map_frame.clone(),
+            map_from_tf,
+        ));
         let cmd_fq = graph::fully_qualified(&namespace, &config.cmd_topic)?;
         let (cmd_key, cmd_token) = if config.stamped_cmd {
             (
@@ -332,6 +392,7 @@ impl RosLink {
             cmd_pub,
             cmd_gid,
             cmd_seq: AtomicI64::new(0),
+            logged_mount: Mutex::new(None),
             _tokens: tokens,
             _subscribers: subscribers,
         })
@@ -379,7 +440,38 @@ impl RosLink {
         if odom_age > self.config.odom_timeout {
             return None;
         }
-        sense(&l, &self.config).map(|s| Sensed { odom_age, ..s })
+        let sensed = sense(&l, &self.config).map(|s| Sensed { odom_age, ..s })?;
+        drop(l);
+        if let Some((frame, mount)) = &sensed.scan_mount {
+            self.log_mount(frame, *mount);
+        }
+        Some(sensed)
+    }
+
+    /// Logs where the scanner sits whenever that changes, and counts (logging at powers of
+    /// ten) scans placed at the base's centre for want of a transform.
+    fn log_mount(&self, frame: &str, mount: Option<(Vec2, Real)>) {
+        let Some((offset, yaw)) = mount else {
+            let n = self.counters.scans_unplaced.fetch_add(1, Ordering::Relaxed) + 1;
+            if log_now(n) {
+                tracing::warn!(
+                    frame,
+                    scans = n,
+                    "no transform from the scan's frame to the base yet (/tf_static): the scan \
+                     is taken at the base's centre"
+                );
+            }
+            return;
+        };
+        let text = format!(
+            "{frame} at ({:.3}, {:.3}) m, {:.3} rad",
+            offset.x, offset.y, yaw
+        );
+        let mut logged = self.logged_mount.lock().unwrap_or_else(|e| e.into_inner());
+        if logged.as_deref() != Some(text.as_str()) {
+            tracing::info!("scanner mounted: {text}");
+            *logged = Some(text);
+        }
     }
 
     /// Sends `command` (already executable on the base) to the robot's `cmd_vel`, in the base
@@ -472,19 +564,29 @@ fn sense(l: &Latest, config: &RosConfig) -> Option<Sensed> {
                 .collect()
         })
         .unwrap_or_default();
-    // The scanner is taken to sit at the base's centre, facing forward, and the scan is
-    // placed at the odometry pose nearest its stamp; a scan with no pose within
-    // SCAN_POSE_TOLERANCE_S of its stamp is not used.
+    // The scan is placed at the odometry pose nearest its stamp (a scan with no pose within
+    // SCAN_POSE_TOLERANCE_S of its stamp is not used), and at the scanner's mounting on the
+    // base: the flag's, or the transforms' from its frame to odometry's child frame.
+    let base = match odom.child_frame_id.trim_start_matches('/') {
+        "" => "base_link",
+        frame => frame,
+    };
+    let mut scan_mount = None;
     let scan = l.scan.as_ref().and_then(|s| {
-        let at = s.header.stamp.as_secs();
-        let &(_, position, yaw) = l
-            .poses
-            .iter()
-            .min_by(|a, b| (a.0 - at).abs().total_cmp(&(b.0 - at).abs()))
-            .filter(|(t, ..)| (t - at).abs() <= SCAN_POSE_TOLERANCE_S)?;
+        let (position, yaw) = pose_at(&l.poses, s.header.stamp.as_secs())?;
+        let frame = s.header.frame_id.trim_start_matches('/');
+        let mount = config.scan_mount.or_else(|| {
+            if frame.is_empty() || frame == base {
+                Some((Vec2::zeros(), 0.0))
+            } else {
+                mount_of(&l.frames, frame, base)
+            }
+        });
+        scan_mount = Some((frame.to_owned(), mount));
+        let (offset, mount_yaw) = mount.unwrap_or((Vec2::zeros(), 0.0));
         Some(Scan {
-            origin: to_map(position),
-            bearing0: yaw + rotation + Real::from(s.angle_min),
+            origin: to_map(position + rotate(offset, yaw)),
+            bearing0: yaw + rotation + mount_yaw + Real::from(s.angle_min),
             increment: Real::from(s.angle_increment),
             range_min: Real::from(s.range_min),
             range_max: Real::from(s.range_max),
@@ -496,6 +598,7 @@ fn sense(l: &Latest, config: &RosConfig) -> Option<Sensed> {
         people,
         scan,
         odom_age: Duration::ZERO,
+        scan_mount,
     })
 }
 
@@ -549,123 +652,4 @@ pub fn twist_of(command: Command, heading: Real) -> Twist {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn commands_become_base_frame_twists() {
-        let t = twist_of(
-            Command::Velocity(Vec2::new(0.0, 1.0)),
-            std::f64::consts::FRAC_PI_2,
-        );
-        assert!((t.linear.x - 1.0).abs() < 1e-12 && t.linear.y.abs() < 1e-12);
-        let t = twist_of(
-            Command::Unicycle {
-                speed: 0.5,
-                yaw_rate: -0.2,
-            },
-            1.0,
-        );
-        assert_eq!((t.linear.x, t.angular.z), (0.5, -0.2));
-    }
-
-    fn odometry(frame: &str, stamp: f64, x: Real, y: Real, yaw: Real, forward: Real) -> Odometry {
-        let mut o = Odometry {
-            header: Header {
-                stamp: Time::from_secs(stamp),
-                frame_id: frame.into(),
-            },
-            ..Default::default()
-        };
-        o.pose.pose.position = ros2_wire::msg::Point { x, y, z: 0.0 };
-        o.pose.pose.orientation = ros2_wire::msg::Quaternion::from_yaw(yaw);
-        o.twist.twist.linear.x = forward;
-        o
-    }
-
-    fn near(a: Vec2, b: Vec2) -> bool {
-        (a - b).norm() < 1e-9
-    }
-
-    /// Odometry in `odom`, map→odom from /tf (1 m along x, a quarter turn), people in the odom
-    /// frame, and a scan older than the newest odometry: all land in the map frame, the scan
-    /// at the pose of its own stamp.
-    #[test]
-    fn frames_compose_into_the_map_frame() {
-        use std::f64::consts::FRAC_PI_2;
-        let config = RosConfig::default();
-        let mut l = Latest {
-            odom: Some((odometry("odom", 2.0, 2.0, 0.0, 0.0, 0.5), Instant::now())),
-            ..Default::default()
-        };
-        l.poses.push_back((1.9, Vec2::new(1.95, 0.0), 0.0));
-        l.poses.push_back((2.0, Vec2::new(2.0, 0.0), 0.0));
-        assert!(sense(&l, &config).is_none(), "no map→odom yet");
-        l.map_from_odom = Some((Vec2::new(1.0, 0.0), FRAC_PI_2));
-        l.people = Some(People {
-            header: Header {
-                stamp: Time::from_secs(2.0),
-                frame_id: "odom".into(),
-            },
-            people: vec![ros2_wire::msg::Person {
-                name: "a".into(),
-                position: ros2_wire::msg::Point {
-                    x: 3.0,
-                    y: 0.0,
-                    z: 0.0,
-                },
-                velocity: ros2_wire::msg::Point {
-                    x: 1.0,
-                    y: 0.0,
-                    z: 0.0,
-                },
-                ..Default::default()
-            }],
-        });
-        l.scan = Some(LaserScan {
-            header: Header {
-                stamp: Time::from_secs(1.9),
-                frame_id: "base_scan".into(),
-            },
-            angle_min: 0.5,
-            angle_increment: 0.01,
-            range_max: 10.0,
-            ranges: vec![1.0],
-            ..Default::default()
-        });
-        let s = sense(&l, &config).expect("sensed");
-        // (2, 0) in odom is (1, 2) in the map; heading a quarter turn; forward is map +y.
-        assert!(
-            near(s.ego.position, Vec2::new(1.0, 2.0)),
-            "{:?}",
-            s.ego.position
-        );
-        assert!((s.ego.heading - FRAC_PI_2).abs() < 1e-12);
-        assert!(
-            near(s.ego.velocity, Vec2::new(0.0, 0.5)),
-            "{:?}",
-            s.ego.velocity
-        );
-        assert!(near(s.people[0].position, Vec2::new(1.0, 3.0)));
-        assert!(near(s.people[0].velocity, Vec2::new(0.0, 1.0)));
-        let scan = s.scan.expect("the scan, at its own pose");
-        assert!(near(scan.origin, Vec2::new(1.0, 1.95)), "{:?}", scan.origin);
-        assert!((scan.bearing0 - (FRAC_PI_2 + 0.5)).abs() < 1e-6);
-        // A scan with no odometry near its stamp is not used.
-        if let Some(scan) = l.scan.as_mut() {
-            scan.header.stamp = Time::from_secs(1.0);
-        }
-        assert!(sense(&l, &config).expect("sensed").scan.is_none());
-        // People in another frame are refused.
-        if let Some(p) = l.people.as_mut() {
-            p.header.frame_id = "camera".into();
-        }
-        assert!(sense(&l, &config).expect("sensed").people.is_empty());
-    }
-
-    #[test]
-    fn rejections_are_logged_at_powers_of_ten() {
-        let logged: Vec<u64> = (0..2000).filter(|&n| log_now(n)).collect();
-        assert_eq!(logged, vec![1, 10, 100, 1000]);
-    }
-}
+mod tests;

@@ -212,7 +212,8 @@ impl RosRobots {
         );
         let step = view.step();
         let scan = LaserScan {
-            header: header(&format!("robot{}/base_scan", obs.robot_id)),
+            // The simulated scanner sits at the base's centre: its frame is the base's.
+            header: header(&format!("robot{}/base_link", obs.robot_id)),
             // The profile's ray 0 points along world +x; the scanner's along the heading.
             angle_min: (-heading) as f32,
             angle_max: (-heading + step * (SCAN_RAYS - 1) as Real) as f32,

@@ -143,6 +143,15 @@ pub fn topic_key<M: Message>(domain_id: u32, fq_topic: &str, distro: Distro) -> 
     )
 }
 
+/// Where a transient-local topic's history is served: rmw_zenoh (since rmw_zenoh#368,
+/// February 2025) publishes such a topic through a Zenoh `AdvancedPublisher` whose cache
+/// answers queries on `<topic key>/@adv/**`, replying with samples on the topic key itself.
+/// A late subscriber gets the publishers' cached samples by querying this key with any reply
+/// key accepted, as zenoh-ext's `AdvancedSubscriber` does for its history.
+pub fn history_key(topic_key: &str) -> String {
+    format!("{topic_key}/@adv/**")
+}
+
 /// Reliability (rmw's enum values).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Reliability {
@@ -190,6 +199,13 @@ impl Qos {
         reliability: Reliability::Reliable,
         durability: Durability::Volatile,
         depth: Some(10),
+    };
+    /// tf2_ros's static listener (`StaticListenerQoS`): reliable, transient local, keep last
+    /// 100.
+    pub const TF_STATIC: Qos = Qos {
+        reliability: Reliability::Reliable,
+        durability: Durability::TransientLocal,
+        depth: Some(100),
     };
 
     /// The compact form in liveliness tokens (rmw_zenoh's `qos_to_keyexpr`): each field empty

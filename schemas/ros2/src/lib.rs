@@ -7,6 +7,7 @@
 //!   `PoseWithCovarianceStamped`, `People`), [`encode`] and [`decode`] with finite and physical
 //!   checks.
 //! - [`graph`]: names, keys, tokens, QoS strings and attachments, for Humble, Jazzy and Kilted.
+//! - [`fuzzing`]: the oracle the malformed-input tests and the AFL++ harness share.
 //!
 //! It knows nothing about Zenoh sessions: the agent's runtime and the coordinator's robot bridge
 //! declare the publishers, subscribers and tokens with the strings built here. The messages'
@@ -15,6 +16,7 @@
 #![warn(missing_docs)]
 
 pub mod cdr;
+pub mod fuzzing;
 pub mod graph;
 pub mod msg;
 

@@ -264,3 +264,30 @@ fn type_hashes_are_rosbags_on_jazzy_and_kilted() {
         }
     }
 }
+
+/// The AFL++ harness for these decoders (`schemas/fuzz/`, target `ros2`) starts from rosbags'
+/// bytes, one file per case in `schemas/fuzz/seeds-ros2/`. They are kept equal to the fixtures;
+/// `GAPFLEET_WRITE_AFL_SEEDS=1` writes them anew.
+#[test]
+fn the_afl_seeds_are_rosbags_bytes() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/seeds-ros2");
+    let write = std::env::var("GAPFLEET_WRITE_AFL_SEEDS").is_ok_and(|v| v == "1");
+    let cases = fixtures().cases;
+    for case in &cases {
+        let path = dir.join(format!("{}.cdr", case.name));
+        let bytes = unhex(&case.cdr_hex);
+        if write {
+            std::fs::create_dir_all(&dir).expect("seed folder");
+            std::fs::write(&path, &bytes).expect("seed written");
+        }
+        let committed = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(
+            committed,
+            bytes,
+            "{} is stale: rerun with GAPFLEET_WRITE_AFL_SEEDS=1",
+            path.display()
+        );
+    }
+    let files = std::fs::read_dir(&dir).map_or(0, |d| d.count());
+    assert_eq!(files, cases.len(), "only rosbags' cases are seeds");
+}
