@@ -9,6 +9,9 @@ it, never reacting to the robot, and:
 - mounts its scanner 0.2 m ahead of the base's centre, facing backwards, and says so once, at
   start, on /tf_static (base_link -> base_scan) as rmw_zenoh publishes a transient-local topic:
   through a Zenoh AdvancedPublisher whose cache late subscribers query;
+- with --localized, publishes odometry in an `odom` frame that drifted from the map (1 m,
+  -0.5 m, 0.3 rad) and its map pose on `amcl_pose` (geometry_msgs/PoseWithCovarianceStamped),
+  stamped with the previous odometry's time, as AMCL stamps with its scan's;
 - logs every step as one JSON line: time, robot pose and speed, people, and contacts;
 - once commands come, asks the ROS graph who publishes `cmd_vel` and who subscribes to `odom`
   (the SDK's `ros2 topic info --verbose`, from the liveliness tokens) and logs the answer.
@@ -34,12 +37,19 @@ from rosbags.typesys import Stores, get_typestore
 
 ROOT = Path(__file__).resolve().parents[2]
 PEOPLE_MSGS = ROOT / "schemas" / "ros2" / "fixtures" / "people_msgs" / "msg"
-TYPES = ["nav_msgs/msg/Odometry", "sensor_msgs/msg/LaserScan", "geometry_msgs/msg/Twist", "tf2_msgs/msg/TFMessage"]
+TYPES = [
+    "nav_msgs/msg/Odometry",
+    "sensor_msgs/msg/LaserScan",
+    "geometry_msgs/msg/Twist",
+    "tf2_msgs/msg/TFMessage",
+    "geometry_msgs/msg/PoseWithCovarianceStamped",
+]
 ROOM = (-2.0, -2.0, 6.0, 5.0)  # x0, y0, x1, y1: the walls' inner faces
 ROBOT_RADIUS = 0.3
 PERSON_RADIUS = 0.3
 RAYS = 360
 RANGE_MAX = 12.0
+MAP_FROM_ODOM = (1.0, -0.5, 0.3)  # x, y, yaw of the odom frame in the map, with --localized
 SCANNER_AHEAD = 0.2  # m along the base's heading; the scanner faces backwards (yaw pi)
 
 
@@ -164,6 +174,9 @@ def main():
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--log", required=True)
     ap.add_argument("--no-people", action="store_true", help="leave the people out of the people topic")
+    ap.add_argument(
+        "--localized", action="store_true", help="odometry in a drifted odom frame; the map pose on amcl_pose"
+    )
     args = ap.parse_args()
 
     import numpy as np
@@ -177,6 +190,13 @@ def main():
     odom_pub = ROS2Publisher(topic=f"{ns}/odom", msg_type="nav_msgs/msg/Odometry", **common)
     scan_pub = ROS2Publisher(topic=f"{ns}/scan", msg_type="sensor_msgs/msg/LaserScan", **common)
     people_pub = ROS2Publisher(topic=f"{ns}/people", msg_type="people_msgs/msg/People", **common)
+    amcl_pub = (
+        ROS2Publisher(
+            topic=f"{ns}/amcl_pose", msg_type="geometry_msgs/msg/PoseWithCovarianceStamped", **common
+        )
+        if args.localized
+        else None
+    )
     store = odom_pub.session_mgr.store
     T = store.types
     publish_scanner_mount(args, ns, common, store, T)
@@ -210,6 +230,20 @@ def main():
     step = 0
     touching = set()
     graph_logged = False
+    previous = None  # (t, x, y, yaw) at the last odometry, for amcl_pose
+
+    def quat(a):
+        return T["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=math.sin(a / 2), w=math.cos(a / 2))
+
+    def in_odom(px, py, pyaw):
+        """A map pose in the drifted odom frame (--localized), else unchanged."""
+        if not args.localized:
+            return px, py, pyaw
+        mx, my, myaw = MAP_FROM_ODOM
+        dx, dy = px - mx, py - my
+        c, s_ = math.cos(-myaw), math.sin(-myaw)
+        return c * dx - s_ * dy, s_ * dx + c * dy, pyaw - myaw
+
     while True:
         now = time.monotonic()
         t = now - start
@@ -236,16 +270,12 @@ def main():
         wall_gap = min(x - x0, x1 - x, y - y0, y1 - y) - ROBOT_RADIUS
         if step % 2 == 0:  # 10 Hz sensors, 20 Hz physics
             cov = np.zeros(36, dtype=np.float64)
+            ox, oy, oyaw = in_odom(x, y, yaw)
             odom_pub.publish(
-                header=header(t, "map"),
+                header=header(t, "odom" if args.localized else "map"),
                 child_frame_id="base_link",
                 pose=T["geometry_msgs/msg/PoseWithCovariance"](
-                    pose=T["geometry_msgs/msg/Pose"](
-                        position=pt(x, y),
-                        orientation=T["geometry_msgs/msg/Quaternion"](
-                            x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2)
-                        ),
-                    ),
+                    pose=T["geometry_msgs/msg/Pose"](position=pt(ox, oy), orientation=quat(oyaw)),
                     covariance=cov,
                 ),
                 twist=T["geometry_msgs/msg/TwistWithCovariance"](
@@ -270,6 +300,16 @@ def main():
                 ranges=ranges,
                 intensities=np.array([], dtype=np.float32),
             )
+            if amcl_pub is not None and previous is not None and step % 10 == 0:  # 2 Hz
+                pt_, px_, py_, pyaw_ = previous
+                amcl_pub.publish(
+                    header=header(pt_, "map"),
+                    pose=T["geometry_msgs/msg/PoseWithCovariance"](
+                        pose=T["geometry_msgs/msg/Pose"](position=pt(px_, py_), orientation=quat(pyaw_)),
+                        covariance=cov,
+                    ),
+                )
+            previous = (t, x, y, yaw)
             tracked = [] if args.no_people else people
             people_pub.publish(
                 header=header(t, "map"),

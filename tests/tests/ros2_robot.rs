@@ -3,7 +3,8 @@
 //! through a real `zenohd`, to three goals in a walled room that two people keep crossing
 //! without reacting. Once with the people on its people topic, once with them in the scan only.
 //! The robot's scanner sits 0.2 m ahead of its centre, facing backwards, as its /tf_static
-//! says; the agent starts after that was said and reads it from the robot's cache.
+//! says; the agent starts after that was said and reads it from the robot's cache. A third run
+//! puts odometry in a drifted frame and the map pose on `amcl_pose`.
 
 use gapfleet_tests::{Killed, Zenohd, binary, free_endpoint};
 use std::process::{Command, Stdio};
@@ -26,7 +27,10 @@ fn python() -> String {
     python
 }
 
-fn drive(no_people: bool) {
+/// Drives the Python robot through the goals: with its people on the people topic or in the
+/// scan only (`no_people`), with odometry in the map frame or, `localized`, in a drifted odom
+/// frame with the map pose on `amcl_pose` (the agent given `--pose-topic amcl_pose`).
+fn drive(no_people: bool, localized: bool) {
     let python = python();
     let endpoint = free_endpoint();
     let router = endpoint.trim_start_matches("tcp/").to_owned();
@@ -51,6 +55,9 @@ fn drive(no_people: bool) {
         .stderr(Stdio::null());
     if no_people {
         robot_cmd.arg("--no-people");
+    }
+    if localized {
+        robot_cmd.arg("--localized");
     }
     let _robot = Killed(robot_cmd.spawn().expect("the Python robot starts"));
     // The agent comes after the robot has said where its scanner is, once, on /tf_static: it
@@ -80,6 +87,9 @@ fn drive(no_people: bool) {
         .stderr(Stdio::piped());
     for (x, y) in GOALS {
         agent_cmd.arg("--goal").arg(format!("{x},{y}"));
+    }
+    if localized {
+        agent_cmd.args(["--pose-topic", "amcl_pose"]);
     }
     let mut agent = Killed(agent_cmd.spawn().expect("the agent starts"));
     let started = Instant::now();
@@ -114,6 +124,15 @@ fn drive(no_people: bool) {
     assert!(
         summary.contains("3 of 3 goals") && summary.contains(" 0 refused"),
         "{stderr}"
+    );
+    assert!(
+        summary.contains("(0 at the base's centre)"),
+        "every scan placed at the scanner: {summary}"
+    );
+    assert_eq!(
+        !summary.contains(" 0 map poses"),
+        localized,
+        "map poses only from amcl_pose: {summary}"
     );
 
     let lines: Vec<serde_json::Value> = std::fs::read_to_string(&log)
@@ -200,12 +219,19 @@ fn drive(no_people: bool) {
 
 #[test]
 fn the_agent_drives_a_python_rmw_zenoh_robot_to_three_goals() {
-    drive(false);
+    drive(false, false);
 }
 
 #[test]
 fn people_seen_only_in_the_scan_are_not_touched_either() {
-    drive(true);
+    drive(true, false);
+}
+
+/// Odometry drifted 1.1 m and 0.3 rad from the map, and AMCL's map pose on `amcl_pose`: the
+/// goals, given in the map, are still reached where the robot's ground truth says.
+#[test]
+fn a_robot_localized_on_amcl_pose_reaches_its_goals_in_the_map() {
+    drive(false, true);
 }
 
 /// `gapfleet demo --ros`: the simulator plays every robot as a ROS 2 robot and every agent

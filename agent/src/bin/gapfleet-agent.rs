@@ -266,12 +266,15 @@ async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
     let load = |c: &std::sync::atomic::AtomicU64| c.load(std::sync::atomic::Ordering::Relaxed);
     let ros_counters = &counters.ros;
     eprintln!(
-        "gapfleet-agent (ROS 2, {}): {reached} of {goals} goals, {} plans, {} odometry, {} scans, {} people messages, {} refused, {} commands; safety layer: {} slowed, {} protective, {} yields",
+        "gapfleet-agent (ROS 2, {}): {reached} of {goals} goals, {} plans, {} odometry, {} scans ({} at the base's centre), {} people messages, {} transforms, {} map poses, {} refused, {} commands; safety layer: {} slowed, {} protective, {} yields",
         args.ros.namespace,
         load(&counters.plans),
         load(&ros_counters.odom),
         load(&ros_counters.scans),
+        load(&ros_counters.scans_unplaced),
         load(&ros_counters.people),
+        load(&ros_counters.tf),
+        load(&ros_counters.poses),
         load(&ros_counters.rejected),
         load(&ros_counters.commands),
         load(&counters.warned),
