@@ -107,6 +107,7 @@ fn traffic_rows_are_the_committed_rows() {
         policies: vec![false, true],
         layers: vec![true],
         seconds: 300.0,
+        policy_params: world_sim::traffic_policy::PolicyParams::default(),
     };
     let runs = study.execute(&|| {}).expect("fleet sites");
     rows_are_committed("traffic", &to_csv(&runs), 4);

@@ -13,10 +13,12 @@ use crate::metrics::{MetricsRecorder, RobotMetrics};
 use crate::scenario::Scenario;
 use crate::stuck::{self, Hold, Places, StuckBreakdown, StuckCauses};
 use crate::traffic::{RobotView, TaskView, TrafficEvent, TrafficMonitor, TrafficParams};
-use crate::traffic_policy::{PolicyEvent, PolicyParams, PolicyRobot, TrafficPolicy, route_length};
+use crate::traffic_policy::{
+    PEOPLE_ROUTE_REACH_M, PolicyEvent, PolicyParams, PolicyRobot, TrafficPolicy, route_length,
+};
 use crate::warehouse::{Site, StationKind};
 use crate::world::{ROBOT_ID_BIT, World};
-use agent::math::{Real, Vec2};
+use agent::math::{Real, Vec2, dist_sq_point_segment};
 use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -282,7 +284,7 @@ impl Fleet {
             let to = self.site.stations[task.pick].position;
             let route = match self.pick_entry(from, to) {
                 Some(j) => self.site.route_via(from, to, j),
-                None => self.site.route(from, to),
+                None => self.route_among_people(from, to),
             };
             self.jobs[i] = Some(Job {
                 task,
@@ -437,11 +439,13 @@ impl Fleet {
                     let dock = self.site.stations[job.task.drop].position;
                     // Out of a one-way segment by its far end.
                     let exit = self.policy.as_ref().and_then(|p| p.exit_of(i));
-                    job.waypoints = match exit {
+                    let route = match exit {
                         Some(j) => self.site.route_via(here, dock, j),
-                        None => self.site.route(here, dock),
+                        None => self.route_among_people(here, dock),
+                    };
+                    if let Some(job) = &mut self.jobs[i] {
+                        job.waypoints = route.into();
                     }
-                    .into();
                 }
                 Stage::ToDrop => {
                     events.push(FleetEvent::Done {
@@ -495,15 +499,60 @@ impl Fleet {
     /// `via` when given ([`Site::route_via`]).
     fn reroute(&mut self, i: usize, via: Option<usize>) {
         let here = self.world.robots[i].state.position;
-        let Some(job) = &mut self.jobs[i] else {
+        let Some(job) = &self.jobs[i] else {
             return;
         };
         let station = self.site.stations[job.station()].position;
-        job.waypoints = match via {
+        let route = match via {
             Some(j) => self.site.route_via(here, station, j),
-            None => self.site.route(here, station),
+            None => self.route_among_people(here, station),
+        };
+        if let Some(job) = &mut self.jobs[i] {
+            job.waypoints = route.into();
         }
-        .into();
+    }
+
+    /// The route from `from` to `to`: the site's shortest, or, with the traffic policy's
+    /// [`PolicyParams::people_route_weight_m`], the one through the cross-aisle that is
+    /// shortest once each person near its legs, standing or coming the other way (velocity
+    /// against the leg), counts that much extra length. People are where they are now: a
+    /// route is chosen when a leg starts, and again when the robot is pushed off it.
+    fn route_among_people(&self, from: Vec2, to: Vec2) -> Vec<Vec2> {
+        let shortest = self.site.route(from, to);
+        let weight = self
+            .policy
+            .as_ref()
+            .map_or(0.0, |p| p.params.people_route_weight_m);
+        if weight <= 0.0 || shortest.len() < 3 {
+            return shortest;
+        }
+        let crowd = &self.world.humans.crowd;
+        let reach_sq = PEOPLE_ROUTE_REACH_M * PEOPLE_ROUTE_REACH_M;
+        let cost = |route: &[Vec2]| {
+            let mut at = from;
+            let (mut length, mut near) = (0.0, 0usize);
+            for &next in route {
+                let leg = next - at;
+                length += leg.norm();
+                near += crowd
+                    .positions
+                    .iter()
+                    .zip(&crowd.velocities)
+                    .filter(|(p, v)| {
+                        dist_sq_point_segment(&at, &next, p) < reach_sq && v.dot(&leg) <= 0.0
+                    })
+                    .count();
+                at = next;
+            }
+            length + weight * near as Real
+        };
+        (0..self.site.cross_aisle_count())
+            .map(|j| self.site.route_via(from, to, j))
+            .chain(std::iter::once(shortest))
+            .map(|route| (cost(&route), route))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, route)| route)
+            .unwrap_or_default()
     }
 
     /// Times a robot pushed off its route got a new one.

@@ -48,6 +48,8 @@ pub struct TrafficStudy {
     pub layers: Vec<bool>,
     /// Simulated seconds per run.
     pub seconds: f64,
+    /// The traffic policy's parameters, where it is on.
+    pub policy_params: PolicyParams,
 }
 
 /// One run.
@@ -396,7 +398,7 @@ impl TrafficStudy {
                 scenario.set_fleet_size(Some(robots), None);
                 let options = FleetOptions {
                     share_intents: true,
-                    policy: policy.then(PolicyParams::default),
+                    policy: policy.then_some(self.policy_params),
                     human_impact_window_s: Some(IMPACT_WINDOW_S),
                 };
                 let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
@@ -740,6 +742,7 @@ mod tests {
             policies: vec![false, true],
             layers: vec![true],
             seconds: 90.0,
+            policy_params: PolicyParams::default(),
         };
         let runs = study.execute(&|| {}).expect("fleet sites");
         // One robot alone does a task in the narrow warehouse in 90 s.

@@ -353,3 +353,54 @@ fn a_snapshot_of_another_world_is_refused() {
         Err(SnapshotError::Decode(_))
     ));
 }
+
+/// With `people_route_weight_m`, a robot between two aisles takes another cross-aisle than the
+/// shortest when people coming the other way fill the shortest's; people walking its way do
+/// not count, and without the weight the shortest is kept.
+#[test]
+fn routes_go_round_people_coming_the_other_way() {
+    let mut fleet = Fleet::new(&small()).expect("warehouse");
+    let mut params = PolicyParams {
+        people_route_weight_m: 5.0,
+        ..PolicyParams::default()
+    };
+    fleet.set_traffic_policy(Some(params));
+    let picks: Vec<Vec2> = fleet
+        .site()
+        .stations_of(StationKind::Pick)
+        .map(|s| s.position)
+        .collect();
+    // Two stations in different aisles: the shortest route turns through one cross-aisle.
+    let (from, to, shortest) = picks
+        .iter()
+        .flat_map(|&a| picks.iter().map(move |&b| (a, b)))
+        .map(|(a, b)| (a, b, fleet.site().route(a, b)))
+        .find(|(_, _, r)| r.len() == 3)
+        .expect("stations in two aisles");
+    let (turn, down) = (shortest[0], shortest[1]);
+    assert_eq!(fleet.route_among_people(from, to), shortest, "nobody about");
+    // Every person in the middle of that cross-aisle (out of reach of the corridors' legs),
+    // walking against the robot's way down it.
+    let against = (turn - down).normalize();
+    let n = fleet.world.humans.crowd.positions.len();
+    for k in 0..n {
+        let f = 0.4 + 0.2 * k as Real / n as Real;
+        fleet.world.humans.crowd.positions[k] = turn + (down - turn) * f;
+        fleet.world.humans.crowd.velocities[k] = against;
+    }
+    let round = fleet.route_among_people(from, to);
+    assert_eq!(round.len(), 3);
+    assert_ne!(round[0].x, turn.x, "another cross-aisle: {round:?}");
+    // The same people walking the robot's way do not count.
+    for v in &mut fleet.world.humans.crowd.velocities {
+        *v = -against;
+    }
+    assert_eq!(fleet.route_among_people(from, to), shortest);
+    // Without the weight, the shortest route whatever people do.
+    for v in &mut fleet.world.humans.crowd.velocities {
+        *v = against;
+    }
+    params.people_route_weight_m = 0.0;
+    fleet.set_traffic_policy(Some(params));
+    assert_eq!(fleet.route_among_people(from, to), shortest);
+}

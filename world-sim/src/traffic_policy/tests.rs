@@ -744,3 +744,25 @@ fn a_robot_waiting_long_at_a_blocked_segment_goes_round_to_the_far_end() {
     }
     assert!(matches!(policy.constraint(1), Constraint::Hold { .. }));
 }
+
+#[test]
+fn policy_parameters_change_by_name_and_bad_ones_are_named() {
+    let p = PolicyParams::default()
+        .with_overrides("people_route_weight_m=3, retreat_m=2")
+        .expect("valid");
+    assert_eq!((p.people_route_weight_m, p.retreat_m), (3.0, 2.0));
+    assert_eq!(
+        PolicyParams::default().with_overrides(""),
+        Ok(PolicyParams::default())
+    );
+    for (bad, named) in [
+        ("people_route_weight=3", "people_route_weight"),
+        ("retreat_m=-1", "retreat_m"),
+        ("retreat_m=inf", "retreat_m"),
+        ("retreat_m", "retreat_m"),
+        ("retreat_m=x", "retreat_m"),
+    ] {
+        let e = PolicyParams::default().with_overrides(bad).expect_err(bad);
+        assert!(e.contains(named), "{bad}: {e}");
+    }
+}

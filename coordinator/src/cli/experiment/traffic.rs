@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 use world_sim::scenario::Scenario;
+use world_sim::traffic_policy::PolicyParams;
 
 /// `experiment traffic`'s arguments.
 #[derive(Debug, clap::Args)]
@@ -48,6 +49,10 @@ pub struct TrafficArgs {
     /// `key=value,…`: e.g. `yield_time=3,yield_clearance=0.6`.
     #[arg(long, default_value = "")]
     safety_layer: String,
+    /// Changes to the traffic policy's parameters (`world_sim::traffic_policy::PolicyParams`),
+    /// as `key=value,…`: e.g. `people_route_weight_m=5`.
+    #[arg(long, default_value = "")]
+    policy_params: String,
     /// Take runs from this earlier `runs.csv` instead of running them again, for the policy
     /// settings given here (`off`, `on`): only for settings whose code has not changed.
     #[arg(long, requires = "reuse_policy")]
@@ -165,6 +170,9 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
     let mut layers = args.safety;
     layers.sort_unstable();
     layers.dedup();
+    let policy_params = PolicyParams::default()
+        .with_overrides(&args.policy_params)
+        .map_err(|e| anyhow::anyhow!("--policy-params: {e}"))?;
     let study = TrafficStudy {
         sites,
         planner: args.planner,
@@ -173,6 +181,7 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
         policies,
         layers,
         seconds: args.seconds,
+        policy_params,
     };
     let earlier = match &args.reuse {
         Some(path) => {
