@@ -93,14 +93,14 @@ fn assuming_an_obstacle_avoids_when_it_does_not_breaks_d_min() {
 fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
     use coordinator::study::estimates::{recorded, simulated, summarize};
     use world_sim::dataset::Recording;
-    use world_sim::replay::{ReplayOptions, map_of, median_speed};
+    use world_sim::playback::{PlaybackOptions, map_of, median_speed};
     let dir = format!(
         "{}/../world-sim/datasets/ETH/seq_eth",
         env!("CARGO_MANIFEST_DIR")
     );
     let recording = Recording::load(std::path::Path::new(&dir)).expect("seq_eth");
     let map = map_of(&recording).expect("its map");
-    let mut options = ReplayOptions::default();
+    let mut options = PlaybackOptions::default();
     options.robot.max_speed = median_speed(&recording);
     let params = AsfmParams::default();
     let mut rows = recorded(&recording, &map, &options, &params, Some(2), &|| {});

@@ -1,4 +1,4 @@
-//! `gapfleet experiment traffic` on the command line: runs are saved as they end and a study
+//! `gapfleet study traffic` on the command line: runs are saved as they end and a study
 //! interrupted part-way goes on from what it saved; a site can be left out; no sites at all
 //! is a clear error.
 
@@ -7,7 +7,7 @@ use std::process::{Command, Output};
 
 fn traffic(out: &Path, extra: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_gapfleet"))
-        .args(["experiment", "traffic", "--seeds", "2", "--seconds", "2"])
+        .args(["study", "traffic", "--seeds", "2", "--seconds", "2"])
         .args([
             "--narrow-fleets",
             "2",
@@ -77,7 +77,7 @@ fn an_interrupted_study_goes_on_from_the_runs_it_saved() {
 fn no_sites_at_all_is_a_clear_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_gapfleet"))
         .args([
-            "experiment",
+            "study",
             "traffic",
             "--narrow-fleets",
             "",
@@ -90,7 +90,7 @@ fn no_sites_at_all_is_a_clear_error() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("no fleet sizes given"), "{stderr}");
     let out = Command::new(env!("CARGO_BIN_EXE_gapfleet"))
-        .args(["experiment", "traffic", "--narrow-fleets", "10,x"])
+        .args(["study", "traffic", "--narrow-fleets", "10,x"])
         .output()
         .expect("gapfleet runs");
     assert!(!out.status.success());

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Where do the planners come closer than 0.3 m to a recorded pedestrian?
 
-Reads a `gapfleet experiment replay` (formerly `eth`) output folder (runs.csv) and the sequence it ran on, and
+Reads a `gapfleet study replay` (formerly `eth`) output folder (runs.csv) and the sequence it ran on, and
 classifies every run with s < 0.3 m by the geometry at the closest moment: the pedestrian's
 recorded velocity against the run's direction (start -> goal): "same way" (cos > 0.5: walking
 the robot's way, i.e. overtaking or being overtaken), "head-on" (cos < -0.5) or "crossing";

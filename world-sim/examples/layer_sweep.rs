@@ -1,5 +1,5 @@
 //! The safety layer's parameters against goals and contacts: the open-space study's cells
-//! (`world_sim::episode::run_episode`, as `experiment open-space` runs them) once per set of
+//! (`world_sim::episode::run_episode`, as `study open-space` runs them) once per set of
 //! layer parameters, each a change to the scenario's `[robot.safety_layer]`.
 //!
 //!     cargo run --release -p world-sim --example layer_sweep [seeds] [densities] [planners]

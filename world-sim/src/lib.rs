@@ -14,7 +14,7 @@ pub mod fleet;
 pub mod floor_plan;
 pub mod impact;
 pub mod metrics;
-pub mod replay;
+pub mod playback;
 pub mod robot;
 pub mod scenario;
 pub mod stuck;

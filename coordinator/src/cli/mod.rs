@@ -6,11 +6,11 @@ pub mod bench;
 pub mod coordinator;
 pub mod demo;
 pub mod deployment;
-#[cfg(feature = "studies")]
-pub mod experiment;
 pub mod hardware;
 pub mod replay;
 pub mod site;
+#[cfg(feature = "studies")]
+pub mod study;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
@@ -22,7 +22,7 @@ use world_sim::scenario::Scenario;
 #[command(
     name = "gapfleet",
     version,
-    about = "Fleet coordination among people: planners, simulation, experiments"
+    about = "Fleet coordination among people: planners, simulation, studies"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -32,10 +32,10 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Batch experiments with the planners in-process.
+    /// The studies: the planners in batches of runs in-process (`experiment` is its old name).
     #[cfg(feature = "studies")]
-    #[command(subcommand)]
-    Experiment(experiment::Experiment),
+    #[command(subcommand, alias = "experiment")]
+    Study(study::Study),
     /// Measure how fast things run on this machine, to size a deployment.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -65,7 +65,7 @@ impl Command {
     pub fn run(self) -> Result<()> {
         match self {
             #[cfg(feature = "studies")]
-            Command::Experiment(e) => e.run(),
+            Command::Study(s) => s.run(),
             Command::Bench(b) => b.run(),
             Command::Demo(d) => d.run(),
             Command::Coordinator(c) => c.run(),
@@ -414,28 +414,32 @@ mod tests {
         #[cfg(feature = "studies")]
         {
             assert!(
-                refused(&["experiment", "open-space", "--densities", "0.1,4"])
-                    .contains("not in (0, 3]")
+                refused(&["study", "open-space", "--densities", "0.1,4"]).contains("not in (0, 3]")
             );
-            assert!(refused(&["experiment", "open-space", "--seeds", "0"]).contains("0"));
+            assert!(refused(&["study", "open-space", "--seeds", "0"]).contains("0"));
             assert!(
-                refused(&["experiment", "open-space", "--algorithms", "dwa,teleport"])
+                refused(&["study", "open-space", "--algorithms", "dwa,teleport"])
                     .contains("teleport")
             );
         }
     }
 
-    /// `experiment eth` is the old name of `experiment replay` (it runs UCY recordings too).
+    /// `study replay` and `study eth` are the old names of `study playback`, and `experiment`
+    /// of `study`.
     #[cfg(feature = "studies")]
     #[test]
-    fn experiment_eth_is_an_alias_of_replay() {
-        for name in ["replay", "eth"] {
-            let cli = parse(&["experiment", name, "--dataset", "x"]);
+    fn experiment_replay_and_eth_are_aliases_of_playback() {
+        for name in ["playback", "replay", "eth"] {
+            let cli = parse(&["study", name, "--dataset", "x"]);
             assert!(
                 matches!(
-                    cli.command,
-                    Command::Experiment(experiment::Experiment::Replay(_))
+                    parse(&["experiment", name, "--dataset", "x"]).command,
+                    Command::Study(study::Study::Playback(_))
                 ),
+                "experiment {name}"
+            );
+            assert!(
+                matches!(cli.command, Command::Study(study::Study::Playback(_))),
                 "{name}"
             );
         }

@@ -18,7 +18,7 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 use world_sim::dataset::Recording;
 use world_sim::episode::run_episode_with;
-use world_sim::replay::{ReplayOptions, ReplayRun, RunKind, runs};
+use world_sim::playback::{PlaybackOptions, PlaybackRun, RunKind, runs};
 use world_sim::scenario::Scenario;
 
 /// A person's estimate counts once they have been tracked this long (s).
@@ -77,12 +77,12 @@ pub struct EstimateRow {
 pub fn recorded(
     recording: &Recording,
     map: &agent::map::StaticMap,
-    options: &ReplayOptions,
+    options: &PlaybackOptions,
     params: &AsfmParams,
     limit: Option<usize>,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<EstimateRow> {
-    let mut all: Vec<ReplayRun> = runs(recording, RunKind::Partial, options);
+    let mut all: Vec<PlaybackRun> = runs(recording, RunKind::Partial, options);
     if let Some(n) = limit {
         all.truncate(n);
     }
@@ -99,7 +99,7 @@ pub fn recorded(
             };
             let robot = &options.robot;
             let mut guard = robot.guard(0.0);
-            world_sim::replay::replay(recording, map, run, options, &mut |input| {
+            world_sim::playback::play(recording, map, run, options, &mut |input| {
                 let planned = planner.plan(input, input.goal).command;
                 guard
                     .as_mut()

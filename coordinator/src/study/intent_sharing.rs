@@ -1,4 +1,4 @@
-//! `gapfleet experiment intent-sharing`: the same warehouse seeds with the robots sharing their
+//! `gapfleet study intent-sharing`: the same warehouse seeds with the robots sharing their
 //! intents and without, in-process; robot–robot near misses and contacts, tasks, and the
 //! social metrics, compared per seed with the Wilcoxon signed-rank test.
 

@@ -37,7 +37,7 @@ pub fn laned_hallway(
     scenario.robot.body_occlusion = true;
     scenario.robot.safety = safety;
     scenario.max_time_s = 60.0 + 2.0 * length;
-    scenario.validate("experiment laned")?;
+    scenario.validate("study laned")?;
     Ok(scenario)
 }
 

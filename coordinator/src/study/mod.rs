@@ -1,7 +1,7 @@
 //! Batch studies with the planners in-process, one module per study:
 //! - [`open_space`]: the PGP paper's open-space study (its rows and `runs.csv` in [`runs`],
 //!   summarised by [`summary`]);
-//! - [`replay`]: planners in recorded pedestrians' places (the foIGP paper's protocol);
+//! - [`playback`]: planners in recorded pedestrians' places (the foIGP paper's protocol);
 //! - [`intent_sharing`]: a warehouse fleet with and without shared intents;
 //! - [`hallway`] and [`laned`]: the peek-and-pass paper's hallway (Fig. 6) and laned crowd
 //!   (Fig. 4);
@@ -16,7 +16,7 @@
 //! thread count.
 //!
 //! Behind the default-on cargo feature `studies`: a coordinator built without it
-//! (`--no-default-features`) links no plotting, font or CSV, and has no `gapfleet experiment`.
+//! (`--no-default-features`) links no plotting, font or CSV, and has no `gapfleet study`.
 
 pub mod anticipatory;
 pub mod csv_fields;
@@ -26,8 +26,8 @@ pub mod intent_sharing;
 pub mod laned;
 pub mod open_space;
 pub mod output;
+pub mod playback;
 pub mod plots;
-pub mod replay;
 pub mod runs;
 pub mod stats;
 pub mod summary;

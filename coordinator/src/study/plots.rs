@@ -159,7 +159,7 @@ pub type ReplayPoints<'a> = (&'a str, Vec<(f64, f64)>);
 /// The foIGP paper's Figs. 5c / 6c: per planner, each run's closest distance to a pedestrian s
 /// against its path length relative to the person's, d_r / d_h; lines at s = 0.21 m and 0.3 m
 /// and at d_r / d_h = 1.25. The people's own s are drawn in grey at d_r / d_h = 1.
-pub fn write_replay_figure(
+pub fn write_playback_figure(
     path: &Path,
     title: &str,
     planners: &[ReplayPoints<'_>],

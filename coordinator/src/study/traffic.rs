@@ -1,4 +1,4 @@
-//! `gapfleet experiment traffic`: fleets of several sizes in the narrow-aisle warehouse, the
+//! `gapfleet study traffic`: fleets of several sizes in the narrow-aisle warehouse, the
 //! fleet hallway and (optionally) the default warehouse, with the traffic policy
 //! (`world_sim::traffic_policy`) off and on and the safety layer on (or off, or both), the
 //! same seeds every way; deadlocks, stuck robot-seconds, tasks per minute, contacts of every

@@ -7,7 +7,7 @@ use agent::math::Vec2;
 use agent::model::{EgoState, Neighbour};
 use std::path::Path;
 use world_sim::dataset::Recording;
-use world_sim::replay::{ReplayOptions, RunKind, median_speed, runs, scene_at};
+use world_sim::playback::{PlaybackOptions, RunKind, median_speed, runs, scene_at};
 
 /// A planner warmed up on a scene's history, and the scene.
 pub struct Scene {
@@ -29,7 +29,7 @@ pub fn scenes(variant: IgpVariant, count: usize) -> Vec<Scene> {
         max_speed: speed,
         ..IgpParams::default()
     };
-    let options = ReplayOptions::default();
+    let options = PlaybackOptions::default();
     let all = runs(&rec, RunKind::Partial, &options);
     let step = (all.len() / count).max(1);
     all.iter()

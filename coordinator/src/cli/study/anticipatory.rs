@@ -1,4 +1,4 @@
-//! `gapfleet experiment anticipatory`: the anticipatory Social Force paper's experiment.
+//! `gapfleet study anticipatory`: the anticipatory Social Force paper's experiment.
 
 use super::non_negative;
 use crate::cli::positive;
@@ -9,7 +9,7 @@ use coordinator::study::with_progress;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// `experiment anticipatory`'s arguments.
+/// `study anticipatory`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct AnticipatoryArgs {
     /// Runs per (A_o, method): seeds 1..=RUNS of the observation noise (the paper's: 100).

@@ -1,4 +1,4 @@
-//! `gapfleet experiment traffic`: fleets of several sizes, the traffic policy off and on.
+//! `gapfleet study traffic`: fleets of several sizes, the traffic policy off and on.
 
 use crate::cli::positive;
 use agent::planner::PlannerSpec;
@@ -11,7 +11,7 @@ use std::time::Instant;
 use world_sim::scenario::Scenario;
 use world_sim::traffic_policy::PolicyParams;
 
-/// `experiment traffic`'s arguments.
+/// `study traffic`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct TrafficArgs {
     /// Seeds per (site, fleet size, policy).

@@ -1,5 +1,5 @@
 //! The foIGP paper's evaluation on recorded crowds (Sec. 7): pick a pedestrian, remove them from
-//! what the planner sees, give the planner their start and goal, and replay everyone else as
+//! what the planner sees, give the planner their start and goal, and play everyone else back as
 //! recorded (they do not react). The robot is judged against what that person actually did.
 //!
 //! Runs are *partial* (consecutive ≈ 10 m stretches of a pedestrian's path; only start and goal
@@ -59,7 +59,7 @@ impl fmt::Display for RunKind {
 
 /// How runs are cut and played.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReplayOptions {
+pub struct PlaybackOptions {
     /// Simulation step (s); the recording is interpolated to it.
     pub dt: Real,
     /// Planners replan this often and hold their command in between (s): the recordings'
@@ -83,7 +83,7 @@ pub struct ReplayOptions {
     pub robot: RobotSpec,
 }
 
-impl Default for ReplayOptions {
+impl Default for PlaybackOptions {
     fn default() -> Self {
         Self {
             dt: 0.1,
@@ -117,7 +117,7 @@ impl Default for ReplayOptions {
 
 /// One run: whose place the robot takes, and when and where.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReplayRun {
+pub struct PlaybackRun {
     /// The removed pedestrian.
     pub pedestrian: u64,
     /// Partial or full.
@@ -181,14 +181,14 @@ fn arrival(track: &Track, first: usize, last: usize, goal: Vec2, r: Real) -> (Re
 }
 
 /// The runs of a recording, by pedestrian id and stretch.
-pub fn runs(recording: &Recording, kind: RunKind, options: &ReplayOptions) -> Vec<ReplayRun> {
+pub fn runs(recording: &Recording, kind: RunKind, options: &PlaybackOptions) -> Vec<PlaybackRun> {
     let mut out = Vec::new();
     for track in &recording.tracks {
         let run = |segment, first: usize, last: usize| {
             let goal = track.samples[last].position;
             let tolerance = options.robot.goal_tolerance_m;
             let (t_arrive, human_path_m) = arrival(track, first, last, goal, tolerance);
-            ReplayRun {
+            PlaybackRun {
                 pedestrian: track.id,
                 kind,
                 segment,
@@ -303,8 +303,8 @@ fn simulation_steps(from: Real, to: Real, dt: Real) -> usize {
 /// The removed person's own outcome over their time window: the "Human" row.
 pub fn human_outcome(
     recording: &Recording,
-    run: &ReplayRun,
-    options: &ReplayOptions,
+    run: &PlaybackRun,
+    options: &PlaybackOptions,
 ) -> RunOutcome {
     let mut exposure = Exposure::new(options.density_radius_m, 2.0 * options.person_radius_m);
     let track = recording
@@ -324,7 +324,7 @@ pub fn human_outcome(
     )
 }
 
-fn goal_at(track: &Track, run: &ReplayRun, t: Real) -> Vec2 {
+fn goal_at(track: &Track, run: &PlaybackRun, t: Real) -> Vec2 {
     match run.kind {
         RunKind::Partial => run.goal,
         RunKind::Full => track
@@ -340,7 +340,7 @@ pub fn perceived<'a>(
     t: Real,
     removed: u64,
     at: Vec2,
-    options: &'a ReplayOptions,
+    options: &'a PlaybackOptions,
 ) -> impl Iterator<Item = Neighbour> + 'a {
     recording
         .people_at(t, Some(removed))
@@ -353,9 +353,9 @@ pub fn perceived<'a>(
 /// `None` outside the person's track.
 pub fn scene_at(
     recording: &Recording,
-    run: &ReplayRun,
+    run: &PlaybackRun,
     t: Real,
-    options: &ReplayOptions,
+    options: &PlaybackOptions,
 ) -> Option<(EgoState, Vec<Neighbour>)> {
     let (position, velocity) = recording.track(run.pedestrian)?.state_at(t)?;
     let seen = perceived(recording, t, run.pedestrian, position, options).collect();
@@ -375,8 +375,8 @@ pub fn scene_at(
 fn safe_entry_fraction(
     recording: &Recording,
     map: &StaticMap,
-    run: &ReplayRun,
-    options: &ReplayOptions,
+    run: &PlaybackRun,
+    options: &PlaybackOptions,
     ego: &EgoState,
     velocity: Vec2,
 ) -> Real {
@@ -407,11 +407,11 @@ fn safe_entry_fraction(
 
 /// Plays one run with the robot in the person's place; `plan` is called every replan period
 /// with what the robot perceives and returns the command it holds until the next plan.
-pub fn replay(
+pub fn play(
     recording: &Recording,
     map: &StaticMap,
-    run: &ReplayRun,
-    options: &ReplayOptions,
+    run: &PlaybackRun,
+    options: &PlaybackOptions,
     plan: &mut dyn FnMut(&PlanningInput<'_>) -> Command,
 ) -> RunOutcome {
     let track = recording
@@ -538,7 +538,7 @@ mod tests {
     #[test]
     fn partial_runs_are_consecutive_ten_metre_stretches() {
         let rec = toy();
-        let runs = runs(&rec, RunKind::Partial, &ReplayOptions::default());
+        let runs = runs(&rec, RunKind::Partial, &PlaybackOptions::default());
         // 12 m walked: one 10 m stretch (samples 0..=25); the standing person walks nowhere.
         assert_eq!(runs.len(), 1);
         let r = &runs[0];
@@ -546,7 +546,7 @@ mod tests {
         assert!((r.human_whole_path_m - 10.0).abs() < 1e-9 && (r.t_end - 10.0).abs() < 1e-9);
         // d_h ends where the robot's run would: 0.5 m (the goal tolerance) short of the goal.
         assert!((r.human_path_m - 9.5).abs() < 1e-9 && (r.t_arrive - 9.5).abs() < 1e-9);
-        let full = super::runs(&rec, RunKind::Full, &ReplayOptions::default());
+        let full = super::runs(&rec, RunKind::Full, &PlaybackOptions::default());
         assert_eq!(full.len(), 1);
         assert!((full[0].human_whole_path_m - 12.0).abs() < 1e-9);
         assert!((full[0].human_path_m - 11.5).abs() < 1e-9);
@@ -555,7 +555,7 @@ mod tests {
     #[test]
     fn the_human_row_comes_from_the_data_alone() {
         let rec = toy();
-        let options = ReplayOptions::default();
+        let options = PlaybackOptions::default();
         let run = &runs(&rec, RunKind::Partial, &options)[0];
         let human = human_outcome(&rec, run, &options);
         // Closest to the stander when passing x = 6: 3 m.
@@ -570,11 +570,11 @@ mod tests {
     #[test]
     fn a_robot_driving_straight_takes_the_persons_path() {
         let rec = toy();
-        let options = ReplayOptions::default();
+        let options = PlaybackOptions::default();
         let run = &runs(&rec, RunKind::Partial, &options)[0];
         let map = map_of(&rec).expect("no walls");
         let mut seen = Vec::new();
-        let outcome = replay(&rec, &map, run, &options, &mut |input| {
+        let outcome = play(&rec, &map, run, &options, &mut |input| {
             seen.push(input.neighbours.iter().map(|n| n.id).collect::<Vec<_>>());
             Command::Velocity((input.goal - input.ego.position).normalize())
         });
@@ -646,11 +646,11 @@ mod tests {
         // t = 3.2 s 1 m ahead of it, person 4 at t = 0.4 s, 7.6 m ahead.
         rec.tracks.push(standing(3, vec2(4.2, 0.0), 3.2, 5.2));
         rec.tracks.push(standing(4, vec2(8.0, 0.0), 0.4, 12.0));
-        let options = ReplayOptions::default();
+        let options = PlaybackOptions::default();
         let run = &runs(&rec, RunKind::Partial, &options)[0];
         let map = map_of(&rec).expect("no walls");
         // A robot that drives straight at its goal whatever it sees.
-        let outcome = replay(&rec, &map, run, &options, &mut |input| {
+        let outcome = play(&rec, &map, run, &options, &mut |input| {
             Command::Velocity((input.goal - input.ego.position).normalize())
         });
         // Person 3: seen at 3.2 s with the robot 1 m away at 1 m/s; braking at 1.5 m/s² it
@@ -666,7 +666,7 @@ mod tests {
         );
         // The same recording with person 3 there from the start: both are the robot's.
         rec.tracks[2] = standing(3, vec2(4.2, 0.0), 0.0, 5.2);
-        let outcome = replay(&rec, &map, run, &options, &mut |input| {
+        let outcome = play(&rec, &map, run, &options, &mut |input| {
             Command::Velocity((input.goal - input.ego.position).normalize())
         });
         assert_eq!(
@@ -679,10 +679,10 @@ mod tests {
     #[test]
     fn a_robot_that_never_moves_runs_out_of_time() {
         let rec = toy();
-        let options = ReplayOptions::default();
+        let options = PlaybackOptions::default();
         let run = &runs(&rec, RunKind::Full, &options)[0];
         let map = map_of(&rec).expect("no walls");
-        let outcome = replay(&rec, &map, run, &options, &mut |_| Command::STOP);
+        let outcome = play(&rec, &map, run, &options, &mut |_| Command::STOP);
         assert!(!outcome.reached);
         // It enters walking as the person was (1 m/s) and brakes at 1.5 m/s²: ≈ 1/3 m.
         assert!((0.25..0.34).contains(&outcome.path_m), "{outcome:?}");

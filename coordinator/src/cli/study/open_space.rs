@@ -1,4 +1,4 @@
-//! `gapfleet experiment open-space` (and `summarize`): the PGP paper's open-space study.
+//! `gapfleet study open-space` (and `summarize`): the PGP paper's open-space study.
 
 use crate::cli::{ScenarioRef, density};
 use agent::planner::PlannerSpec;
@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use world_sim::scenario::Scenario;
 
-/// `experiment open-space`'s arguments.
+/// `study open-space`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct OpenSpaceArgs {
     /// Planners, comma-separated.

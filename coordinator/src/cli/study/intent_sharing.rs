@@ -1,4 +1,4 @@
-//! `gapfleet experiment intent-sharing`: the same warehouse seeds with and without shared intents.
+//! `gapfleet study intent-sharing`: the same warehouse seeds with and without shared intents.
 
 use crate::cli::{Overrides, ScenarioRef, positive};
 use agent::planner::PlannerSpec;
@@ -7,7 +7,7 @@ use coordinator::study::intent_sharing::{IntentSharingStudy, report};
 use coordinator::study::{with_progress, write_json};
 use std::path::PathBuf;
 
-/// `experiment intent-sharing`'s arguments.
+/// `study intent-sharing`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct IntentSharingArgs {
     /// Seeds 1..=N.

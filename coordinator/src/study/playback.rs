@@ -1,5 +1,5 @@
-//! `gapfleet experiment replay`: planners in recorded pedestrians' places (the foIGP paper's
-//! protocol, Sec. 7; see `world_sim::replay`), run in parallel, summarised like the paper's
+//! `gapfleet study playback`: planners in recorded pedestrians' places (the foIGP paper's
+//! protocol, Sec. 7; see `world_sim::playback`), run in parallel, summarised like the paper's
 //! Tables 1 and 2. Replan times are the only wall-clock figures; everything else is a function
 //! of the recording and the planners.
 
@@ -14,14 +14,14 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 use world_sim::dataset::Recording;
-use world_sim::replay::{self, ReplayOptions, ReplayRun, RunKind, RunOutcome};
+use world_sim::playback::{self, PlaybackOptions, PlaybackRun, RunKind, RunOutcome};
 
 /// The name of the row measuring the removed people themselves.
 pub const HUMAN: &str = "human";
 
 /// What to run.
 #[derive(Debug, Clone)]
-pub struct ReplayStudy {
+pub struct PlaybackStudy {
     /// The recorded crowd.
     pub recording: Recording,
     /// Its obstacle lines.
@@ -31,7 +31,7 @@ pub struct ReplayStudy {
     /// Partial or full runs.
     pub kind: RunKind,
     /// How runs are cut and played.
-    pub options: ReplayOptions,
+    pub options: PlaybackOptions,
     /// Only the first N runs (for smoke tests).
     pub limit: Option<usize>,
     /// Where foIGP's Newton seeds lie.
@@ -64,21 +64,21 @@ impl std::str::FromStr for Half {
 
 /// One planner (or the human) on one run.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReplayRow {
+pub struct PlaybackRow {
     /// Planner name, or [`HUMAN`].
     pub planner: String,
     /// The run.
-    pub run: ReplayRun,
+    pub run: PlaybackRun,
     /// What happened.
     pub outcome: RunOutcome,
     /// Wall time spent planning in this run (s).
     pub planning_s: f64,
 }
 
-impl ReplayStudy {
+impl PlaybackStudy {
     /// The runs, in order.
-    pub fn runs(&self) -> Vec<ReplayRun> {
-        let mut runs = replay::runs(&self.recording, self.kind, &self.options);
+    pub fn runs(&self) -> Vec<PlaybackRun> {
+        let mut runs = playback::runs(&self.recording, self.kind, &self.options);
         if let Some(half) = self.half {
             let middle = self.recording.end() / 2.0;
             runs.retain(|r| (r.t_start < middle) == (half == Half::First));
@@ -89,16 +89,16 @@ impl ReplayStudy {
         runs
     }
 
-    /// How many (planner, run) pairs [`ReplayStudy::execute`] plays, human rows included.
+    /// How many (planner, run) pairs [`PlaybackStudy::execute`] plays, human rows included.
     pub fn jobs(&self) -> usize {
         self.runs().len() * (self.planners.len() + 1)
     }
 
     /// Plays every planner on every run on the current rayon pool, plus the human rows;
     /// `progress` is called after each. Rows come back human first, then planner by planner.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<ReplayRow> {
+    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<PlaybackRow> {
         let runs = self.runs();
-        let mut jobs: Vec<(Option<PlannerSpec>, &ReplayRun)> =
+        let mut jobs: Vec<(Option<PlannerSpec>, &PlaybackRun)> =
             runs.iter().map(|r| (None, r)).collect();
         for &spec in &self.planners {
             jobs.extend(runs.iter().map(|r| (Some(spec), r)));
@@ -106,10 +106,10 @@ impl ReplayStudy {
         jobs.into_par_iter()
             .map(|(spec, run)| {
                 let row = match spec {
-                    None => ReplayRow {
+                    None => PlaybackRow {
                         planner: HUMAN.into(),
                         run: run.clone(),
-                        outcome: replay::human_outcome(&self.recording, run, &self.options),
+                        outcome: playback::human_outcome(&self.recording, run, &self.options),
                         planning_s: 0.0,
                     },
                     Some(spec) => self.play(spec, run),
@@ -120,7 +120,7 @@ impl ReplayStudy {
             .collect()
     }
 
-    fn play(&self, spec: PlannerSpec, run: &ReplayRun) -> ReplayRow {
+    fn play(&self, spec: PlannerSpec, run: &PlaybackRun) -> PlaybackRow {
         let speed = self.options.robot.max_speed;
         let mut stack = match spec.local {
             LocalKind::Igp(variant) if !spec.pgp && self.igp_seeds != SeedRule::PerBody => {
@@ -140,7 +140,7 @@ impl ReplayStudy {
         // The control period is each plan's dt (the recording's frame step).
         let mut guard = robot.guard(0.0);
         let mut planning_s = 0.0;
-        let outcome = replay::replay(
+        let outcome = playback::play(
             &self.recording,
             &self.map,
             run,
@@ -155,7 +155,7 @@ impl ReplayStudy {
                 command
             },
         );
-        ReplayRow {
+        PlaybackRow {
             planner: spec.to_string(),
             run: run.clone(),
             outcome,
@@ -206,8 +206,8 @@ struct RunRecord {
     appeared_contacts: u64,
 }
 
-impl From<&ReplayRow> for RunRecord {
-    fn from(r: &ReplayRow) -> Self {
+impl From<&PlaybackRow> for RunRecord {
+    fn from(r: &PlaybackRow) -> Self {
         let o = &r.outcome;
         Self {
             planner: r.planner.clone(),
@@ -236,7 +236,7 @@ impl From<&ReplayRow> for RunRecord {
 }
 
 /// `runs.csv`: one line per (planner, run).
-pub fn runs_csv(rows: &[ReplayRow]) -> String {
+pub fn runs_csv(rows: &[PlaybackRow]) -> String {
     super::csv_fields::to_csv(rows.iter().map(RunRecord::from))
 }
 
@@ -300,11 +300,11 @@ fn pct(count: usize, of: usize) -> f64 {
 }
 
 /// The table: the human row first, then the planners in the given order.
-pub fn table(rows: &[ReplayRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
+pub fn table(rows: &[PlaybackRow], planners: &[PlannerSpec]) -> Vec<TableRow> {
     let names = std::iter::once(HUMAN.to_string()).chain(planners.iter().map(|p| p.to_string()));
     names
         .map(|name| {
-            let mine: Vec<&ReplayRow> = rows.iter().filter(|r| r.planner == name).collect();
+            let mine: Vec<&PlaybackRow> = rows.iter().filter(|r| r.planner == name).collect();
             let outcomes = mine.iter().map(|r| &r.outcome);
             let n = mine.len();
             let met = outcomes
@@ -397,8 +397,8 @@ pub fn table_markdown(table: &[TableRow]) -> String {
 
 /// The human runs in which the person came closer than 0.21 m to someone (the paper's d_min,
 /// "the closest distance two humans passed" in its data), as a Markdown list.
-pub fn close_human_runs_markdown(rows: &[ReplayRow]) -> String {
-    let close: Vec<&ReplayRow> = rows
+pub fn close_human_runs_markdown(rows: &[PlaybackRow]) -> String {
+    let close: Vec<&PlaybackRow> = rows
         .iter()
         .filter(|r| r.planner == HUMAN && r.outcome.min_distance_m < 0.21)
         .collect();
@@ -429,8 +429,8 @@ struct TableFile<'a> {
 /// Writes `runs.csv`, `table.json`, `table.md` and `safety_vs_path.png` into `out`.
 pub fn write_outputs(
     out: &Path,
-    study: &ReplayStudy,
-    rows: &[ReplayRow],
+    study: &PlaybackStudy,
+    rows: &[PlaybackRow],
 ) -> Result<Vec<TableRow>, StudyError> {
     std::fs::create_dir_all(out).map_err(StudyError::io(out))?;
     let path = out.join("runs.csv");
@@ -473,7 +473,12 @@ pub fn write_outputs(
         "{} — {} runs: safety vs path length (cf. foIGP paper Figs. 5c/6c)",
         study.recording.name, study.kind
     );
-    super::plots::write_replay_figure(&out.join("safety_vs_path.png"), &title, &points, &human_s)?;
+    super::plots::write_playback_figure(
+        &out.join("safety_vs_path.png"),
+        &title,
+        &points,
+        &human_s,
+    )?;
     Ok(table)
 }
 
@@ -491,8 +496,8 @@ mod tests {
     #[test]
     fn smoke_study_on_seq_eth() {
         let recording = seq_eth();
-        let map = replay::map_of(&recording).expect("valid walls");
-        let study = ReplayStudy {
+        let map = playback::map_of(&recording).expect("valid walls");
+        let study = PlaybackStudy {
             recording,
             map,
             planners: vec![
@@ -500,7 +505,7 @@ mod tests {
                 "dwa".parse().expect("known"),
             ],
             kind: RunKind::Partial,
-            options: ReplayOptions::default(),
+            options: PlaybackOptions::default(),
             limit: Some(4),
             igp_seeds: SeedRule::PerBody,
             half: None,
@@ -524,7 +529,7 @@ mod tests {
         }
         // Deterministic apart from the replan times.
         let again = study.execute(&|| {});
-        let strip = |rows: &[ReplayRow]| {
+        let strip = |rows: &[PlaybackRow]| {
             rows.iter()
                 .map(|r| (r.planner.clone(), r.outcome))
                 .collect::<Vec<_>>()

@@ -1,6 +1,6 @@
-//! `gapfleet experiment replay` (alias: `eth`, its old name) end to end, as a user runs it: a
-//! small smoke version on both recorded crowds, every output file, the table's keys, and clear
-//! errors for bad input.
+//! `gapfleet study playback` (`experiment replay` and `experiment eth`, its old names, still
+//! work) end to end, as a user runs it: a small smoke version on both recorded crowds, every output file, the table's
+//! keys, and clear errors for bad input.
 
 use gapfleet_tests::binary;
 use std::path::{Path, PathBuf};
@@ -21,7 +21,7 @@ fn out_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
 
 #[test]
 fn smoke_runs_on_eth_and_zara01_write_the_tables() {
-    // The old name still works.
+    // The old names still work, as the results' commands have them.
     for (set, kind, command) in [
         ("ETH/seq_eth", "partial", "eth"),
         ("UCY/zara01", "full", "replay"),
@@ -89,7 +89,7 @@ fn smoke_runs_on_eth_and_zara01_write_the_tables() {
 fn bad_input_gets_a_clear_error() {
     let run = |args: &[&str]| {
         let out = Command::new(binary("gapfleet"))
-            .args(["experiment", "replay"])
+            .args(["study", "playback"])
             .args(args)
             .output()
             .expect("gapfleet runs");
@@ -119,10 +119,10 @@ fn bad_input_gets_a_clear_error() {
 }
 
 #[test]
-fn replay_has_help_under_both_names() {
-    for command in ["replay", "eth"] {
+fn playback_has_help_under_all_its_names() {
+    for command in ["playback", "replay", "eth"] {
         let out = Command::new(binary("gapfleet"))
-            .args(["experiment", command, "--help"])
+            .args(["study", command, "--help"])
             .output()
             .expect("gapfleet runs");
         assert!(out.status.success(), "{command}");
@@ -133,8 +133,8 @@ fn replay_has_help_under_both_names() {
         );
     }
     let out = Command::new(binary("gapfleet"))
-        .args(["experiment", "--help"])
+        .args(["study", "--help"])
         .output()
         .expect("gapfleet runs");
-    assert!(String::from_utf8_lossy(&out.stdout).contains("replay"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("playback"));
 }

@@ -1,4 +1,4 @@
-//! `gapfleet experiment asfm-estimates`: asfm's estimate Â_o per tracked person.
+//! `gapfleet study asfm-estimates`: asfm's estimate Â_o per tracked person.
 
 use super::non_negative;
 use crate::cli::density;
@@ -8,10 +8,10 @@ use coordinator::study::with_progress;
 use std::path::PathBuf;
 use std::time::Instant;
 use world_sim::dataset::Recording;
-use world_sim::replay::{ReplayOptions, map_of, median_speed};
+use world_sim::playback::{PlaybackOptions, map_of, median_speed};
 use world_sim::scenario::Scenario;
 
-/// `experiment asfm-estimates`'s arguments.
+/// `study asfm-estimates`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct AsfmEstimatesArgs {
     /// Recorded sequences (OpenTraj obsmat.txt folders), comma-separated.
@@ -64,7 +64,7 @@ pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
     let (rows, threads) = with_progress(args.jobs, total as u64, |progress| {
         let mut rows = Vec::new();
         for (recording, map) in &recordings {
-            let mut options = ReplayOptions::default();
+            let mut options = PlaybackOptions::default();
             options.robot.max_speed = (median_speed(recording) * 100.0).round() / 100.0;
             rows.extend(recorded(
                 recording,

@@ -1,4 +1,4 @@
-//! `gapfleet experiment hallway`: the peek-and-pass paper's hallway study (Fig. 6).
+//! `gapfleet study hallway`: the peek-and-pass paper's hallway study (Fig. 6).
 
 use super::walking_speed;
 use crate::cli::positive;
@@ -9,7 +9,7 @@ use coordinator::study::with_progress;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// `experiment hallway`'s arguments.
+/// `study hallway`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct HallwayArgs {
     /// Planners, comma-separated.
@@ -68,7 +68,7 @@ pub(super) fn run(args: HallwayArgs) -> Result<()> {
         for &v in &study.speeds {
             study
                 .scenario_for(l, v, 1)
-                .validate("experiment hallway")
+                .validate("study hallway")
                 .with_context(|| format!("hallway {l} m, people at {v} m/s"))?;
         }
     }

@@ -1,19 +1,19 @@
-//! `gapfleet experiment replay`: the foIGP paper's protocol on a recorded crowd.
+//! `gapfleet study playback`: the foIGP paper's protocol on a recorded crowd.
 
 use crate::cli::positive;
 use agent::igp::SeedRule;
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result, bail};
-use coordinator::study::replay::{Half, ReplayStudy, table_markdown};
+use coordinator::study::playback::{Half, PlaybackStudy, table_markdown};
 use coordinator::study::with_progress;
 use std::path::PathBuf;
 use std::time::Instant;
 use world_sim::dataset::Recording;
-use world_sim::replay::{ReplayOptions, RunKind, map_of, median_speed};
+use world_sim::playback::{PlaybackOptions, RunKind, map_of, median_speed};
 
-/// `experiment replay`'s arguments.
+/// `study playback`'s arguments.
 #[derive(Debug, clap::Args)]
-pub struct ReplayArgs {
+pub struct PlaybackArgs {
     /// A sequence folder with obsmat.txt (and optionally map.xml), e.g.
     /// world-sim/datasets/ETH/seq_eth or world-sim/datasets/UCY/zara01.
     #[arg(long)]
@@ -65,7 +65,7 @@ fn seed_rule(s: &str) -> Result<SeedRule, String> {
 }
 
 /// Runs the study and writes its outputs.
-pub(super) fn run(args: ReplayArgs) -> Result<()> {
+pub(super) fn run(args: PlaybackArgs) -> Result<()> {
     let recording = Recording::load(&args.dataset)?;
     let map = map_of(&recording)
         .with_context(|| format!("{}: map.xml obstacles", args.dataset.display()))?;
@@ -79,10 +79,10 @@ pub(super) fn run(args: ReplayArgs) -> Result<()> {
     if !(speed.is_finite() && speed > 0.0 && speed <= 5.0) {
         bail!("--robot-speed: {speed} is not in (0, 5] m/s");
     }
-    let mut options = ReplayOptions::default();
+    let mut options = PlaybackOptions::default();
     options.robot.max_speed = speed;
     options.robot.safety = !args.no_safety;
-    let study = ReplayStudy {
+    let study = PlaybackStudy {
         recording,
         map,
         planners: args.planners,
@@ -133,7 +133,7 @@ pub(super) fn run(args: ReplayArgs) -> Result<()> {
     let (rows, threads) = with_progress(args.jobs, study.jobs() as u64, |progress| {
         study.execute(progress)
     })?;
-    let table = coordinator::study::replay::write_outputs(&out, &study, &rows)?;
+    let table = coordinator::study::playback::write_outputs(&out, &study, &rows)?;
     eprintln!(
         "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, table.json, table.md",
         rows.len(),

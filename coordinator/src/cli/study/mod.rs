@@ -1,4 +1,5 @@
-//! `gapfleet experiment`: the studies, run in-process on all cores with a progress bar.
+//! `gapfleet study` (old name `experiment`): the studies, run in-process on all cores with a
+//! progress bar.
 
 mod anticipatory;
 mod asfm_estimates;
@@ -6,7 +7,7 @@ mod hallway;
 mod intent_sharing;
 mod laned;
 mod open_space;
-mod replay;
+mod playback;
 mod traffic;
 
 use anticipatory::AnticipatoryArgs;
@@ -15,7 +16,7 @@ use hallway::HallwayArgs;
 use intent_sharing::IntentSharingArgs;
 use laned::LanedArgs;
 use open_space::OpenSpaceArgs;
-use replay::ReplayArgs;
+use playback::PlaybackArgs;
 use traffic::TrafficArgs;
 
 use anyhow::Result;
@@ -24,16 +25,17 @@ use std::path::PathBuf;
 
 /// The studies.
 #[derive(Debug, Subcommand)]
-pub enum Experiment {
+pub enum Study {
     /// The PGP paper's open-space study: algorithms × densities × seeds.
     OpenSpace(OpenSpaceArgs),
     /// The same warehouse seeds with robots sharing intents and without: robot–robot near
     /// misses and collisions, in-process.
     IntentSharing(IntentSharingArgs),
     /// The foIGP paper's protocol on a recorded crowd (OpenTraj obsmat.txt format: ETH, UCY,
-    /// …): each planner in turn takes a pedestrian's place among the others as recorded.
-    #[command(alias = "eth")]
-    Replay(ReplayArgs),
+    /// …), played back: each planner in turn takes a pedestrian's place among the others as
+    /// recorded. (Its names before: `replay`, `eth`.)
+    #[command(alias = "replay", alias = "eth")]
+    Playback(PlaybackArgs),
     /// The peek-and-pass paper's hallway study (Fig. 6): planners × hallway lengths × human
     /// speeds × seeds, a 3 m/s robot driving end to end through two-way foot traffic.
     Hallway(HallwayArgs),
@@ -78,19 +80,19 @@ fn walking_speed(s: &str) -> Result<f64, String> {
     }
 }
 
-impl Experiment {
+impl Study {
     /// Runs the study and writes its outputs.
     pub fn run(self) -> Result<()> {
         match self {
-            Experiment::OpenSpace(args) => open_space::run(args),
-            Experiment::IntentSharing(args) => intent_sharing::run(args),
-            Experiment::Replay(args) => replay::run(args),
-            Experiment::Hallway(args) => hallway::run(args),
-            Experiment::Laned(args) => laned::run(args),
-            Experiment::Anticipatory(args) => anticipatory::run(args),
-            Experiment::AsfmEstimates(args) => asfm_estimates::run(args),
-            Experiment::Traffic(args) => traffic::run(args),
-            Experiment::Summarize { dir } => open_space::summarize(&dir),
+            Study::OpenSpace(args) => open_space::run(args),
+            Study::IntentSharing(args) => intent_sharing::run(args),
+            Study::Playback(args) => playback::run(args),
+            Study::Hallway(args) => hallway::run(args),
+            Study::Laned(args) => laned::run(args),
+            Study::Anticipatory(args) => anticipatory::run(args),
+            Study::AsfmEstimates(args) => asfm_estimates::run(args),
+            Study::Traffic(args) => traffic::run(args),
+            Study::Summarize { dir } => open_space::summarize(&dir),
         }
     }
 }

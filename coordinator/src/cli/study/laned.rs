@@ -1,4 +1,4 @@
-//! `gapfleet experiment laned`: the peek-and-pass paper's laned study (Fig. 4).
+//! `gapfleet study laned`: the peek-and-pass paper's laned study (Fig. 4).
 
 use super::walking_speed;
 use crate::cli::positive;
@@ -8,7 +8,7 @@ use coordinator::study::with_progress;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// `experiment laned`'s arguments.
+/// `study laned`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct LanedArgs {
     /// The exploration-to-exploitation ratios 1/(c1·c3), comma-separated.
