@@ -12,7 +12,7 @@ use agent::model::Command;
 use agent::planner::PlannerStack;
 use agent::runtime::wire;
 use agent::safety::Zone;
-use coordinator::fleet::journal::{
+use coordinator::serve::journal::{
     self, End, Header, Integrity, IntentInput, Journal, JournalError, Recovery, ScenarioSource,
     TickInput, read, replay,
 };

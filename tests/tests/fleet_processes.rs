@@ -12,7 +12,7 @@
 //! 7. SIGTERM: every agent exits cleanly.
 
 use agent::runtime::net::{Role, loopback};
-use coordinator::fleet::{CoordinatorConfig, Event, Status, run_coordinator};
+use coordinator::serve::{CoordinatorConfig, Event, Status, run_coordinator};
 use gapfleet_tests::{AgentProcess, free_endpoint};
 use schemas::{AgentInfo, Channel, CommandMsg, Keys, decode};
 use std::sync::mpsc;
@@ -123,7 +123,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
         let snap = newest(&snaps);
         panic!(
             "robots completed {done} tasks; coordinator: {}; agent 5: {:?}",
-            coordinator::fleet::demo::status_line(&snap.status),
+            coordinator::serve::demo::status_line(&snap.status),
             latest_info(&info_sub)
         )
     });

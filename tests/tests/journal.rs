@@ -7,8 +7,8 @@
 //! ticks after it, to the same end state. A journal with one command or one intent changed
 //! leaves the recorded run, and the replay says at which tick.
 
-use coordinator::fleet::demo::{DemoOptions, Transport, run_demo};
-use coordinator::fleet::journal::{Header, Journal, ScenarioSource, read, replay, resume};
+use coordinator::serve::demo::{DemoOptions, Transport, run_demo};
+use coordinator::serve::journal::{Header, Journal, ScenarioSource, read, replay, resume};
 
 #[test]
 fn a_recorded_demo_replays_bit_for_bit() {

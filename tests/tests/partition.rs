@@ -14,7 +14,7 @@
 
 use agent::runtime::net::{Role, loopback};
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
-use coordinator::fleet::{CoordinatorConfig, Event, Observer, Status, run_coordinator};
+use coordinator::serve::{CoordinatorConfig, Event, Observer, Status, run_coordinator};
 use gapfleet_tests::free_endpoint;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -15,7 +15,7 @@
 
 use agent::runtime::net::from_file;
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
-use coordinator::fleet::{CoordinatorConfig, Status, run_coordinator};
+use coordinator::serve::{CoordinatorConfig, Status, run_coordinator};
 use coordinator::site::Identity;
 use coordinator::site::{SitePaths, TemporarySite};
 use gapfleet_tests::{Zenohd, zenohd};

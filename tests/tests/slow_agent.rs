@@ -9,7 +9,7 @@
 //!   observation sent to them is answered.
 
 use agent::runtime::net::{Role, loopback};
-use coordinator::fleet::{CoordinatorConfig, Status, run_coordinator};
+use coordinator::serve::{CoordinatorConfig, Status, run_coordinator};
 use gapfleet_tests::{AgentProcess, free_endpoint};
 use schemas::{Channel, CommandMsg, Keys, Observation, decode};
 use std::sync::mpsc;

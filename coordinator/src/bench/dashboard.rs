@@ -39,7 +39,7 @@ pub fn bench_dashboard(
     ticks: usize,
     rrd: &std::path::Path,
 ) -> Result<DashboardBench> {
-    use crate::fleet::{Observer, Status, map_message, observation};
+    use crate::serve::{Observer, Status, map_message, observation};
     use world_sim::fleet::Fleet;
     let time = |with: bool| -> Result<(f64, f64, u64)> {
         let mut fleet = Fleet::new(scenario)?;
@@ -50,7 +50,7 @@ pub fn bench_dashboard(
                 rrd: Some(rrd.to_path_buf()),
                 ..Default::default()
             };
-            Some(crate::fleet::dashboard::DashboardObserver::start(
+            Some(crate::serve::dashboard::DashboardObserver::start(
                 &fleet, &sinks, "parked",
             )?)
         } else {

@@ -1,11 +1,11 @@
 //! How fast things run on this machine, to size a deployment: the fleet's round trip over
-//! Zenoh ([`fleet`]), the dashboard's cost per tick ([`dashboard`]), world steps ([`world`]),
+//! Zenoh ([`round_trip`], `gapfleet bench fleet`), the dashboard's cost per tick ([`dashboard`]), world steps ([`world`]),
 //! a long run watched for growth, drift and loss ([`soak`]), and what the machine itself did
 //! meanwhile ([`machine`]).
 
 pub mod dashboard;
-pub mod fleet;
 pub mod machine;
+pub mod round_trip;
 pub mod soak;
 pub mod world;
 
@@ -14,7 +14,7 @@ pub mod world;
 pub enum BenchError {
     /// The fleet under test failed.
     #[error(transparent)]
-    Demo(#[from] crate::fleet::demo::DemoError),
+    Demo(#[from] crate::serve::demo::DemoError),
     /// The scenario has no warehouse.
     #[error(transparent)]
     NotAWarehouse(#[from] world_sim::fleet::NotAWarehouse),

@@ -3,8 +3,8 @@
 //! is lost (observations never answered).
 
 use super::BenchError;
-use crate::fleet::RoundTrip;
-use crate::fleet::demo::{DemoOptions, Transport, run_demo};
+use crate::serve::RoundTrip;
+use crate::serve::demo::{DemoOptions, Transport, run_demo};
 use agent::planner::PlannerSpec;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -304,7 +304,7 @@ pub async fn bench_soak(
     let last_memory_in = last_memory.clone();
     let last_state = Arc::new(Mutex::new(0.0f64));
     let last_state_in = last_state.clone();
-    let on_status = move |s: &crate::fleet::Status, fleet: &world_sim::fleet::Fleet| {
+    let on_status = move |s: &crate::serve::Status, fleet: &world_sim::fleet::Fleet| {
         if let Ok(mut r) = last_memory_in.lock() {
             *r = memory();
         }

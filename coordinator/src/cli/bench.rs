@@ -4,10 +4,10 @@ use super::{Overrides, ScenarioRef, density, init_logging, positive, runtime};
 use anyhow::{Result, bail};
 use clap::Subcommand;
 use clap::builder::TypedValueParser as _;
-use coordinator::bench::fleet::FleetBench;
 use coordinator::bench::machine::{CpuSpeedProbe, CpuTimes};
+use coordinator::bench::round_trip::FleetBench;
 use coordinator::bench::world::bench_world;
-use coordinator::fleet::demo::Transport;
+use coordinator::serve::demo::Transport;
 use std::path::PathBuf;
 use world_sim::scenario::{Scenario, WallModel};
 
@@ -211,7 +211,7 @@ impl Bench {
                             }
                         );
                     }
-                    let b = rt.block_on(coordinator::bench::fleet::bench_fleet(
+                    let b = rt.block_on(coordinator::bench::round_trip::bench_fleet(
                         scenario.clone(),
                         agents,
                         humans,

@@ -3,10 +3,10 @@
 use super::{RerunArgs, RobotSet, SiteArgs, init_logging, positive, runtime, speed};
 use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
-use coordinator::fleet::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
-use coordinator::fleet::demo::status_line;
-use coordinator::fleet::journal::{self, Header, Journal};
-use coordinator::fleet::{CoordinatorConfig, Event, Resume, Status, run_coordinator};
+use coordinator::serve::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
+use coordinator::serve::demo::status_line;
+use coordinator::serve::journal::{self, Header, Journal};
+use coordinator::serve::{CoordinatorConfig, Event, Resume, Status, run_coordinator};
 use world_sim::fleet::Fleet;
 
 /// `gapfleet coordinator`'s arguments.
@@ -159,7 +159,7 @@ impl CoordinatorArgs {
             std::thread::Builder::new()
                 .name("free-flow".to_owned())
                 .spawn(move || {
-                    match coordinator::fleet::free_flow(&scenario, planner, share, policy) {
+                    match coordinator::serve::free_flow(&scenario, planner, share, policy) {
                         Ok(free) => {
                             eprintln!(
                                 "free flow (one robot alone, {planner}): {} tasks in {:.0} s, \

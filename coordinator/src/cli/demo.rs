@@ -3,8 +3,8 @@
 use super::{Overrides, RerunArgs, ScenarioRef, init_logging, positive, runtime, speed};
 use agent::planner::PlannerSpec;
 use anyhow::Result;
-use coordinator::fleet::demo::{DemoOptions, Transport, run_demo, status_line, summary};
-use coordinator::fleet::journal::{Header, Journal};
+use coordinator::serve::demo::{DemoOptions, Transport, run_demo, status_line, summary};
+use coordinator::serve::journal::{Header, Journal};
 use coordinator::site::TemporarySite;
 use std::io::IsTerminal;
 use world_sim::scenario::Scenario;

@@ -3,8 +3,8 @@
 use super::{RobotSet, SiteArgs, init_logging, positive, runtime, speed};
 use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
-use coordinator::fleet::hardware::{HardwareConfig, HardwareReport, run_hardware};
-use coordinator::fleet::ros_robots::RosSimConfig;
+use coordinator::serve::hardware::{HardwareConfig, HardwareReport, run_hardware};
+use coordinator::serve::ros_robots::RosSimConfig;
 use world_sim::fleet::Fleet;
 
 /// `gapfleet hardware`'s arguments.

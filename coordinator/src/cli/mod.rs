@@ -133,8 +133,8 @@ pub struct Overrides {
 
 impl ScenarioRef {
     /// Where the scenario came from with `overrides`, for a journal.
-    pub fn source(&self, overrides: Overrides) -> ::coordinator::fleet::journal::ScenarioSource {
-        ::coordinator::fleet::journal::ScenarioSource {
+    pub fn source(&self, overrides: Overrides) -> ::coordinator::serve::journal::ScenarioSource {
+        ::coordinator::serve::journal::ScenarioSource {
             name: self.name.clone(),
             toml: self.toml.clone(),
             robots: overrides.robots,

@@ -2,9 +2,9 @@
 
 use super::{RerunArgs, init_logging};
 use anyhow::Result;
-use coordinator::fleet::dashboard::DashboardObserver;
-use coordinator::fleet::journal::{Integrity, read, replay};
-use coordinator::fleet::{Observer, Status};
+use coordinator::serve::dashboard::DashboardObserver;
+use coordinator::serve::journal::{Integrity, read, replay};
+use coordinator::serve::{Observer, Status};
 use std::path::PathBuf;
 
 /// `gapfleet replay`'s arguments.

@@ -4,8 +4,8 @@
 
 use super::BenchError;
 use super::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
-use crate::fleet::RoundTrip;
-use crate::fleet::demo::{DemoOptions, Transport, run_demo};
+use crate::serve::RoundTrip;
+use crate::serve::demo::{DemoOptions, Transport, run_demo};
 use agent::planner::{LocalKind, PlannerSpec};
 use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
@@ -122,7 +122,7 @@ pub async fn bench_fleet(
     // CPU time counters from the first status to the last (the part of the run timed).
     let cpu = std::sync::Arc::new(std::sync::Mutex::new((None, None)));
     let cpu_seen = cpu.clone();
-    let on_status = move |s: &crate::fleet::Status, _: &world_sim::fleet::Fleet| {
+    let on_status = move |s: &crate::serve::Status, _: &world_sim::fleet::Fleet| {
         first_tick_seen.get_or_init(|| Instant::now() - Duration::from_secs_f64(s.sim_time));
         if s.tick > 0 {
             ticking_tx.send_if_modified(|t| !std::mem::replace(t, true));

@@ -1,5 +1,5 @@
-//! The coordinator: runs a warehouse [`Fleet`] in (scaled) real time and connects it to the
-//! agents over Zenoh.
+//! The coordinator's loop (`serve`, apart from `world_sim::fleet`, the fleet it serves): runs a
+//! warehouse [`Fleet`] in (scaled) real time and connects it to the agents over Zenoh.
 //!
 //! Every tick runs these phases, each a function below: take in the newest command per robot
 //! and liveliness changes (an agent joined, left or crashed: its robot is held and stops)
