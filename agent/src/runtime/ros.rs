@@ -180,8 +180,8 @@ pub struct RosLink {
     cmd_pub: zenoh::pubsub::Publisher<'static>,
     cmd_gid: [u8; 16],
     cmd_seq: AtomicI64,
-    /// The scanner mounting last logged.
-    logged_mount: Mutex<Option<String>>,
+    /// The scanner mounting last logged: its frame, offset and yaw.
+    logged_mount: Mutex<Option<(String, Vec2, Real)>>,
     _tokens: Vec<zenoh::liveliness::LivelinessToken>,
     _subscribers: Vec<zenoh::pubsub::Subscriber<()>>,
 }
@@ -463,14 +463,19 @@ impl RosLink {
             }
             return;
         };
-        let text = format!(
-            "{frame} at ({:.3}, {:.3}) m, {:.3} rad",
-            offset.x, offset.y, yaw
-        );
+        // Compared as values, so that a plan allocates nothing while the mounting holds.
         let mut logged = self.logged_mount.lock().unwrap_or_else(|e| e.into_inner());
-        if logged.as_deref() != Some(text.as_str()) {
-            tracing::info!("scanner mounted: {text}");
-            *logged = Some(text);
+        let same = logged
+            .as_ref()
+            .is_some_and(|(f, o, y)| f == frame && *o == offset && *y == yaw);
+        if !same {
+            tracing::info!(
+                "scanner mounted: {frame} at ({:.3}, {:.3}) m, {:.3} rad",
+                offset.x,
+                offset.y,
+                yaw
+            );
+            *logged = Some((frame.to_owned(), offset, yaw));
         }
     }
 
