@@ -529,22 +529,21 @@ impl Fleet {
         let crowd = &self.world.humans.crowd;
         let reach_sq = PEOPLE_ROUTE_REACH_M * PEOPLE_ROUTE_REACH_M;
         let cost = |route: &[Vec2]| {
-            let mut at = from;
-            let (mut length, mut near) = (0.0, 0usize);
-            for &next in route {
-                let leg = next - at;
-                length += leg.norm();
-                near += crowd
-                    .positions
-                    .iter()
-                    .zip(&crowd.velocities)
-                    .filter(|(p, v)| {
-                        dist_sq_point_segment(&at, &next, p) < reach_sq && v.dot(&leg) <= 0.0
-                    })
-                    .count();
-                at = next;
-            }
-            length + weight * near as Real
+            let legs = std::iter::once(&from).chain(route).zip(route);
+            let near: usize = legs
+                .map(|(&at, &next)| {
+                    crowd
+                        .positions
+                        .iter()
+                        .zip(&crowd.velocities)
+                        .filter(|(p, v)| {
+                            dist_sq_point_segment(&at, &next, p) < reach_sq
+                                && v.dot(&(next - at)) <= 0.0
+                        })
+                        .count()
+                })
+                .sum();
+            route_length(from, route) + weight * near as Real
         };
         (0..self.site.cross_aisle_count())
             .map(|j| self.site.route_via(from, to, j))
