@@ -1,7 +1,8 @@
 //! Peek-and-pass in a hallway (issue 20): one plan with 20 tracked people and 64 Ψ samples,
 //! and the visibility scan behind it.
 //!
-//! Target: one plan ≤ 1 ms median.
+//! Target: one plan ≤ 1 ms median, with constant-velocity predictions (`pnp`) and with
+//! predictions that react to each candidate (`pnp-react`).
 //!
 //!     cargo bench -p agent --bench pnp
 
@@ -68,6 +69,20 @@ fn pnp(c: &mut Criterion) {
     g.bench_function(
         format!("plan-20-people-64-psi-{}-candidates", planner.candidates()),
         |b| b.iter(|| black_box(planner.plan(&ego, black_box(&people), &map, goal, Some(&seen)))),
+    );
+    // The same plan with predictions that react to each candidate (`pnp-react`).
+    let mut reactive = Pnp::new(PnpParams {
+        v_max: 3.0,
+        a_max: 2.0,
+        psi_samples: 64,
+        ..PnpParams::reactive(true)
+    });
+    g.bench_function(
+        format!(
+            "plan-reactive-20-people-64-psi-{}-candidates",
+            reactive.candidates()
+        ),
+        |b| b.iter(|| black_box(reactive.plan(&ego, black_box(&people), &map, goal, Some(&seen)))),
     );
     g.bench_function("visibility-scan-360-rays-20-people", |b| {
         b.iter(|| {

@@ -3,7 +3,8 @@
 //! peek-and-pass or anticipatory Social Force); PGP's subgoal becomes the short-term planner's
 //! goal. Planners are named as on the command line: `dwa`, `orca`, `orca-nr` (ORCA taking all of
 //! the avoidance of people), `sf`, `foigp` (GP mixtures),
-//! `foigp-1` (one GP per person), `igp-diag`, `igp-lin`, `mc`, `pnp`, `pnp-nopeek`, `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
+//! `foigp-1` (one GP per person), `igp-diag`, `igp-lin`, `mc`, `pnp`, `pnp-nopeek` (and the variants `pnp-paper`, `pnp-react`, each with a
+//! `-nopeek`), `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
 //! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
 use crate::asfm::{Asfm, AsfmParams};
@@ -14,7 +15,7 @@ use crate::math::{Real, Vec2, clamp_norm};
 use crate::model::{AgentKind, Command, EgoState, Intent, Neighbour, TrajectorySample};
 use crate::orca::{Body, Orca, OrcaParams, V};
 use crate::pgp::{Pgp, PgpParams};
-use crate::pnp::{Pnp, PnpParams};
+use crate::pnp::{Admission, Pnp, PnpParams};
 use crate::prediction::SigmaModel;
 use crate::safety::SafeSet;
 use crate::social_force::{SfAgentParams, SocialForceAgent};
@@ -118,6 +119,8 @@ pub enum LocalKind {
     /// Peek-and-pass (the "Look Before You Leap" paper's hallway planner), with peeking on
     /// (`pnp`) or off (`pnp-nopeek`: c3 high).
     Pnp {
+        /// Which of its variants.
+        variant: PnpVariant,
         /// Whether c3 is at the laned study's optimum (true) or high.
         peek: bool,
     },
@@ -128,6 +131,30 @@ pub enum LocalKind {
         /// Whether P grows by [`crate::asfm::ASFM_Q_PROCESS_NOISE`] after each update.
         process_noise: bool,
     },
+}
+
+/// The variants of peek-and-pass (agent/README.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PnpVariant {
+    /// Eq. 3 as written (`pnp-paper`): [`PnpParams::paper`].
+    Paper,
+    /// Constant-velocity predictions with the departures from Eq. 3 chosen on hallway seeds
+    /// 1–8 (`pnp`): [`PnpParams::peeking`].
+    Tuned,
+    /// Predictions that react to each candidate, with the same departures (`pnp-react`):
+    /// [`PnpParams::reactive`].
+    Reactive,
+}
+
+impl PnpVariant {
+    /// The variant's parameters with peeking on or off.
+    pub fn params(self, peek: bool) -> PnpParams {
+        match self {
+            PnpVariant::Paper => PnpParams::paper(peek),
+            PnpVariant::Tuned => PnpParams::peeking(peek),
+            PnpVariant::Reactive => PnpParams::reactive(peek),
+        }
+    }
 }
 
 /// Which planners a stack runs.
@@ -181,9 +208,15 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, asfm or asfm-q, each optionally behind pgp+ (e.g. pgp+orca)"
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, asfm or asfm-q, each \
+     optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
+
+/// Peek-and-pass's kind: `variant` with peeking on or off.
+fn pnp(variant: PnpVariant, peek: bool) -> LocalKind {
+    LocalKind::Pnp { variant, peek }
+}
 
 impl FromStr for PlannerSpec {
     type Err = UnknownPlanner;
@@ -204,8 +237,12 @@ impl FromStr for PlannerSpec {
             "igp-diag" => LocalKind::Igp(IgpVariant::Diagonal),
             "igp-lin" => LocalKind::Igp(IgpVariant::Linear),
             "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
-            "pnp" | "peek-and-pass" => LocalKind::Pnp { peek: true },
-            "pnp-nopeek" => LocalKind::Pnp { peek: false },
+            "pnp" | "peek-and-pass" => pnp(PnpVariant::Tuned, true),
+            "pnp-nopeek" => pnp(PnpVariant::Tuned, false),
+            "pnp-paper" => pnp(PnpVariant::Paper, true),
+            "pnp-paper-nopeek" => pnp(PnpVariant::Paper, false),
+            "pnp-react" => pnp(PnpVariant::Reactive, true),
+            "pnp-react-nopeek" => pnp(PnpVariant::Reactive, false),
             "asfm" | "anticipatory" => LocalKind::Asfm {
                 process_noise: false,
             },
@@ -230,8 +267,14 @@ impl fmt::Display for PlannerSpec {
             LocalKind::Igp(IgpVariant::Diagonal) => "igp-diag",
             LocalKind::Igp(IgpVariant::Linear) => "igp-lin",
             LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
-            LocalKind::Pnp { peek: true } => "pnp",
-            LocalKind::Pnp { peek: false } => "pnp-nopeek",
+            LocalKind::Pnp { variant, peek } => match (variant, peek) {
+                (PnpVariant::Tuned, true) => "pnp",
+                (PnpVariant::Tuned, false) => "pnp-nopeek",
+                (PnpVariant::Paper, true) => "pnp-paper",
+                (PnpVariant::Paper, false) => "pnp-paper-nopeek",
+                (PnpVariant::Reactive, true) => "pnp-react",
+                (PnpVariant::Reactive, false) => "pnp-react-nopeek",
+            },
             LocalKind::Asfm {
                 process_noise: false,
             } => "asfm",
@@ -425,7 +468,17 @@ impl LocalPlanner for Pnp {
     }
 
     fn plan(&mut self, input: &PlanningInput<'_>, target: Vec2) -> LocalPlan {
-        let admits = input.safety.map(|set| move |c: Command| set.admits(c));
+        let judge = input.safety.map(|set| {
+            move |c: Command| {
+                if !set.admits(c) {
+                    Admission::Refused
+                } else if set.passes(c) {
+                    Admission::Passes
+                } else {
+                    Admission::Admitted
+                }
+            }
+        });
         let d = Pnp::plan_within(
             self,
             input.ego,
@@ -433,7 +486,7 @@ impl LocalPlanner for Pnp {
             input.map,
             target,
             input.visibility,
-            admits.as_ref().map(|f| f as &dyn Fn(Command) -> bool),
+            judge.as_ref().map(|f| f as &dyn Fn(Command) -> Admission),
         );
         LocalPlan {
             command: d.command,
@@ -541,8 +594,8 @@ impl PlannerStack {
                 };
                 Box::new(IgpPlanner::new(variant, params))
             }
-            LocalKind::Pnp { peek } => {
-                let d = PnpParams::peeking(peek);
+            LocalKind::Pnp { variant, peek } => {
+                let d = variant.params(peek);
                 let v_max = max_speed.unwrap_or(d.v_max);
                 Box::new(Pnp::new(PnpParams { v_max, ..d }))
             }
@@ -573,14 +626,17 @@ impl PlannerStack {
         Self { spec, pgp, local }
     }
 
-    /// The peek-and-pass planner alone with explicit parameters (`pnp` when c3 is below
+    /// The peek-and-pass planner alone with explicit parameters (named `pnp` when c3 is below
     /// [`crate::pnp::NO_PEEK_C3`], `pnp-nopeek` otherwise).
     pub fn pnp(params: PnpParams) -> Self {
         let peek = params.c3 < crate::pnp::NO_PEEK_C3;
         Self {
             spec: PlannerSpec {
                 pgp: false,
-                local: LocalKind::Pnp { peek },
+                local: LocalKind::Pnp {
+                    variant: PnpVariant::Tuned,
+                    peek,
+                },
             },
             pgp: None,
             local: Box::new(Pnp::new(params)),
@@ -681,6 +737,10 @@ mod tests {
             "pgp+foigp",
             "pnp",
             "pnp-nopeek",
+            "pnp-paper",
+            "pnp-paper-nopeek",
+            "pnp-react",
+            "pnp-react-nopeek",
             "asfm",
             "asfm-q",
             "pgp+asfm",

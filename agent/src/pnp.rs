@@ -22,8 +22,12 @@
 //! normal offsets. Every value the paper leaves open is a field of [`PnpParams`], with the
 //! reason for its value.
 //!
-//! A sampled future's loss is 0 without collision and 1 − t_c/t_f with a first contact at t_c
-//! (the sooner, the worse; [`cvar`] takes the mean of the worst (1 − α) of them).
+//! A sampled future's loss is 0 without collision and, with a first contact at t_c, 1 in the
+//! paper's variant ([`PnpParams::paper`], `pnp-paper`) or (1 − t_c/t_f) scaled by the closing
+//! speed in the tuned ones ([`cvar`] takes the mean of the worst (1 − α) of them). The tuned
+//! variants (`pnp`, `pnp-react`) also count 0.1 m of clearance as contact, score the path's way
+//! to the goal and not only its end, and let a candidate arrive; `pnp-react` scores each
+//! candidate against predictions that react to it ([`Prediction::Reactive`]).
 
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
@@ -31,7 +35,8 @@ use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
 use crate::prediction::{SigmaModel, predict};
 use crate::visibility::Visibility;
 use hidden::{Hidden, halton, hidden_risk, sample_hidden};
-use predict::{Predicted, Scratch, body_risk, social_force_rollout};
+use predict::{Predicted, Scratch, body_risk, might_touch, social_force_rollout};
+use react::Reaction;
 pub use risk::cvar;
 use risk::{Scoring, bounds, near_any_segment};
 
@@ -104,6 +109,11 @@ pub struct PnpParams {
     /// waiting (seen in the hallway: the robot stood 1–3 m from its goal). The mean over the
     /// path prefers arriving sooner; 0 is Eq. 3 as written.
     pub progress_weight: Real,
+    /// Whether a candidate that comes within `goal_tolerance` of the goal itself has arrived
+    /// and scores only its way there. Not in the paper: with the coarse speeds of a 3 m/s
+    /// robot (1, 2, 3 m/s) no candidate stops within a metre of the goal, and the terminal
+    /// cost punished passing through it (the robot stood 0.9 m short).
+    pub arrival: bool,
     /// A candidate that comes this close to the goal (m) has arrived: the scenarios' goal
     /// tolerance, 0.5 m.
     pub goal_tolerance: Real,
@@ -115,9 +125,12 @@ pub struct PnpParams {
     pub severity: Severity,
 }
 
-/// Which speed at a predicted contact scales its loss.
+/// How a predicted contact is scored: by which speed its loss is scaled, if any.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Severity {
+    /// Every contact loses 1, whenever it comes and however fast: p_coll^i is CVaR_α of the
+    /// collision indicator, the paper's "chance of collision" (Eq. 5).
+    Indicator,
     /// How fast the two close (a fast walker from behind counts: the paper's "rear-end
     /// panic").
     Closing,
@@ -138,6 +151,11 @@ pub enum Prediction {
     /// which is assumed to keep its present velocity; walls are left out. On the 0.25 s grid
     /// (PySocialForce's own effective step is 0.4 s).
     SocialForce,
+    /// Predictions that react to each candidate (`react`): every person near a candidate's
+    /// path is rolled out against the robot driving that candidate, pushed by the others as
+    /// in a shared rollout of the people among themselves. People give way to a robot that
+    /// commits to passing; constant-velocity predictions never do.
+    Reactive,
 }
 
 impl Default for PnpParams {
@@ -167,6 +185,7 @@ impl Default for PnpParams {
             sensor_range: 10.0,
             goal_distance: None,
             progress_weight: 1.0,
+            arrival: true,
             goal_tolerance: 0.5,
             sigma: SigmaModel::default(),
             prediction: Prediction::ConstantVelocity,
@@ -191,6 +210,38 @@ impl PnpParams {
             ..Self::default()
         }
     }
+
+    /// Eq. 3 as written (`pnp-paper`): a collision costs its indicator, contact is touching,
+    /// and only where a candidate ends counts toward the goal. The values the paper leaves
+    /// open are the defaults'.
+    pub fn paper(peek: bool) -> Self {
+        Self {
+            severity: Severity::Indicator,
+            clearance: 0.0,
+            progress_weight: 0.0,
+            arrival: false,
+            ..Self::peeking(peek)
+        }
+    }
+
+    /// The defaults with predictions that react to each candidate (`pnp-react`).
+    pub fn reactive(peek: bool) -> Self {
+        Self {
+            prediction: Prediction::Reactive,
+            ..Self::peeking(peek)
+        }
+    }
+}
+
+/// What the safety layer would do with a candidate's first segment, worst first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Admission {
+    /// Not admitted (`SafeSet::admits` refuses it).
+    Refused,
+    /// Admitted, but the layer would still slow it or replace it (a warning, or a yield).
+    Admitted,
+    /// Let through untouched.
+    Passes,
 }
 
 /// The cost terms of one candidate.
@@ -232,6 +283,9 @@ pub struct Pnp {
     // Scratch, reused between plans.
     paths: Vec<Vec2>,
     predicted: Vec<Predicted>,
+    /// The shared rollout of reactive predictions, and one body's reaction to a candidate.
+    reaction: Reaction,
+    reacting: Predicted,
     hidden: Vec<Hidden>,
     scratch: Scratch,
     /// (goal term, candidate), in scoring order.
@@ -239,8 +293,8 @@ pub struct Pnp {
     /// Per candidate: whether the safety layer admits its first segment (all true without a
     /// predicate, or when it admits none).
     allowed: Vec<bool>,
-    /// (first segment, admitted) as asked of the predicate in this plan.
-    first_segments: Vec<((Real, Real), bool)>,
+    /// (first segment, the layer's judgement) as asked in this plan.
+    first_segments: Vec<((Real, Real), Admission)>,
     local: LocalMap,
     own: Visibility,
 }
@@ -285,6 +339,8 @@ impl Pnp {
             psi_units,
             paths: Vec::new(),
             predicted: Vec::new(),
+            reaction: Reaction::default(),
+            reacting: Predicted::default(),
             hidden: Vec::new(),
             scratch: Scratch::default(),
             order: Vec::new(),
@@ -305,36 +361,42 @@ impl Pnp {
         self.primitives.len()
     }
 
-    /// Marks the candidates whose first segment `admits` allows (the first segment is what the
-    /// robot executes until the next plan); all of them without a predicate or when it allows
-    /// none (the layer then acts on the best of them).
-    fn mark_allowed(&mut self, admits: Option<&dyn Fn(Command) -> bool>) {
+    /// Marks the candidates whose first segment (what the robot executes until the next plan)
+    /// the safety layer judges best: those it lets through untouched if any, else those it
+    /// admits if any, else all of them (the layer then acts on the best). All of them without
+    /// a judge.
+    fn mark_allowed(&mut self, judge: Option<&dyn Fn(Command) -> Admission>) {
         self.allowed.clear();
         self.allowed.resize(self.primitives.len(), true);
-        let Some(admits) = admits else {
+        let Some(judge) = judge else {
             return;
         };
         self.first_segments.clear();
-        for (c, primitive) in self.primitives.iter().enumerate() {
+        let mut best = Admission::Refused;
+        for primitive in &self.primitives {
             let Some(&first) = primitive.first() else {
                 continue;
             };
-            let known = self.first_segments.iter().find(|(seg, _)| *seg == first);
-            let ok = match known {
-                Some(&(_, ok)) => ok,
-                None => {
-                    let ok = admits(Command::Unicycle {
-                        speed: first.0,
-                        yaw_rate: first.1,
-                    });
-                    self.first_segments.push((first, ok));
-                    ok
-                }
-            };
-            self.allowed[c] = ok;
+            if !self.first_segments.iter().any(|(seg, _)| *seg == first) {
+                let a = judge(Command::Unicycle {
+                    speed: first.0 * self.params.v_max,
+                    yaw_rate: first.1 * self.params.omega_max,
+                });
+                best = best.max(a);
+                self.first_segments.push((first, a));
+            }
         }
-        if !self.allowed.contains(&true) {
-            self.allowed.fill(true);
+        if best == Admission::Refused {
+            return;
+        }
+        for (c, primitive) in self.primitives.iter().enumerate() {
+            let a = primitive.first().and_then(|first| {
+                self.first_segments
+                    .iter()
+                    .find(|(seg, _)| seg == first)
+                    .map(|&(_, a)| a)
+            });
+            self.allowed[c] = a == Some(best);
         }
     }
 
@@ -351,8 +413,8 @@ impl Pnp {
         self.plan_within(ego, neighbours, map, goal, visibility, None)
     }
 
-    /// One plan toward `goal` among the candidates whose first segment `admits` allows (the
-    /// safety layer's predicate), when it allows any; else as [`Pnp::plan`].
+    /// One plan toward `goal` among the candidates whose first segment the safety layer's
+    /// `judge` ranks best (see [`Admission`]); without a judge as [`Pnp::plan`].
     pub fn plan_within(
         &mut self,
         ego: &EgoState,
@@ -360,9 +422,9 @@ impl Pnp {
         map: &StaticMap,
         goal: Vec2,
         visibility: Option<&Visibility>,
-        admits: Option<&dyn Fn(Command) -> bool>,
+        judge: Option<&dyn Fn(Command) -> Admission>,
     ) -> PnpDecision {
-        self.mark_allowed(admits);
+        self.mark_allowed(judge);
         let p = &self.params;
         let n = (p.horizon / p.step).round().max(1.0) as usize;
         let dt = p.horizon / n as Real;
@@ -415,7 +477,7 @@ impl Pnp {
             let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
             // A candidate that arrives (within the tolerance of the goal itself) is done there:
             // it scores what it cost to get there, nothing for overshooting afterwards.
-            let arrives = if local_goal == goal {
+            let arrives = if p.arrival && local_goal == goal {
                 path.iter()
                     .position(|q| (q - goal).norm() < p.goal_tolerance)
             } else {
@@ -466,7 +528,19 @@ impl Pnp {
             // cannot win (the choice, and its bits, are the same as scoring it in full).
             let mut collision = 0.0;
             let mut beaten = false;
-            for body in &self.predicted {
+            let reactive = p.prediction == Prediction::Reactive;
+            for (i, body) in self.predicted.iter().enumerate() {
+                let body = if reactive && self.reaction.reacts(i) {
+                    // People the candidate does not come near without their reaction are
+                    // left out (a push away from the robot only widens the gap).
+                    if !might_touch(path, body, &mut self.scratch.gaps) {
+                        continue;
+                    }
+                    self.reaction.respond(i, path, body, &mut self.reacting);
+                    &self.reacting
+                } else {
+                    body
+                };
                 collision += body_risk(
                     path,
                     body,
@@ -620,15 +694,20 @@ impl Pnp {
             predict(body, dt, n, &self.params.sigma, &mut slot.track);
             slot.contact = ego.radius + body.radius + self.params.clearance;
         }
-        if self.params.prediction == Prediction::SocialForce {
-            social_force_rollout(
+        match self.params.prediction {
+            Prediction::ConstantVelocity => {}
+            Prediction::SocialForce => social_force_rollout(
                 ego,
                 neighbours,
                 n,
                 dt,
                 &self.params.sigma,
                 &mut self.predicted,
-            );
+            ),
+            Prediction::Reactive => {
+                self.reaction
+                    .prepare(neighbours, n, dt, &self.params.sigma, &mut self.predicted)
+            }
         }
         let largest = self.offsets.iter().map(|o| o.norm()).fold(0.0, Real::max);
         for slot in &mut self.predicted {
@@ -646,6 +725,7 @@ impl Pnp {
 
 mod hidden;
 mod predict;
+mod react;
 mod risk;
 #[cfg(test)]
 mod tests;

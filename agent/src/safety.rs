@@ -607,6 +607,12 @@ impl SafeSet<'_> {
         self.layer.safe(command, self.map, p.reaction_time, true)
     }
 
+    /// Whether the layer lets `command` through untouched: admitted, with no warning and no
+    /// yield. Planners that score their own candidates prefer these.
+    pub fn passes(&self, command: Command) -> bool {
+        self.guard(command).zone == Zone::Clear
+    }
+
     /// What the robot may execute instead of `command`.
     pub fn guard(&self, command: Command) -> Guarded {
         let l = self.layer;

@@ -85,6 +85,7 @@ fn hallway_smoke_rows_are_the_committed_rows() {
         lengths: vec![25.0],
         width_m: 4.0,
         speeds: vec![1.0, 2.5],
+        first_seed: 1,
         seeds: 2,
     };
     rows_are_committed("hallway", &to_csv(study.execute(&|| {})), 2 * 2 * 2);

@@ -4,7 +4,7 @@
 #![cfg(feature = "studies")]
 
 use coordinator::study::csv_fields::to_csv;
-use coordinator::study::hallway::{HallwayStudy, summarize, write_outputs};
+use coordinator::study::hallway::{HallwayStudy, median_time, summarize, write_outputs};
 use world_sim::scenario::Scenario;
 
 fn study() -> HallwayStudy {
@@ -20,6 +20,7 @@ fn study() -> HallwayStudy {
         lengths: vec![12.0],
         width_m: 4.0,
         speeds: vec![0.5, 1.5],
+        first_seed: 1,
         seeds: 2,
     }
 }
@@ -50,6 +51,9 @@ fn hallway_smoke_is_complete_and_thread_count_independent() {
     assert_eq!(summary, summarize(&study, &rows));
     assert_eq!(summary.cells.len(), 2 * 2);
     assert!(summary.cells.iter().all(|c| c.runs == 2));
+    // One row per (planner, length) over both speeds.
+    assert_eq!(summary.lengths.len(), 2);
+    assert!(summary.lengths.iter().all(|l| l.runs == 4));
     for file in [
         "runs.csv",
         "summary.json",
@@ -102,4 +106,16 @@ fn laned_smoke_sweeps_c3_and_summarises_the_average_speed() {
         [1.0, 2.0, 3.0, 4.0, 5.0]
     );
     assert_eq!(five_numbers(&[1.0, 2.0]), [1.0, 1.25, 1.5, 1.75, 2.0]);
+}
+
+#[test]
+fn a_run_that_never_arrives_counts_as_slower_than_every_arrival() {
+    assert_eq!(median_time(&[Some(3.0), None, Some(1.0)]), Some(3.0));
+    assert_eq!(
+        median_time(&[Some(3.0), Some(1.0), Some(2.0), None]),
+        Some(2.5)
+    );
+    // Half or more never arrive: no median time.
+    assert_eq!(median_time(&[Some(3.0), None]), None);
+    assert_eq!(median_time(&[]), None);
 }

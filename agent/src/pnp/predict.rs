@@ -78,6 +78,19 @@ pub(super) fn social_force_rollout(
     }
 }
 
+/// Whether any of body's samples may come within contact of `path`: no sample comes closer
+/// than the mean minus the largest offset, checked first by boxes, then along the tracks
+/// (whose gap per grid step is left in `gaps`).
+pub(super) fn might_touch(path: &[Vec2], body: &Predicted, gaps: &mut Vec<Real>) -> bool {
+    let (lo, hi) = bounds(path);
+    let (rlo, rhi) = body.reach;
+    if hi.x < rlo.x || lo.x > rhi.x || hi.y < rlo.y || lo.y > rhi.y {
+        return false;
+    }
+    let closest = step_gaps(path, |k| body.track.positions[k], gaps);
+    closest <= body.contact + body.spread
+}
+
 /// p_coll^i: CVaR_α of the collision loss over body i's prediction samples, for one path.
 pub(super) fn body_risk(
     path: &[Vec2],
@@ -88,15 +101,7 @@ pub(super) fn body_risk(
     scratch: &mut Scratch,
 ) -> Real {
     let track = &body.track;
-    // No sample can come closer than the mean minus the largest offset: first by boxes, then
-    // along the tracks.
-    let (lo, hi) = bounds(path);
-    let (rlo, rhi) = body.reach;
-    if hi.x < rlo.x || lo.x > rhi.x || hi.y < rlo.y || lo.y > rhi.y {
-        return 0.0;
-    }
-    let closest = step_gaps(path, |k| track.positions[k], &mut scratch.gaps);
-    if closest > body.contact + body.spread {
+    if !might_touch(path, body, &mut scratch.gaps) {
         return 0.0;
     }
     let n = path.len() - 1;

@@ -69,10 +69,12 @@ fn closing(d: Vec2, e: Vec2) -> Real {
 /// velocity prediction does not give way), every candidate scores alike and progress decides,
 /// so the robot drove into people it could have waited for. Closing speed tells "walked into
 /// while standing" from "drove into", and still counts a fast walker from behind (the paper's
-/// "rear-end panic").
+/// "rear-end panic"). [`Severity::Indicator`] scores every contact 1 (the paper's
+/// "chance of collision").
 pub(super) fn loss(contact: Option<Contact>, n: usize, scoring: Scoring) -> Real {
     contact.map_or(0.0, |c| {
         let speed = match scoring.severity {
+            Severity::Indicator => return 1.0,
             Severity::Closing => c.closing,
             Severity::Driving => c.driving,
         };

@@ -259,3 +259,148 @@ fn social_force_predictions_give_way_to_the_robot_and_constant_velocity_ones_do_
     let sf = closest(Prediction::SocialForce);
     assert!(sf > 0.3, "{sf}");
 }
+
+#[test]
+fn reactive_predictions_answer_each_candidate() {
+    // A person walking head-on at the robot along its line, 5 m away.
+    let e = ego(vec2(0.0, 0.0), 0.0, 2.0);
+    let walker = [person(1, vec2(5.0, 0.05), vec2(-1.0, 0.0))];
+    let mut pnp = Pnp::new(PnpParams {
+        v_max: 3.0,
+        a_max: 2.0,
+        ..PnpParams::reactive(true)
+    });
+    pnp.plan(&e, &walker, &StaticMap::empty(), vec2(50.0, 0.0), None);
+    let n = 12;
+    // The shared rollout, without the robot: a lone person walks straight on.
+    let base = pnp.predicted[0].clone();
+    assert!(
+        base.track
+            .positions
+            .iter()
+            .all(|p| (p.y - 0.05).abs() < 1e-12)
+    );
+    assert!((base.track.positions[n].x - 2.0).abs() < 1e-9);
+    let closest = |track: &[Vec2], path: &[Vec2]| {
+        track
+            .iter()
+            .zip(path)
+            .map(|(a, b)| (a - b).norm())
+            .fold(Real::INFINITY, Real::min)
+    };
+    // Against each candidate, the person steps aside from where that candidate puts the robot:
+    // for the candidate driving straight at them at top speed they keep farther from the
+    // robot than their track without it, and farther than from a robot that stops.
+    let straight = pnp
+        .primitives
+        .iter()
+        .position(|c| c == &vec![(1.0, 0.0), (1.0, 0.0)])
+        .expect("the straight candidate");
+    let stop = pnp
+        .primitives
+        .iter()
+        .position(|c| c == &vec![(0.0, 0.0), (0.0, 0.0)])
+        .expect("the stopping candidate");
+    let path_of = |c: usize| pnp.paths[c * (n + 1)..(c + 1) * (n + 1)].to_vec();
+    let mut reacting = Predicted::default();
+    let mut sideways = |c: usize| {
+        let path = path_of(c);
+        pnp.reaction.respond(0, &path, &base, &mut reacting);
+        assert_eq!(reacting.track.positions.len(), n + 1);
+        assert_eq!(reacting.track.sigma, base.track.sigma);
+        let gap = closest(&reacting.track.positions, &path);
+        assert!(gap > closest(&base.track.positions, &path), "candidate {c}");
+        reacting.track.positions[n].y
+    };
+    let (y_straight, y_stop) = (sideways(straight), sideways(stop));
+    assert!(y_straight > 0.05 && y_stop > 0.05, "{y_straight} {y_stop}");
+    assert_ne!(y_straight, y_stop);
+    // A robot among the neighbours does not react.
+    let robot = Neighbour::new(2, vec2(4.0, -1.0), vec2(-1.0, 0.0), 0.3, AgentKind::Robot);
+    pnp.plan(
+        &e,
+        &[walker[0].clone(), robot],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+    );
+    assert!(pnp.reaction.reacts(0) && !pnp.reaction.reacts(1));
+}
+
+#[test]
+fn the_papers_variant_scores_any_contact_alike() {
+    let p = PnpParams::paper(true);
+    assert_eq!(
+        (p.severity, p.clearance, p.progress_weight, p.arrival),
+        (Severity::Indicator, 0.0, 0.0, false)
+    );
+    let other: Vec<Vec2> = (0..=12).map(|_| vec2(2.0, 0.0)).collect();
+    let path =
+        |v: Real| -> Vec<Vec2> { (0..=12).map(|k| vec2(v * 0.25 * k as Real, 0.0)).collect() };
+    let scoring = Scoring {
+        reference: 4.6 * 0.25,
+        severity: Severity::Indicator,
+    };
+    let fast = first_contact(&path(3.0), 0.6, |k| other[k]);
+    let slow = first_contact(&path(1.0), 0.6, |k| other[k]);
+    assert_eq!(loss(fast, 12, scoring), 1.0);
+    assert_eq!(loss(slow, 12, scoring), 1.0);
+    assert_eq!(loss(None, 12, scoring), 0.0);
+}
+
+#[test]
+fn the_layer_is_asked_about_the_speeds_the_robot_would_drive() {
+    // A judge that lets through 1 m/s at most, refuses above 2 m/s: a 3 m/s robot with
+    // nothing around it drives the fastest speed let through, 1 m/s.
+    let judge = |c: Command| match c {
+        Command::Unicycle { speed, .. } if speed <= 1.0 + 1e-9 => Admission::Passes,
+        Command::Unicycle { speed, .. } if speed <= 2.0 + 1e-9 => Admission::Admitted,
+        _ => Admission::Refused,
+    };
+    let e = ego(vec2(0.0, 0.0), 0.0, 1.0);
+    let d = fast(true).plan_within(
+        &e,
+        &[],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+        Some(&judge),
+    );
+    assert_eq!(
+        d.command,
+        Command::Unicycle {
+            speed: 1.0,
+            yaw_rate: 0.0
+        }
+    );
+    // Nothing passes untouched: the fastest admitted, 2 m/s.
+    let admitted_only = |c: Command| match judge(c) {
+        Admission::Passes => Admission::Admitted,
+        a => a,
+    };
+    let d = fast(true).plan_within(
+        &e,
+        &[],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+        Some(&admitted_only),
+    );
+    assert!(
+        matches!(d.command, Command::Unicycle { speed, .. } if speed == 2.0),
+        "{d:?}"
+    );
+    // Nothing admitted: the layer acts on the best of all of them.
+    let d = fast(true).plan_within(
+        &e,
+        &[],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+        Some(&|_| Admission::Refused),
+    );
+    assert!(
+        matches!(d.command, Command::Unicycle { speed, .. } if speed == 3.0),
+        "{d:?}"
+    );
+}

@@ -46,7 +46,10 @@ pub struct HallwayStudy {
     pub width_m: f64,
     /// People's walking speeds (m/s), one per trial.
     pub speeds: Vec<f64>,
-    /// Seeds 1..=seeds for every (planner, length, speed).
+    /// The first seed: runs take seeds `first_seed..first_seed + seeds` for every (planner,
+    /// length, speed); 1 for the tuning seeds, 101 for the held-out ones.
+    pub first_seed: u64,
+    /// Seeds per (planner, length, speed).
     pub seeds: u64,
 }
 
@@ -86,7 +89,7 @@ impl HallwayStudy {
         for &p in &self.planners {
             for &l in &self.lengths {
                 for &v in &self.speeds {
-                    for seed in 1..=self.seeds {
+                    for seed in self.first_seed..self.first_seed + self.seeds {
                         out.push((p, l, v, seed));
                     }
                 }
@@ -160,13 +163,93 @@ pub struct HallwayCell {
     pub person_caused_contacts: u64,
 }
 
-/// `summary.json`: every cell, in report order.
+/// One (planner, length) over every human speed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HallwayLength {
+    /// Planner name.
+    pub planner: String,
+    /// Hallway length (m).
+    pub length_m: f64,
+    /// Runs.
+    pub runs: usize,
+    /// Share of runs that reached the end.
+    pub reached: f64,
+    /// Median time to goal over every run, a run that did not reach the end counting as
+    /// never (s; null when half the runs or more did not).
+    pub median_time_to_goal_s: Option<f64>,
+    /// Mean time to goal over the runs that reached it (s).
+    pub mean_time_to_goal_s: Option<f64>,
+    /// Mean path changes per run.
+    pub path_changes: f64,
+    /// Mean personal-space entries per run.
+    pub personal_space_entries: f64,
+    /// Robot-caused contacts, summed.
+    pub robot_caused_contacts: u64,
+    /// Person-caused contacts, summed.
+    pub person_caused_contacts: u64,
+}
+
+/// `summary.json`: every cell, in report order, and every (planner, length).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct HallwaySummary {
+    /// The first seed.
+    pub first_seed: u64,
     /// Seeds per cell.
     pub seeds: u64,
     /// The cells.
     pub cells: Vec<HallwayCell>,
+    /// Per planner and length, over every human speed.
+    pub lengths: Vec<HallwayLength>,
+}
+
+/// The median of `times`, `None` (never) counting as longer than any time; `None` when half
+/// of them or more are never.
+pub fn median_time(times: &[Option<f64>]) -> Option<f64> {
+    let mut t: Vec<f64> = times.iter().map(|t| t.unwrap_or(f64::INFINITY)).collect();
+    if t.is_empty() {
+        return None;
+    }
+    t.sort_by(f64::total_cmp);
+    let n = t.len();
+    let m = if n % 2 == 1 {
+        t[n / 2]
+    } else {
+        (t[n / 2 - 1] + t[n / 2]) / 2.0
+    };
+    m.is_finite().then_some(m)
+}
+
+/// Per planner and length, over every human speed.
+pub fn per_length(study: &HallwayStudy, rows: &[HallwayRow]) -> Vec<HallwayLength> {
+    let mut out = Vec::new();
+    for p in &study.planners {
+        let name = p.to_string();
+        for &l in &study.lengths {
+            let mine: Vec<&HallwayRow> = rows
+                .iter()
+                .filter(|r| r.planner == name && r.length_m == l)
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let n = mine.len();
+            let times: Vec<Option<f64>> = mine.iter().map(|r| r.time_to_goal_s).collect();
+            out.push(HallwayLength {
+                planner: name.clone(),
+                length_m: l,
+                runs: n,
+                reached: mine.iter().filter(|r| r.reached).count() as f64 / n as f64,
+                median_time_to_goal_s: median_time(&times),
+                mean_time_to_goal_s: mean(times.iter().flatten().copied()),
+                path_changes: mean(mine.iter().map(|r| r.path_changes as f64)).unwrap_or(0.0),
+                personal_space_entries: mean(mine.iter().map(|r| r.personal_space_entries as f64))
+                    .unwrap_or(0.0),
+                robot_caused_contacts: mine.iter().map(|r| r.robot_caused_contacts).sum(),
+                person_caused_contacts: mine.iter().map(|r| r.person_caused_contacts).sum(),
+            });
+        }
+    }
+    out
 }
 
 fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
@@ -207,8 +290,10 @@ pub fn summarize(study: &HallwayStudy, rows: &[HallwayRow]) -> HallwaySummary {
         }
     }
     HallwaySummary {
+        first_seed: study.first_seed,
         seeds: study.seeds,
         cells,
+        lengths: per_length(study, rows),
     }
 }
 

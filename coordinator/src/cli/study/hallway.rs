@@ -34,9 +34,13 @@ pub struct HallwayArgs {
         value_parser = walking_speed
     )]
     speeds: Vec<f64>,
-    /// Seeds per (planner, length, speed): 1..=N, the same for every planner.
+    /// Seeds per (planner, length, speed), the same for every planner.
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
+    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
+    /// seeds held out from the tuning seeds 1–100).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    first_seed: u64,
     /// The robot's top speed (m/s; the paper's: 3).
     #[arg(long, default_value_t = 3.0, value_parser = positive)]
     robot_speed: f64,
@@ -61,8 +65,12 @@ pub(super) fn run(args: HallwayArgs) -> Result<()> {
         lengths: args.lengths,
         width_m: args.width,
         speeds: args.speeds,
+        first_seed: args.first_seed,
         seeds: args.seeds,
     };
+    if args.first_seed.checked_add(args.seeds).is_none() {
+        anyhow::bail!("--first-seed plus --seeds overflows");
+    }
     // Every run's scenario must be valid before hours of work start.
     for &l in &study.lengths {
         for &v in &study.speeds {
@@ -84,35 +92,24 @@ pub(super) fn run(args: HallwayArgs) -> Result<()> {
         args.out.display(),
     );
     println!(
-        "| planner | length (m) | runs | reached | time to goal (s) | path changes | personal-space entries | robot-caused |"
+        "| planner | length (m) | runs | reached | median time to goal (s) | mean time, reached (s) | path changes | personal-space entries | robot-caused | person-caused |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
-    let planners: Vec<String> = study.planners.iter().map(|p| p.to_string()).collect();
-    for p in &planners {
-        for &l in &study.lengths {
-            let cells: Vec<_> = summary
-                .cells
-                .iter()
-                .filter(|c| &c.planner == p && c.length_m == l)
-                .collect();
-            let runs: usize = cells.iter().map(|c| c.runs).sum();
-            let w = |f: &dyn Fn(&coordinator::study::hallway::HallwayCell) -> f64| {
-                cells.iter().map(|c| f(c) * c.runs as f64).sum::<f64>() / runs.max(1) as f64
-            };
-            let timed: Vec<f64> = cells.iter().filter_map(|c| c.time_to_goal_s).collect();
-            println!(
-                "| {p} | {l} | {runs} | {:.0}% | {} | {:.2} | {:.2} | {} |",
-                100.0 * w(&|c| c.reached),
-                if timed.is_empty() {
-                    "–".to_string()
-                } else {
-                    format!("{:.1}", timed.iter().sum::<f64>() / timed.len() as f64)
-                },
-                w(&|c| c.path_changes),
-                w(&|c| c.personal_space_entries),
-                cells.iter().map(|c| c.robot_caused_contacts).sum::<u64>(),
-            );
-        }
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let time = |t: Option<f64>| t.map_or("–".to_string(), |t| format!("{t:.1}"));
+    for l in &summary.lengths {
+        println!(
+            "| {} | {} | {} | {:.0}% | {} | {} | {:.2} | {:.2} | {} | {} |",
+            l.planner,
+            l.length_m,
+            l.runs,
+            100.0 * l.reached,
+            time(l.median_time_to_goal_s),
+            time(l.mean_time_to_goal_s),
+            l.path_changes,
+            l.personal_space_entries,
+            l.robot_caused_contacts,
+            l.person_caused_contacts,
+        );
     }
     Ok(())
 }
