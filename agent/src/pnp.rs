@@ -290,8 +290,8 @@ pub struct Pnp {
     scratch: Scratch,
     /// (goal term, candidate), in scoring order.
     order: Vec<(Real, usize)>,
-    /// Per candidate: whether the safety layer admits its first segment (all true without a
-    /// predicate, or when it admits none).
+    /// Per candidate: whether the safety layer's judgement of its first segment is the best
+    /// any candidate has (all true without a judge, or when it admits none).
     allowed: Vec<bool>,
     /// (first segment, the layer's judgement) as asked in this plan.
     first_segments: Vec<((Real, Real), Admission)>,
@@ -532,7 +532,7 @@ impl Pnp {
             for (i, body) in self.predicted.iter().enumerate() {
                 let body = if reactive && self.reaction.reacts(i) {
                     // People the candidate does not come near without their reaction are
-                    // left out (a push away from the robot only widens the gap).
+                    // left out: the robot's push is taken to move them away, not closer.
                     if !might_touch(path, body, &mut self.scratch.gaps) {
                         continue;
                     }
