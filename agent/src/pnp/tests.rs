@@ -358,14 +358,17 @@ fn the_layer_is_asked_about_the_speeds_the_robot_would_drive() {
         _ => Admission::Refused,
     };
     let e = ego(vec2(0.0, 0.0), 0.0, 1.0);
-    let d = fast(true).plan_within(
-        &e,
-        &[],
-        &StaticMap::empty(),
-        vec2(50.0, 0.0),
-        None,
-        Some(&judge),
-    );
+    let plan = |judge: &dyn Fn(Command) -> Admission| {
+        fast(true).plan_within(
+            &e,
+            &[],
+            &StaticMap::empty(),
+            vec2(50.0, 0.0),
+            None,
+            Some(judge),
+        )
+    };
+    let d = plan(&judge);
     assert_eq!(
         d.command,
         Command::Unicycle {
@@ -378,27 +381,13 @@ fn the_layer_is_asked_about_the_speeds_the_robot_would_drive() {
         Admission::Passes => Admission::Admitted,
         a => a,
     };
-    let d = fast(true).plan_within(
-        &e,
-        &[],
-        &StaticMap::empty(),
-        vec2(50.0, 0.0),
-        None,
-        Some(&admitted_only),
-    );
+    let d = plan(&admitted_only);
     assert!(
         matches!(d.command, Command::Unicycle { speed, .. } if speed == 2.0),
         "{d:?}"
     );
     // Nothing admitted: the layer acts on the best of all of them.
-    let d = fast(true).plan_within(
-        &e,
-        &[],
-        &StaticMap::empty(),
-        vec2(50.0, 0.0),
-        None,
-        Some(&|_| Admission::Refused),
-    );
+    let d = plan(&|_| Admission::Refused);
     assert!(
         matches!(d.command, Command::Unicycle { speed, .. } if speed == 3.0),
         "{d:?}"
