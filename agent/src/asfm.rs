@@ -89,6 +89,8 @@ pub struct AsfmParams {
     pub rollout_bodies: usize,
     /// Walls farther than this do not push the robot (m). Ours; 3·B: e⁻³ of the push at 0.
     pub wall_reach: Real,
+    /// J_t's time-to-go at the horizon's end (Eq. 16's first term).
+    pub time_to_go: TimeToGo,
 }
 
 impl Default for AsfmParams {
@@ -120,6 +122,68 @@ impl Default for AsfmParams {
             forget_after: 1.0,
             rollout_bodies: 10,
             wall_reach: 6.0,
+            time_to_go: TimeToGo::Paper,
+        }
+    }
+}
+
+/// J_t's time-to-go at the horizon's end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeToGo {
+    /// Eq. 16: |‖g − r‖ / (V + ε)|, V the speed toward the goal (Eq. 17).
+    Paper,
+    /// ‖g − r‖ / v^max: the time left at top speed. Smooth and bounded, and it falls only
+    /// as the robot gets nearer; Eq. 16's falls as well when the robot drives away fast
+    /// (V < −ε) and has a pole at V = −ε.
+    AtTopSpeed,
+}
+
+/// The named variants of the planner (agent/README.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum AsfmVariant {
+    /// `asfm`: the paper's equations and parameters ([`AsfmParams::default`]).
+    Paper,
+    /// `asfm-q`: the paper's, with [`ASFM_Q_PROCESS_NOISE`] added to the filter's P.
+    ProcessNoise,
+    /// `asfm-crowd`: made to work among many people ([`AsfmParams::crowd`]).
+    Crowd,
+}
+
+impl AsfmVariant {
+    /// The variant's parameters.
+    pub fn params(self) -> AsfmParams {
+        match self {
+            Self::Paper => AsfmParams::default(),
+            Self::ProcessNoise => AsfmParams {
+                process_noise: ASFM_Q_PROCESS_NOISE,
+                ..AsfmParams::default()
+            },
+            Self::Crowd => AsfmParams::crowd(),
+        }
+    }
+}
+
+impl AsfmParams {
+    /// `asfm-crowd`: the paper's model and objective with the lengths of a crowd. The paper
+    /// has one obstacle; summed over a crowd, its repulsion (A_r = 20 reaching B = 2 m) and
+    /// d_min = 1 m between surfaces leave no way through (open space: 25 % success at 0.1
+    /// people/m², none from 0.2). Each change, with its reason:
+    /// - `range` B = 0.5 m: a person 1 m away pushes e⁻² of the push at contact (e^-0.5
+    ///   with the paper's B), so only the people next to the robot shape its path;
+    /// - `d_min` = 0.3 m between surfaces: a person's personal space, where the paper's 1 m
+    ///   is more than the gaps of a crowd at 0.2 people/m²;
+    /// - `wall_reach` = 3·B as in the paper;
+    /// - J_t's time-to-go [`TimeToGo::AtTopSpeed`]: Eq. 16's also falls when the robot
+    ///   drives away from its goal fast (V < −ε), and has a pole at V = −ε between; with one
+    ///   obstacle the optimum never goes there, among many people it can.
+    pub fn crowd() -> Self {
+        let range = 0.5;
+        Self {
+            range,
+            d_min: 0.3,
+            wall_reach: 3.0 * range,
+            time_to_go: TimeToGo::AtTopSpeed,
+            ..Self::default()
         }
     }
 }
@@ -414,6 +478,7 @@ impl Asfm {
         };
         let solution = optimise(&self.scene, &start, p);
         self.sequence.clone_from(&solution.desired);
+
         self.path.clone_from(&solution.path);
         self.last = Some(solution);
         self.since_update = Some(0);

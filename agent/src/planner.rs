@@ -4,10 +4,10 @@
 //! goal. Planners are named as on the command line: `dwa`, `orca`, `orca-nr` (ORCA taking all of
 //! the avoidance of people), `sf`, `foigp` (GP mixtures),
 //! `foigp-1` (one GP per person), `igp-diag`, `igp-lin`, `mc`, `pnp`, `pnp-nopeek` (and the variants `pnp-paper`, `pnp-react`, each with a
-//! `-nopeek`), `asfm`, `asfm-q`, each optionally behind `pgp+` (the PGP
+//! `-nopeek`), `asfm`, `asfm-q`, `asfm-crowd`, each optionally behind `pgp+` (the PGP
 //! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
-use crate::asfm::{Asfm, AsfmParams};
+use crate::asfm::{Asfm, AsfmParams, AsfmVariant};
 use crate::dwa::{Dwa, DwaParams};
 use crate::igp::{IgpParams, IgpPlanner, IgpVariant};
 use crate::map::StaticMap;
@@ -125,12 +125,8 @@ pub enum LocalKind {
         peek: bool,
     },
     /// Anticipatory Social Force (the warehouse paper's planner): Â_o estimated per person,
-    /// the desired velocity optimised over a Social Force rollout; `asfm` with the Kalman
-    /// filter's Eq. 9 as written, `asfm-q` with process noise added to P.
-    Asfm {
-        /// Whether P grows by [`crate::asfm::ASFM_Q_PROCESS_NOISE`] after each update.
-        process_noise: bool,
-    },
+    /// the desired velocity optimised over a Social Force rollout.
+    Asfm(AsfmVariant),
 }
 
 /// The variants of peek-and-pass (agent/README.md).
@@ -208,7 +204,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, asfm or asfm-q, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -243,12 +239,9 @@ impl FromStr for PlannerSpec {
             "pnp-paper-nopeek" => pnp(PnpVariant::Paper, false),
             "pnp-react" => pnp(PnpVariant::Reactive, true),
             "pnp-react-nopeek" => pnp(PnpVariant::Reactive, false),
-            "asfm" | "anticipatory" => LocalKind::Asfm {
-                process_noise: false,
-            },
-            "asfm-q" => LocalKind::Asfm {
-                process_noise: true,
-            },
+            "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
+            "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
+            "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
             _ => return Err(UnknownPlanner(s.to_string())),
         };
         Ok(Self { pgp, local })
@@ -275,12 +268,9 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Reactive, true) => "pnp-react",
                 (PnpVariant::Reactive, false) => "pnp-react-nopeek",
             },
-            LocalKind::Asfm {
-                process_noise: false,
-            } => "asfm",
-            LocalKind::Asfm {
-                process_noise: true,
-            } => "asfm-q",
+            LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
+            LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
+            LocalKind::Asfm(AsfmVariant::Crowd) => "asfm-crowd",
         };
         if self.pgp {
             write!(f, "pgp+{local}")
@@ -599,19 +589,10 @@ impl PlannerStack {
                 let v_max = max_speed.unwrap_or(d.v_max);
                 Box::new(Pnp::new(PnpParams { v_max, ..d }))
             }
-            LocalKind::Asfm { process_noise } => {
-                let d = AsfmParams::default();
+            LocalKind::Asfm(variant) => {
+                let d = variant.params();
                 let v_max = max_speed.unwrap_or(d.v_max);
-                let process_noise = if process_noise {
-                    crate::asfm::ASFM_Q_PROCESS_NOISE
-                } else {
-                    d.process_noise
-                };
-                Box::new(Asfm::new(AsfmParams {
-                    v_max,
-                    process_noise,
-                    ..d
-                }))
+                Box::new(Asfm::new(AsfmParams { v_max, ..d }))
             }
         };
         let pgp = spec.pgp.then(|| {
@@ -743,6 +724,7 @@ mod tests {
             "pnp-react-nopeek",
             "asfm",
             "asfm-q",
+            "asfm-crowd",
             "pgp+asfm",
         ] {
             let spec: PlannerSpec = name.parse().expect("known");

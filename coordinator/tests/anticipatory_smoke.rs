@@ -91,7 +91,7 @@ fn assuming_an_obstacle_avoids_when_it_does_not_breaks_d_min() {
 
 #[test]
 fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
-    use coordinator::study::estimates::{recorded, simulated, summarize};
+    use coordinator::study::estimates::{SimCrowd, mixed_auc, recorded, simulated, summarize};
     use world_sim::dataset::Recording;
     use world_sim::playback::{PlaybackOptions, map_of, median_speed};
     let dir = format!(
@@ -105,11 +105,37 @@ fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
     let params = AsfmParams::default();
     let mut rows = recorded(&recording, &map, &options, &params, Some(2), &|| {});
     let base = world_sim::scenario::Scenario::builtin("open-space").expect("built in");
-    rows.extend(simulated(&base, &params, 0.1, 1, true, &|| {}));
+    rows.extend(simulated(
+        &base,
+        &params,
+        0.1,
+        1..=1,
+        SimCrowd::Reacting,
+        &|| {},
+    ));
+    // The paper's planner keeps too far from people for 3 s near it; `asfm-crowd` passes.
+    let crowd = AsfmParams::crowd();
+    let mixed = simulated(&base, &crowd, 0.3, 1..=2, SimCrowd::Mixed(0.5), &|| {});
+    assert!(
+        mixed_auc(&mixed).is_some_and(|a| (0.0..=1.0).contains(&a)),
+        "both kinds near the robot for 3 s: {mixed:?}"
+    );
+    rows.extend(mixed);
     let summary = summarize(&rows);
     let sources: Vec<&str> = summary.iter().map(|s| s.source.as_str()).collect();
-    assert_eq!(sources, ["seq_eth", "sim-reacting"]);
+    assert_eq!(sources[..2], ["seq_eth", "sim-reacting"]);
+    assert!(sources.contains(&"sim-mixed-reacting") && sources.contains(&"sim-mixed-ignoring"));
     assert!(summary.iter().all(|s| s.people > 0), "{summary:?}");
     // Estimates are posterior means over the samples in [−40, 40].
     assert!(rows.iter().all(|r| r.estimate.abs() <= 40.0), "{rows:?}");
+}
+
+#[test]
+fn the_auc_is_the_chance_a_reacting_person_scores_above_an_ignoring_one() {
+    use coordinator::study::estimates::auc;
+    assert_eq!(auc(&[3.0, 4.0], &[1.0, 2.0]), Some(1.0));
+    assert_eq!(auc(&[1.0, 2.0], &[3.0, 4.0]), Some(0.0));
+    // 3 beats 1 and 2, ties 3 (half), 1 ties 1 (half) and loses to 2 and 3: (2.5 + 0.5) / 6.
+    assert_eq!(auc(&[3.0, 1.0], &[1.0, 2.0, 3.0]), Some(0.5));
+    assert_eq!(auc(&[], &[1.0]), None);
 }

@@ -185,6 +185,11 @@ pub struct Humans {
     pub radius_m: Real,
     /// Whether people treat robots as other pedestrians (Social Force), or ignore them.
     pub react_to_robots: bool,
+    /// With `react_to_robots`: the share of people who react (the others ignore robots), each
+    /// person drawn from the seed's own stream. Default 1: everyone reacts. A crowd of both
+    /// kinds is what `asfm`'s estimate of who avoids the robot is checked on.
+    #[serde(default = "everyone")]
+    pub react_share: Real,
     /// People farther apart than this (m) do not interact; absent: everyone interacts with
     /// everyone, as in PySocialForce (O(N²), fine up to a few hundred people).
     #[serde(default)]
@@ -235,6 +240,10 @@ impl std::str::FromStr for WallModel {
             .find(|m| m.name() == name)
             .ok_or_else(|| format!("unknown wall model {name:?} (points or field)"))
     }
+}
+
+fn everyone() -> Real {
+    1.0
 }
 
 fn default_wall_field_spacing() -> Real {
@@ -538,6 +547,9 @@ impl Scenario {
         }
         if !positive(h.radius_m) || h.radius_m > 1.0 {
             return bad("humans.radius_m", "must be in (0, 1] m");
+        }
+        if !(0.0..=1.0).contains(&h.react_share) {
+            return bad("humans.react_share", "must be in [0, 1]");
         }
         if h.interaction_range_m.is_some_and(|r| !positive(r)) {
             return bad("humans.interaction_range_m", "must be positive");

@@ -22,6 +22,7 @@ const SPAWN_STREAM: u64 = 1;
 const GOAL_STREAM: u64 = 2;
 const NOISE_STREAM: u64 = 3;
 const LANE_STREAM: u64 = 4;
+const REACT_STREAM: u64 = 5;
 
 /// Group members keep goals within this radius of the group's goal (m).
 const GROUP_SPREAD_M: Real = 0.6;
@@ -45,6 +46,20 @@ pub struct Humans {
     pub radius: Real,
     /// Whether robots push on people.
     pub react_to_robots: bool,
+}
+
+impl Humans {
+    /// Whether person `i` steps aside for robots: people react when the world's people do,
+    /// unless `humans.react_share` left them out.
+    pub fn reacts(&self, i: usize) -> bool {
+        self.react_to_robots
+            && !self
+                .crowd
+                .ignores_externals
+                .get(i)
+                .copied()
+                .unwrap_or(false)
+    }
 }
 
 /// A world: map, people, robots, time.

@@ -5,8 +5,8 @@
 //! differences in the tests): forward differences cost 2·H partial rollouts. (A backtracking Armijo search needs half the rollouts, but in the paper's experiment
 //! its solutions reach the goal in 61–77 % of runs instead of 93–99 %: measured in session 14.)
 
-use super::AsfmParams;
 use super::model::{attraction, desired_toward, repulsion, step};
+use super::{AsfmParams, TimeToGo};
 use crate::fastmath::exp;
 use crate::math::{Real, Vec2, clamp_norm, closest_on_segment, vec2};
 use nalgebra::Matrix2;
@@ -262,11 +262,17 @@ impl<'a> Objective<'a> {
         }
     }
 
-    /// J_t's first term: |‖g − r‖ / (V + ε)| at the horizon's end.
+    /// J_t's first term at the horizon's end: |‖g − r‖ / (V + ε)| (the paper), or
+    /// ‖g − r‖ / v^max ([`TimeToGo::AtTopSpeed`]).
     fn time_to_go(&self, end: Vec2, v: Vec2) -> Real {
         let p = self.p;
         let g = self.scene.goal;
-        ((g - end).norm() / (toward(v, g, end, p.epsilon) + p.epsilon)).abs()
+        match p.time_to_go {
+            TimeToGo::Paper => {
+                ((g - end).norm() / (toward(v, g, end, p.epsilon) + p.epsilon)).abs()
+            }
+            TimeToGo::AtTopSpeed => (g - end).norm() / p.v_max,
+        }
     }
 
     /// J's terms for `u` and the robot's rolled-out positions (steps 0..=H).
@@ -359,7 +365,12 @@ impl Objective<'_> {
         let mut grad = vec![0.0; 2 * h];
         // J_t's first term, |F| with F = ‖g − r‖/(V + ε).
         let (end, vend) = r.robot[h];
-        let (mut lx, mut lv) = {
+        let (mut lx, mut lv) = if p.time_to_go == TimeToGo::AtTopSpeed {
+            let z = s.goal - end;
+            let m = z.norm();
+            let zhat = if m == 0.0 { vec2(0.0, 0.0) } else { z / m };
+            (-zhat / p.v_max, vec2(0.0, 0.0))
+        } else {
             let z = s.goal - end;
             let m = z.norm();
             let (dv, dz) = toward_partials(vend, s.goal, end, p.epsilon);

@@ -233,10 +233,16 @@ fn gradient_scene() -> Scene {
 
 #[test]
 fn the_adjoint_gradient_is_that_of_central_differences() {
+    // The paper's parameters and `asfm-crowd`'s (another range, d_min and time-to-go).
+    for p in [AsfmParams::default(), AsfmParams::crowd()] {
+        adjoint_matches_central_differences(&p);
+    }
+}
+
+fn adjoint_matches_central_differences(p: &AsfmParams) {
     use argmin::core::{CostFunction, Gradient};
-    let p = AsfmParams::default();
     let scene = gradient_scene();
-    let objective = optimise::Objective::new(&scene, &p);
+    let objective = optimise::Objective::new(&scene, p);
     for (case, offset) in [0.3, -0.9, 1.7].into_iter().enumerate() {
         let u: Vec<Real> = (0..2 * p.horizon)
             .map(|i| offset + 0.1 * (i % 5) as Real - 0.05 * (i % 3) as Real)
@@ -301,4 +307,28 @@ fn observations_far_apart_are_predicted_in_model_steps() {
     assert!((filtered - truth).norm() < 0.5, "{filtered:?} vs {truth:?}");
     let estimate = planner.estimates().next().expect("tracked").1;
     assert!(estimate.abs() < 2.0, "Â_o = {estimate}");
+}
+
+#[test]
+fn the_crowd_time_to_go_falls_only_as_the_robot_nears_its_goal() {
+    // The robot 5 m from its goal with nobody about, driving at `speed` toward it (> 0) or
+    // away from it (< 0), as a fraction of v^max.
+    let mut scene = gradient_scene();
+    scene.bodies.clear();
+    scene.walls.clear();
+    scene.robot = (vec2(0.0, 0.0), vec2(0.0, 0.0), 0.3);
+    scene.goal = vec2(5.0, 0.0);
+    let time = |p: &AsfmParams, speed: Real| {
+        let u = optimise::unsquash(vec2(speed * p.v_max, 0.0), p.v_max);
+        let seq: Vec<Real> = (0..p.horizon).flat_map(|_| [u.x, u.y]).collect();
+        optimise::Objective::new(&scene, p).terms(&seq).0.time
+    };
+    // Eq. 16 rates driving away fast better than driving away slowly …
+    let paper = AsfmParams::default();
+    assert!(time(&paper, -0.9) < time(&paper, -0.1));
+    // … `asfm-crowd`'s time-to-go ranks by how near the horizon's end is.
+    let crowd = AsfmParams::crowd();
+    assert!(time(&crowd, 0.9) < time(&crowd, 0.1));
+    assert!(time(&crowd, 0.1) < time(&crowd, -0.1));
+    assert!(time(&crowd, -0.1) < time(&crowd, -0.9));
 }

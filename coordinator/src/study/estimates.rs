@@ -20,27 +20,64 @@ use world_sim::dataset::Recording;
 use world_sim::episode::run_episode_with;
 use world_sim::playback::{PlaybackOptions, PlaybackRun, RunKind, runs};
 use world_sim::scenario::Scenario;
+use world_sim::world::World;
 
 /// A person's estimate counts once they have been tracked this long (s).
 pub const MIN_TRACKED_S: f64 = 2.0;
 
+/// In the mixed crowd, a person's estimate is read once they have been this long near the
+/// robot (s): the "after 3 s near the robot".
+pub const NEAR_S: f64 = 3.0;
+
+/// Near the robot: within Eq. 3's range B of it, between surfaces (m).
+pub const NEAR_GAP_M: f64 = 2.0;
+
 /// Per person id, the last Â_o after [`MIN_TRACKED_S`] of tracking.
 type Finals = BTreeMap<u64, f64>;
 
-/// `asfm` as a short-term planner that keeps each person's latest estimate.
+/// `asfm` as a short-term planner that keeps each person's latest estimate, and their
+/// estimate once they have been [`NEAR_S`] near the robot.
 #[derive(Debug)]
 struct Recorded {
     asfm: Asfm,
     finals: Arc<Mutex<Finals>>,
+    /// Per person: the time spent near the robot so far (s).
+    near: BTreeMap<u64, f64>,
+    at_near: Arc<Mutex<Finals>>,
 }
 
 impl Recorded {
-    fn record(&self) {
+    fn new(asfm: Asfm, finals: &Arc<Mutex<Finals>>, at_near: &Arc<Mutex<Finals>>) -> Self {
+        Self {
+            asfm,
+            finals: Arc::clone(finals),
+            near: BTreeMap::new(),
+            at_near: Arc::clone(at_near),
+        }
+    }
+
+    fn record(&mut self, input: &PlanningInput<'_>) {
         // A poisoned lock means another run panicked; its rows are lost anyway.
         if let Ok(mut finals) = self.finals.lock() {
             for (id, estimate, age) in self.asfm.tracked() {
                 if age >= MIN_TRACKED_S {
                     finals.insert(id, estimate);
+                }
+            }
+        }
+        let ego = input.ego;
+        for nb in input.neighbours {
+            let gap = (nb.position - ego.position).norm() - nb.radius - ego.radius;
+            if gap > NEAR_GAP_M {
+                continue;
+            }
+            let near = self.near.entry(nb.id).or_default();
+            let before = *near;
+            *near += input.dt;
+            if before < NEAR_S && *near >= NEAR_S {
+                let estimate = self.asfm.estimates().find(|(id, _)| *id == nb.id);
+                if let (Some((_, a)), Ok(mut at)) = (estimate, self.at_near.lock()) {
+                    at.insert(nb.id, a);
                 }
             }
         }
@@ -54,7 +91,7 @@ impl LocalPlanner for Recorded {
 
     fn plan(&mut self, input: &PlanningInput<'_>, target: agent::math::Vec2) -> LocalPlan {
         let plan = LocalPlanner::plan(&mut self.asfm, input, target);
-        self.record();
+        self.record(input);
         plan
     }
 }
@@ -89,14 +126,15 @@ pub fn recorded(
     all.par_iter()
         .enumerate()
         .flat_map_iter(|(i, run)| {
-            let finals = Arc::new(Mutex::new(Finals::new()));
-            let mut planner = Recorded {
-                asfm: Asfm::new(AsfmParams {
+            let finals = Arc::default();
+            let mut planner = Recorded::new(
+                Asfm::new(AsfmParams {
                     v_max: options.robot.max_speed,
                     ..params.clone()
                 }),
-                finals: Arc::clone(&finals),
-            };
+                &finals,
+                &Arc::default(),
+            );
             let robot = &options.robot;
             let mut guard = robot.guard(0.0);
             world_sim::playback::play(recording, map, run, options, &mut |input| {
@@ -119,57 +157,107 @@ pub fn recorded(
         .collect()
 }
 
-/// Each simulated person's Â_o in `asfm`'s open-space runs (seeds 1..=`seeds`) at
-/// `density`, with people reacting to robots or not; the robot with `params`.
+/// The simulated crowd of a source.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SimCrowd {
+    /// Everyone steps aside for robots (Social Force).
+    Reacting,
+    /// Nobody does.
+    Ignoring,
+    /// This share of people does, the others do not (`humans.react_share`).
+    Mixed(f64),
+}
+
+/// Each simulated person's Â_o in `asfm`'s open-space runs (`seeds`) at `density`, in
+/// `crowd`; the robot with `params`. A reacting or ignoring crowd gives each person's last
+/// Â_o after [`MIN_TRACKED_S`] of tracking (sources `sim-reacting`, `sim-ignoring`); a mixed
+/// one each person's Â_o once they have been [`NEAR_S`] near the robot, by what they are
+/// (`sim-mixed-reacting`, `sim-mixed-ignoring`).
 pub fn simulated(
     base: &Scenario,
     params: &AsfmParams,
     density: f64,
-    seeds: u64,
-    react: bool,
+    seeds: std::ops::RangeInclusive<u64>,
+    crowd: SimCrowd,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<EstimateRow> {
-    let source = if react {
-        "sim-reacting"
-    } else {
-        "sim-ignoring"
-    };
-    (1..=seeds)
+    seeds
         .into_par_iter()
         .flat_map_iter(|seed| {
             let mut scenario = base.clone();
             if let Some(open) = scenario.open_space.as_mut() {
                 open.density = density;
             }
-            scenario.humans.react_to_robots = react;
+            scenario.humans.react_to_robots = crowd != SimCrowd::Ignoring;
+            if let SimCrowd::Mixed(share) = crowd {
+                scenario.humans.react_share = share;
+            }
             scenario.seed = seed;
-            let finals = Arc::new(Mutex::new(Finals::new()));
+            let (finals, at_near) = (Arc::default(), Arc::default());
             let spec: PlannerSpec = "asfm".parse().expect("a known planner");
             let v_max = scenario.robot.max_speed;
             run_episode_with(&scenario, |_| {
-                PlannerStack::with_local(
-                    spec,
-                    Box::new(Recorded {
-                        asfm: Asfm::new(AsfmParams {
-                            v_max,
-                            ..params.clone()
-                        }),
-                        finals: Arc::clone(&finals),
-                    }),
-                )
+                let asfm = Asfm::new(AsfmParams {
+                    v_max,
+                    ..params.clone()
+                });
+                PlannerStack::with_local(spec, Box::new(Recorded::new(asfm, &finals, &at_near)))
             });
             progress();
-            let finals = finals.lock().map(|f| f.clone()).unwrap_or_default();
-            finals
-                .into_iter()
-                .map(move |(person, estimate)| EstimateRow {
+            let people = World::from_scenario(&scenario).humans;
+            let rows = match crowd {
+                SimCrowd::Mixed(_) => at_near.lock().map(|f| f.clone()).unwrap_or_default(),
+                _ => finals.lock().map(|f| f.clone()).unwrap_or_default(),
+            };
+            rows.into_iter().map(move |(person, estimate)| {
+                let source = match crowd {
+                    SimCrowd::Reacting => "sim-reacting",
+                    SimCrowd::Ignoring => "sim-ignoring",
+                    SimCrowd::Mixed(_) if people.reacts(person as usize) => "sim-mixed-reacting",
+                    SimCrowd::Mixed(_) => "sim-mixed-ignoring",
+                };
+                EstimateRow {
                     source: source.to_string(),
                     run: seed,
                     person,
                     estimate,
-                })
+                }
+            })
         })
         .collect()
+}
+
+/// The area under the ROC curve of Â_o as a test of "reacts" (`positives`) against
+/// "ignores" (`negatives`): the chance that a random reacting person's Â_o exceeds a random
+/// ignoring person's, ties counting half (Mann–Whitney). `None` without both kinds.
+pub fn auc(positives: &[f64], negatives: &[f64]) -> Option<f64> {
+    if positives.is_empty() || negatives.is_empty() {
+        return None;
+    }
+    let mut wins = 0.0;
+    for &p in positives {
+        for &n in negatives {
+            wins += if p > n {
+                1.0
+            } else if p == n {
+                0.5
+            } else {
+                0.0
+            };
+        }
+    }
+    Some(wins / (positives.len() * negatives.len()) as f64)
+}
+
+/// The AUC of the mixed crowd's rows in `rows`, if it has both kinds.
+pub fn mixed_auc(rows: &[EstimateRow]) -> Option<f64> {
+    let of = |source: &str| -> Vec<f64> {
+        rows.iter()
+            .filter(|r| r.source == source)
+            .map(|r| r.estimate)
+            .collect()
+    };
+    auc(&of("sim-mixed-reacting"), &of("sim-mixed-ignoring"))
 }
 
 /// The spread of Â_o per source.
@@ -221,7 +309,10 @@ pub fn write_outputs(out: &Path, rows: &[EstimateRow]) -> Result<Vec<SourceSumma
     let path = out.join("estimates.csv");
     std::fs::write(&path, super::csv_fields::to_csv(rows)).map_err(StudyError::io(&path))?;
     let summary = summarize(rows);
-    write_json(&out.join("summary.json"), &summary)?;
+    write_json(
+        &out.join("summary.json"),
+        &serde_json::json!({ "sources": &summary, "mixed_auc": mixed_auc(rows) }),
+    )?;
     let boxes: Vec<(String, [f64; 5])> = summary
         .iter()
         .map(|s| (format!("{} ({})", s.source, s.people), s.quartiles))

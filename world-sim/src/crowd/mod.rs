@@ -146,6 +146,10 @@ pub struct Crowd {
     pub max_speeds: Vec<Real>,
     /// Groups of member indices.
     pub groups: Vec<Vec<usize>>,
+    /// Per agent, whether the external agents (robots) do not push on it; empty: they push
+    /// on everyone.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ignores_externals: Vec<bool>,
 }
 
 impl Crowd {
@@ -167,6 +171,7 @@ impl Crowd {
             goals,
             max_speeds,
             groups,
+            ignores_externals: Vec::new(),
         }
     }
 
@@ -227,7 +232,12 @@ impl Crowd {
         externals: &[(Vec2, Vec2)],
     ) -> Vec2 {
         let (pa, va) = (self.positions[a], self.velocities[a]);
-        for &(pb, vb) in externals {
+        let felt = if self.ignores_externals.get(a).copied().unwrap_or(false) {
+            &[][..]
+        } else {
+            externals
+        };
+        for &(pb, vb) in felt {
             if p.interaction_range
                 .is_none_or(|r| (pb - pa).norm_squared() < r * r)
             {

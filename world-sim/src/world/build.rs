@@ -206,7 +206,13 @@ impl World {
             ..SfParams::default()
         };
         let groups_len = groups.len();
-        let crowd = Crowd::new(positions, velocities, goals, groups, &sf);
+        let mut crowd = Crowd::new(positions, velocities, goals, groups, &sf);
+        if h.react_share < 1.0 {
+            let mut draw = stream(scenario.seed, REACT_STREAM);
+            crowd.ignores_externals = (0..crowd.len())
+                .map(|_| draw.random::<Real>() >= h.react_share)
+                .collect();
+        }
         // Indexed: a warehouse has tens of thousands of wall points, and a person feels only
         // those within the obstacle threshold (exact, see `Walls::indexed`).
         let mut walls = Walls::from(layout.map.sampled_points(sf.resolution).into_owned())

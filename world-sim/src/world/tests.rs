@@ -110,6 +110,66 @@ fn people_avoid_a_robot_only_when_they_react_to_robots() {
 }
 
 #[test]
+fn a_mixed_crowd_has_people_of_both_kinds_and_only_reacting_ones_keep_away() {
+    let mut s = scenario(1.0, 7);
+    s.humans.react_to_robots = true;
+    s.humans.react_share = 0.5;
+    let w = World::open_space(&s);
+    let n = w.humans.crowd.len();
+    let reacting = (0..n).filter(|&i| w.humans.reacts(i)).count();
+    assert!(
+        reacting > n / 4 && reacting < 3 * n / 4,
+        "about half react: {reacting} of {n}"
+    );
+    // The draw is the seed's: the same seed gives the same people.
+    let again = World::open_space(&s);
+    assert!((0..n).all(|i| w.humans.reacts(i) == again.humans.reacts(i)));
+    // One reacting and one ignoring person, each walking straight at a parked robot.
+    let robot = w.robots[0].state.position;
+    let closest = |who: usize| {
+        let mut w = w.clone();
+        // The others far away and walking farther.
+        for i in 0..n {
+            w.humans.crowd.positions[i] = robot + vec2(40.0 + 2.0 * i as Real, 40.0);
+            w.humans.crowd.goals[i] = robot + vec2(40.0 + 2.0 * i as Real, 400.0);
+        }
+        w.humans.crowd.positions[who] = robot + vec2(4.0, 0.02);
+        w.humans.crowd.goals[who] = robot + vec2(-4.0, 0.02);
+        w.humans.crowd.velocities[who] = vec2(-1.0, 0.0);
+        let mut d = Real::INFINITY;
+        for _ in 0..80 {
+            w.step(&[Command::STOP]);
+            d = d.min((w.humans.crowd.positions[who] - robot).norm());
+        }
+        d
+    };
+    // People who walk alone (a group would pull them back to the others).
+    let alone: Vec<usize> = w
+        .humans
+        .crowd
+        .groups
+        .iter()
+        .filter(|g| g.len() == 1)
+        .map(|g| g[0])
+        .collect();
+    let first = |reacts: bool| {
+        alone
+            .iter()
+            .copied()
+            .find(|&i| w.humans.reacts(i) == reacts)
+    };
+    let (Some(r), Some(i)) = (first(true), first(false)) else {
+        panic!("both kinds present");
+    };
+    let (react, ignore) = (closest(r), closest(i));
+    assert!(ignore < 0.1, "the ignoring person walks through ({ignore})");
+    assert!(
+        react > ignore + 0.3,
+        "the reacting person keeps away ({react} vs {ignore})"
+    );
+}
+
+#[test]
 fn hallway_has_walls_and_two_way_traffic_that_stays_inside() {
     let s = Scenario::builtin("hallway").expect("valid");
     let mut w = World::from_scenario(&s);

@@ -2,7 +2,8 @@
 
 use super::non_negative;
 use crate::cli::density;
-use agent::asfm::AsfmParams;
+use agent::asfm::{AsfmParams, AsfmVariant};
+use agent::planner::{LocalKind, PlannerSpec};
 use anyhow::{Context, Result};
 use coordinator::study::with_progress;
 use std::path::PathBuf;
@@ -27,23 +28,44 @@ pub struct AsfmEstimatesArgs {
     /// Open-space seeds per crowd (reacting to robots, and not).
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
+    /// The first open-space seed (tuning seeds are 1–100, held-out ones 101 on).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    first_seed: u64,
     /// Open-space density (people per m²).
     #[arg(long, default_value_t = 0.1, value_parser = density)]
     density: f64,
+    /// Density of the mixed crowd, where half the people react to robots and half do not
+    /// (people per m²).
+    #[arg(long, default_value_t = 0.3, value_parser = density)]
+    mixed_density: f64,
     /// Worker threads (default: all cores).
     #[arg(long)]
     jobs: Option<usize>,
-    /// Added to the Kalman filter's P after each update (m²; Eq. 9 has none: 0).
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
-    process_noise: f64,
+    /// The variant: asfm (the paper's), asfm-q or asfm-crowd.
+    #[arg(long, default_value = "asfm", value_parser = asfm_variant)]
+    planner: AsfmVariant,
+    /// Added to the Kalman filter's P after each update (m²), instead of the variant's.
+    #[arg(long, value_parser = non_negative)]
+    process_noise: Option<f64>,
     /// Output folder.
     #[arg(long, default_value = "results/anticipatory/estimates")]
     out: PathBuf,
 }
 
+/// An anticipatory Social Force variant by its planner name.
+fn asfm_variant(name: &str) -> Result<AsfmVariant, String> {
+    match name.parse::<PlannerSpec>().map_err(|e| e.to_string())? {
+        PlannerSpec {
+            pgp: false,
+            local: LocalKind::Asfm(variant),
+        } => Ok(variant),
+        _ => Err(format!("{name} is not asfm, asfm-q or asfm-crowd")),
+    }
+}
+
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
-    use coordinator::study::estimates::{recorded, simulated, write_outputs};
+    use coordinator::study::estimates::{SimCrowd, mixed_auc, recorded, simulated, write_outputs};
     let recordings = args
         .datasets
         .iter()
@@ -55,11 +77,13 @@ pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
         })
         .collect::<Result<Vec<_>>>()?;
     let base = Scenario::builtin("open-space")?;
+    let variant = args.planner.params();
     let params = AsfmParams {
-        process_noise: args.process_noise,
-        ..AsfmParams::default()
+        process_noise: args.process_noise.unwrap_or(variant.process_noise),
+        ..variant
     };
-    let total = recordings.len() * args.limit + 2 * args.seeds as usize;
+    let total = recordings.len() * args.limit + 3 * args.seeds as usize;
+    let seeds = args.first_seed..=args.first_seed + args.seeds - 1;
     let started = Instant::now();
     let (rows, threads) = with_progress(args.jobs, total as u64, |progress| {
         let mut rows = Vec::new();
@@ -75,16 +99,24 @@ pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
                 progress,
             ));
         }
-        for react in [true, false] {
+        for crowd in [SimCrowd::Reacting, SimCrowd::Ignoring] {
             rows.extend(simulated(
                 &base,
                 &params,
                 args.density,
-                args.seeds,
-                react,
+                seeds.clone(),
+                crowd,
                 progress,
             ));
         }
+        rows.extend(simulated(
+            &base,
+            &params,
+            args.mixed_density,
+            seeds.clone(),
+            SimCrowd::Mixed(0.5),
+            progress,
+        ));
         rows
     })?;
     let summary = write_outputs(&args.out, &rows)?;
@@ -94,6 +126,12 @@ pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
         started.elapsed().as_secs_f64(),
         args.out.display(),
     );
+    if let Some(auc) = mixed_auc(&rows) {
+        println!(
+            "mixed crowd: AUC of Â_o after {} s near the robot, reacting against ignoring: {auc:.3}",
+            coordinator::study::estimates::NEAR_S
+        );
+    }
     println!("| source | people | Â_o: min / q1 / median / q3 / max | mean | \\|Â_o\\| < 2 |");
     println!("|---|---|---|---|---|");
     for s in &summary {
