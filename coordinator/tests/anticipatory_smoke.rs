@@ -91,7 +91,9 @@ fn assuming_an_obstacle_avoids_when_it_does_not_breaks_d_min() {
 
 #[test]
 fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
-    use coordinator::study::estimates::{SimCrowd, mixed_auc, recorded, simulated, summarize};
+    use coordinator::study::estimates::{
+        SimCrowd, mixed_auc, mixed_closest_auc, recorded, simulated, summarize,
+    };
     use world_sim::dataset::Recording;
     use world_sim::playback::{PlaybackOptions, map_of, median_speed};
     let dir = format!(
@@ -116,10 +118,14 @@ fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
     // The paper's planner keeps too far from people for 3 s near it; `asfm-crowd` passes.
     let crowd = AsfmParams::crowd();
     let mixed = simulated(&base, &crowd, 0.3, 1..=2, SimCrowd::Mixed(0.5), &|| {});
-    assert!(
-        mixed_auc(&mixed).is_some_and(|a| (0.0..=1.0).contains(&a)),
-        "both kinds near the robot for 3 s: {mixed:?}"
-    );
+    for auc in [mixed_auc(&mixed), mixed_closest_auc(&mixed)] {
+        assert!(
+            auc.is_some_and(|a| (0.0..=1.0).contains(&a)),
+            "both kinds near the robot for 3 s: {mixed:?}"
+        );
+    }
+    // Each person's closest approach is a gap between surfaces, within the sensor's range.
+    assert!(mixed.iter().all(|r| r.closest_m < 12.0), "{mixed:?}");
     rows.extend(mixed);
     let summary = summarize(&rows);
     let sources: Vec<&str> = summary.iter().map(|s| s.source.as_str()).collect();

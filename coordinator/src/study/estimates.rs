@@ -35,30 +35,65 @@ pub const NEAR_GAP_M: f64 = 2.0;
 /// Per person id, the last Â_o after [`MIN_TRACKED_S`] of tracking.
 type Finals = BTreeMap<u64, f64>;
 
-/// `asfm` as a short-term planner that keeps each person's latest estimate, and their
-/// estimate once they have been [`NEAR_S`] near the robot.
+/// What a run records per person, shared with the planner that records it.
+#[derive(Debug, Clone, Default)]
+struct Logs {
+    /// The last Â_o after [`MIN_TRACKED_S`] of tracking.
+    finals: Arc<Mutex<Finals>>,
+    /// Â_o once they had been [`NEAR_S`] near the robot.
+    at_near: Arc<Mutex<Finals>>,
+    /// The smallest gap between them and the robot (m, between surfaces).
+    closest: Arc<Mutex<Finals>>,
+}
+
+impl Logs {
+    fn take(log: &Arc<Mutex<Finals>>) -> Finals {
+        log.lock().map(|f| f.clone()).unwrap_or_default()
+    }
+
+    /// One row per person in `log`, with their closest approach.
+    fn rows(
+        &self,
+        log: &Arc<Mutex<Finals>>,
+        source: impl Fn(u64) -> String,
+        run: u64,
+    ) -> Vec<EstimateRow> {
+        let closest = Self::take(&self.closest);
+        Self::take(log)
+            .into_iter()
+            .map(|(person, estimate)| EstimateRow {
+                source: source(person),
+                run,
+                person,
+                estimate,
+                closest_m: closest.get(&person).copied().unwrap_or(f64::INFINITY),
+            })
+            .collect()
+    }
+}
+
+/// `asfm` as a short-term planner that keeps each person's latest estimate, their estimate
+/// once they have been [`NEAR_S`] near the robot, and their closest approach.
 #[derive(Debug)]
 struct Recorded {
     asfm: Asfm,
-    finals: Arc<Mutex<Finals>>,
+    logs: Logs,
     /// Per person: the time spent near the robot so far (s).
     near: BTreeMap<u64, f64>,
-    at_near: Arc<Mutex<Finals>>,
 }
 
 impl Recorded {
-    fn new(asfm: Asfm, finals: &Arc<Mutex<Finals>>, at_near: &Arc<Mutex<Finals>>) -> Self {
+    fn new(asfm: Asfm, logs: &Logs) -> Self {
         Self {
             asfm,
-            finals: Arc::clone(finals),
+            logs: logs.clone(),
             near: BTreeMap::new(),
-            at_near: Arc::clone(at_near),
         }
     }
 
     fn record(&mut self, input: &PlanningInput<'_>) {
         // A poisoned lock means another run panicked; its rows are lost anyway.
-        if let Ok(mut finals) = self.finals.lock() {
+        if let Ok(mut finals) = self.logs.finals.lock() {
             for (id, estimate, age) in self.asfm.tracked() {
                 if age >= MIN_TRACKED_S {
                     finals.insert(id, estimate);
@@ -68,6 +103,10 @@ impl Recorded {
         let ego = input.ego;
         for nb in input.neighbours {
             let gap = (nb.position - ego.position).norm() - nb.radius - ego.radius;
+            if let Ok(mut closest) = self.logs.closest.lock() {
+                let c = closest.entry(nb.id).or_insert(f64::INFINITY);
+                *c = c.min(gap);
+            }
             if gap > NEAR_GAP_M {
                 continue;
             }
@@ -76,7 +115,7 @@ impl Recorded {
             *near += input.dt;
             if before < NEAR_S && *near >= NEAR_S {
                 let estimate = self.asfm.estimates().find(|(id, _)| *id == nb.id);
-                if let (Some((_, a)), Ok(mut at)) = (estimate, self.at_near.lock()) {
+                if let (Some((_, a)), Ok(mut at)) = (estimate, self.logs.at_near.lock()) {
                     at.insert(nb.id, a);
                 }
             }
@@ -107,6 +146,8 @@ pub struct EstimateRow {
     pub person: u64,
     /// Their Â_o.
     pub estimate: f64,
+    /// The smallest gap between them and the robot over the run (m, between surfaces).
+    pub closest_m: f64,
 }
 
 /// Each recorded person's Â_o in `asfm`'s partial runs on `recording` (the first `limit`),
@@ -126,14 +167,13 @@ pub fn recorded(
     all.par_iter()
         .enumerate()
         .flat_map_iter(|(i, run)| {
-            let finals = Arc::default();
+            let logs = Logs::default();
             let mut planner = Recorded::new(
                 Asfm::new(AsfmParams {
                     v_max: options.robot.max_speed,
                     ..params.clone()
                 }),
-                &finals,
-                &Arc::default(),
+                &logs,
             );
             let robot = &options.robot;
             let mut guard = robot.guard(0.0);
@@ -144,15 +184,7 @@ pub fn recorded(
                     .map_or(planned, |g| g.check(planned, input).command)
             });
             progress();
-            let finals = finals.lock().map(|f| f.clone()).unwrap_or_default();
-            finals
-                .into_iter()
-                .map(move |(person, estimate)| EstimateRow {
-                    source: recording.name.clone(),
-                    run: i as u64,
-                    person,
-                    estimate,
-                })
+            logs.rows(&logs.finals, |_| recording.name.clone(), i as u64)
         })
         .collect()
 }
@@ -193,7 +225,7 @@ pub fn simulated(
                 scenario.humans.react_share = share;
             }
             scenario.seed = seed;
-            let (finals, at_near) = (Arc::default(), Arc::default());
+            let logs = Logs::default();
             let spec: PlannerSpec = "asfm".parse().expect("a known planner");
             let v_max = scenario.robot.max_speed;
             run_episode_with(&scenario, |_| {
@@ -201,28 +233,24 @@ pub fn simulated(
                     v_max,
                     ..params.clone()
                 });
-                PlannerStack::with_local(spec, Box::new(Recorded::new(asfm, &finals, &at_near)))
+                PlannerStack::with_local(spec, Box::new(Recorded::new(asfm, &logs)))
             });
             progress();
             let people = World::from_scenario(&scenario).humans;
-            let rows = match crowd {
-                SimCrowd::Mixed(_) => at_near.lock().map(|f| f.clone()).unwrap_or_default(),
-                _ => finals.lock().map(|f| f.clone()).unwrap_or_default(),
+            let log = match crowd {
+                SimCrowd::Mixed(_) => &logs.at_near,
+                _ => &logs.finals,
             };
-            rows.into_iter().map(move |(person, estimate)| {
-                let source = match crowd {
+            let source = |person: u64| {
+                match crowd {
                     SimCrowd::Reacting => "sim-reacting",
                     SimCrowd::Ignoring => "sim-ignoring",
                     SimCrowd::Mixed(_) if people.reacts(person as usize) => "sim-mixed-reacting",
                     SimCrowd::Mixed(_) => "sim-mixed-ignoring",
-                };
-                EstimateRow {
-                    source: source.to_string(),
-                    run: seed,
-                    person,
-                    estimate,
                 }
-            })
+                .to_string()
+            };
+            logs.rows(log, source, seed)
         })
         .collect()
 }
@@ -251,10 +279,21 @@ pub fn auc(positives: &[f64], negatives: &[f64]) -> Option<f64> {
 
 /// The AUC of the mixed crowd's rows in `rows`, if it has both kinds.
 pub fn mixed_auc(rows: &[EstimateRow]) -> Option<f64> {
+    mixed_auc_of(rows, |r| r.estimate)
+}
+
+/// The same AUC for the people's closest approach to the robot (reacting people should keep
+/// farther): how differently the two kinds behave near the robot at all, the most any
+/// estimate read from their motion could separate them by.
+pub fn mixed_closest_auc(rows: &[EstimateRow]) -> Option<f64> {
+    mixed_auc_of(rows, |r| r.closest_m)
+}
+
+fn mixed_auc_of(rows: &[EstimateRow], value: impl Fn(&EstimateRow) -> f64) -> Option<f64> {
     let of = |source: &str| -> Vec<f64> {
         rows.iter()
             .filter(|r| r.source == source)
-            .map(|r| r.estimate)
+            .map(&value)
             .collect()
     };
     auc(&of("sim-mixed-reacting"), &of("sim-mixed-ignoring"))
@@ -311,7 +350,11 @@ pub fn write_outputs(out: &Path, rows: &[EstimateRow]) -> Result<Vec<SourceSumma
     let summary = summarize(rows);
     write_json(
         &out.join("summary.json"),
-        &serde_json::json!({ "sources": &summary, "mixed_auc": mixed_auc(rows) }),
+        &serde_json::json!({
+            "sources": &summary,
+            "mixed_auc": mixed_auc(rows),
+            "mixed_closest_auc": mixed_closest_auc(rows),
+        }),
     )?;
     let boxes: Vec<(String, [f64; 5])> = summary
         .iter()

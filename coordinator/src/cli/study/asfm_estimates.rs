@@ -65,7 +65,9 @@ fn asfm_variant(name: &str) -> Result<AsfmVariant, String> {
 
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
-    use coordinator::study::estimates::{SimCrowd, mixed_auc, recorded, simulated, write_outputs};
+    use coordinator::study::estimates::{
+        SimCrowd, mixed_auc, mixed_closest_auc, recorded, simulated, write_outputs,
+    };
     let recordings = args
         .datasets
         .iter()
@@ -126,9 +128,10 @@ pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
         started.elapsed().as_secs_f64(),
         args.out.display(),
     );
-    if let Some(auc) = mixed_auc(&rows) {
+    if let (Some(auc), Some(closest)) = (mixed_auc(&rows), mixed_closest_auc(&rows)) {
         println!(
-            "mixed crowd: AUC of Â_o after {} s near the robot, reacting against ignoring: {auc:.3}",
+            "mixed crowd, reacting against ignoring: AUC of Â_o after {} s near the robot {auc:.3}; \
+             of the closest approach {closest:.3}",
             coordinator::study::estimates::NEAR_S
         );
     }
