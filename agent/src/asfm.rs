@@ -168,14 +168,14 @@ impl AsfmParams {
     /// has one obstacle; summed over a crowd, its repulsion (A_r = 20 reaching B = 2 m) and
     /// d_min = 1 m between surfaces leave no way through (open space: 25 % success at 0.1
     /// people/m², none from 0.2). Each change, with its reason:
-    /// - `range` B = 0.5 m: a person 1 m away pushes e⁻² of the push at contact (e^-0.5
-    ///   with the paper's B), so only the people next to the robot shape its path;
+    /// - `range` B = 0.5 m: a person 1 m away pushes e⁻² of the push at contact (e^−0.5 with
+    ///   the paper's B), so only the people next to the robot shape its path;
     /// - `d_min` = 0.3 m between surfaces: a person's personal space, where the paper's 1 m
     ///   is more than the gaps of a crowd at 0.2 people/m²;
     /// - `wall_reach` = 3·B as in the paper;
     /// - J_t's time-to-go [`TimeToGo::AtTopSpeed`]: Eq. 16's also falls when the robot
-    ///   drives away from its goal fast (V < −ε), and has a pole at V = −ε between; with one
-    ///   obstacle the optimum never goes there, among many people it can.
+    ///   drives away from its goal fast (V < −ε), with a pole at V = −ε; with one obstacle
+    ///   the optimum never goes there, among many people it can.
     pub fn crowd() -> Self {
         let range = 0.5;
         Self {
@@ -478,7 +478,6 @@ impl Asfm {
         };
         let solution = optimise(&self.scene, &start, p);
         self.sequence.clone_from(&solution.desired);
-
         self.path.clone_from(&solution.path);
         self.last = Some(solution);
         self.since_update = Some(0);

@@ -1,10 +1,13 @@
 //! A check of `asfm`'s estimator on real and simulated people: the Â_o it reaches for each
 //! person it tracks, (1) on recorded crowds (ETH, UCY), where people never react to the robot,
-//! so Â_o should concentrate near 0, and (2) in the simulator's open space with people who
-//! react to robots (Social Force) and, as a control, with people who do not.
+//! so Â_o should concentrate near 0, (2) in the simulator's open space with people who react
+//! to robots (Social Force) and, as a control, with people who do not, and (3) in a mixed
+//! crowd of both kinds, where Â_o should tell them apart (the area under the ROC curve).
 //!
 //! Per person, the last Â_o while they had been tracked for at least [`MIN_TRACKED_S`] (the
-//! estimate of a person just seen is the prior's 0, whatever they do).
+//! estimate of a person just seen is the prior's 0, whatever they do); in the mixed crowd, Â_o
+//! once they have been [`NEAR_S`] near the robot. Every row also has the person's closest
+//! approach to the robot.
 
 use super::laned::five_numbers;
 use super::output::{StudyError, write_json};
@@ -255,8 +258,8 @@ pub fn simulated(
         .collect()
 }
 
-/// The area under the ROC curve of Â_o as a test of "reacts" (`positives`) against
-/// "ignores" (`negatives`): the chance that a random reacting person's Â_o exceeds a random
+/// The area under the ROC curve of a score as a test of "reacts" (`positives`) against
+/// "ignores" (`negatives`): the chance that a random reacting person's score exceeds a random
 /// ignoring person's, ties counting half (Mann–Whitney). `None` without both kinds.
 pub fn auc(positives: &[f64], negatives: &[f64]) -> Option<f64> {
     if positives.is_empty() || negatives.is_empty() {
