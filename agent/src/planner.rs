@@ -7,9 +7,9 @@
 //! `-nopeek`), `asfm`, `asfm-q`, `asfm-crowd`, each optionally behind `pgp+` (the PGP
 //! paper's study uses `pgp+dwa`, `pgp+orca`, `pgp+sf`).
 
-use crate::asfm::{Asfm, AsfmParams, AsfmVariant};
+use crate::asfm::{Asfm, AsfmParams};
 use crate::dwa::{Dwa, DwaParams};
-use crate::igp::{IgpParams, IgpPlanner, IgpVariant};
+use crate::igp::{IgpParams, IgpPlanner};
 use crate::map::StaticMap;
 use crate::math::{Real, Vec2, clamp_norm};
 use crate::model::{AgentKind, Command, EgoState, Intent, Neighbour, TrajectorySample};
@@ -21,7 +21,9 @@ use crate::safety::SafeSet;
 use crate::social_force::{SfAgentParams, SocialForceAgent};
 use crate::visibility::Visibility;
 use std::fmt;
-use std::str::FromStr;
+
+mod spec;
+pub use spec::{LocalKind, PlannerSpec, PnpVariant, UnknownPlanner};
 
 /// Output of one planning step.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,186 +100,6 @@ pub fn nearest_admissible(input: &PlanningInput<'_>, command: Command) -> Comman
         .map(|&(_, c)| Command::Velocity(c))
         .find(|&c| set.admits(c))
         .unwrap_or(command)
-}
-
-/// The short-term planners.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum LocalKind {
-    /// Predictive Dynamic Window Approach.
-    Dwa,
-    /// Optimal Reciprocal Collision Avoidance.
-    Orca,
-    /// ORCA that does not count on people to avoid it (`orca-nr`): it takes the whole of the
-    /// avoidance of a person instead of RVO2's reciprocal half, and half of the avoidance of
-    /// another robot, as `orca` does. Ours, not in a paper: recorded people (and many real
-    /// ones) do not give way to a robot.
-    OrcaNonReciprocal,
-    /// Social Force agent.
-    SocialForce,
-    /// First-order interacting Gaussian processes (the foIGP paper's planners).
-    Igp(IgpVariant),
-    /// Peek-and-pass (the "Look Before You Leap" paper's hallway planner), with peeking on
-    /// (`pnp`) or off (`pnp-nopeek`: c3 high).
-    Pnp {
-        /// Which of its variants.
-        variant: PnpVariant,
-        /// Whether c3 is at the laned study's optimum (true) or high.
-        peek: bool,
-    },
-    /// Anticipatory Social Force (the warehouse paper's planner): Â_o estimated per person,
-    /// the desired velocity optimised over a Social Force rollout.
-    Asfm(AsfmVariant),
-}
-
-/// The variants of peek-and-pass (agent/README.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum PnpVariant {
-    /// Eq. 3 as written (`pnp-paper`): [`PnpParams::paper`].
-    Paper,
-    /// Constant-velocity predictions with the departures from Eq. 3 chosen on hallway seeds
-    /// 1–8 (`pnp`): [`PnpParams::peeking`].
-    Tuned,
-    /// Predictions that react to each candidate, with the same departures (`pnp-react`):
-    /// [`PnpParams::reactive`].
-    Reactive,
-}
-
-impl PnpVariant {
-    /// The variant's parameters with peeking on or off.
-    pub fn params(self, peek: bool) -> PnpParams {
-        match self {
-            PnpVariant::Paper => PnpParams::paper(peek),
-            PnpVariant::Tuned => PnpParams::peeking(peek),
-            PnpVariant::Reactive => PnpParams::reactive(peek),
-        }
-    }
-}
-
-/// Which planners a stack runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct PlannerSpec {
-    /// Whether PGP picks the short-term planner's goal.
-    pub pgp: bool,
-    /// The short-term planner.
-    pub local: LocalKind,
-}
-
-impl PlannerSpec {
-    /// The six planners of the PGP paper's study, baselines first.
-    pub const STUDY: [PlannerSpec; 6] = [
-        PlannerSpec {
-            pgp: false,
-            local: LocalKind::Dwa,
-        },
-        PlannerSpec {
-            pgp: false,
-            local: LocalKind::Orca,
-        },
-        PlannerSpec {
-            pgp: false,
-            local: LocalKind::SocialForce,
-        },
-        PlannerSpec {
-            pgp: true,
-            local: LocalKind::Dwa,
-        },
-        PlannerSpec {
-            pgp: true,
-            local: LocalKind::Orca,
-        },
-        PlannerSpec {
-            pgp: true,
-            local: LocalKind::SocialForce,
-        },
-    ];
-}
-
-impl PlannerSpec {
-    /// Whether the short-term planner keeps clear of walls and shelves. The foIGP family does
-    /// not: the foIGP paper's model has people and the robot only.
-    pub fn avoids_static_obstacles(&self) -> bool {
-        !matches!(self.local, LocalKind::Igp(_))
-    }
-}
-
-/// A planner name that is not one of ours.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, asfm, asfm-q or asfm-crowd, each \
-     optionally behind pgp+ (e.g. pgp+orca)"
-)]
-pub struct UnknownPlanner(pub String);
-
-/// Peek-and-pass's kind: `variant` with peeking on or off.
-fn pnp(variant: PnpVariant, peek: bool) -> LocalKind {
-    LocalKind::Pnp { variant, peek }
-}
-
-impl FromStr for PlannerSpec {
-    type Err = UnknownPlanner;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let lower = s.trim().to_ascii_lowercase();
-        let (pgp, local) = match lower.strip_prefix("pgp+") {
-            Some(rest) => (true, rest),
-            None => (false, lower.as_str()),
-        };
-        let local = match local {
-            "dwa" => LocalKind::Dwa,
-            "orca" => LocalKind::Orca,
-            "orca-nr" => LocalKind::OrcaNonReciprocal,
-            "sf" | "social-force" => LocalKind::SocialForce,
-            "foigp" => LocalKind::Igp(IgpVariant::Mixture),
-            "foigp-1" | "igp-full" => LocalKind::Igp(IgpVariant::Full),
-            "igp-diag" => LocalKind::Igp(IgpVariant::Diagonal),
-            "igp-lin" => LocalKind::Igp(IgpVariant::Linear),
-            "mc" | "mc-1e5" => LocalKind::Igp(IgpVariant::MonteCarlo),
-            "pnp" | "peek-and-pass" => pnp(PnpVariant::Tuned, true),
-            "pnp-nopeek" => pnp(PnpVariant::Tuned, false),
-            "pnp-paper" => pnp(PnpVariant::Paper, true),
-            "pnp-paper-nopeek" => pnp(PnpVariant::Paper, false),
-            "pnp-react" => pnp(PnpVariant::Reactive, true),
-            "pnp-react-nopeek" => pnp(PnpVariant::Reactive, false),
-            "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
-            "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
-            "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
-            _ => return Err(UnknownPlanner(s.to_string())),
-        };
-        Ok(Self { pgp, local })
-    }
-}
-
-impl fmt::Display for PlannerSpec {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let local = match self.local {
-            LocalKind::Dwa => "dwa",
-            LocalKind::Orca => "orca",
-            LocalKind::OrcaNonReciprocal => "orca-nr",
-            LocalKind::SocialForce => "sf",
-            LocalKind::Igp(IgpVariant::Mixture) => "foigp",
-            LocalKind::Igp(IgpVariant::Full) => "foigp-1",
-            LocalKind::Igp(IgpVariant::Diagonal) => "igp-diag",
-            LocalKind::Igp(IgpVariant::Linear) => "igp-lin",
-            LocalKind::Igp(IgpVariant::MonteCarlo) => "mc",
-            LocalKind::Pnp { variant, peek } => match (variant, peek) {
-                (PnpVariant::Tuned, true) => "pnp",
-                (PnpVariant::Tuned, false) => "pnp-nopeek",
-                (PnpVariant::Paper, true) => "pnp-paper",
-                (PnpVariant::Paper, false) => "pnp-paper-nopeek",
-                (PnpVariant::Reactive, true) => "pnp-react",
-                (PnpVariant::Reactive, false) => "pnp-react-nopeek",
-            },
-            LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
-            LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
-            LocalKind::Asfm(AsfmVariant::Crowd) => "asfm-crowd",
-        };
-        if self.pgp {
-            write!(f, "pgp+{local}")
-        } else {
-            f.write_str(local)
-        }
-    }
 }
 
 /// What a short-term planner returns: the command and the trajectory it expects.
@@ -701,42 +523,6 @@ impl PlannerStack {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn planner_names_round_trip() {
-        for spec in PlannerSpec::STUDY {
-            assert_eq!(spec.to_string().parse::<PlannerSpec>(), Ok(spec));
-        }
-        for name in [
-            "orca-nr",
-            "pgp+orca-nr",
-            "foigp",
-            "foigp-1",
-            "igp-diag",
-            "igp-lin",
-            "mc",
-            "pgp+foigp",
-            "pnp",
-            "pnp-nopeek",
-            "pnp-paper",
-            "pnp-paper-nopeek",
-            "pnp-react",
-            "pnp-react-nopeek",
-            "asfm",
-            "asfm-q",
-            "asfm-crowd",
-            "pgp+asfm",
-        ] {
-            let spec: PlannerSpec = name.parse().expect("known");
-            assert_eq!(spec.to_string(), name);
-        }
-        assert_eq!(
-            "PGP+ORCA".parse::<PlannerSpec>().map(|s| s.to_string()),
-            Ok("pgp+orca".to_string())
-        );
-        let err = "pgp+rrt".parse::<PlannerSpec>().unwrap_err();
-        assert!(err.to_string().contains("pgp+rrt") && err.to_string().contains("foigp"));
-    }
 
     /// A person walking head-on at the robot: `orca` counts on them taking half of the
     /// avoidance, `orca-nr` takes all of it, so its first plan turns aside twice as hard (the
