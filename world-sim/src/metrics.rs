@@ -80,7 +80,7 @@ pub fn contact_cause(robot: Vec2, velocity: Vec2, other: Vec2) -> ContactCause {
 }
 
 /// One robot's metrics over a run.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RobotMetrics {
     /// Reached the goal in time.
     pub success: bool,

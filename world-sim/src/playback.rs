@@ -26,7 +26,9 @@ mod exposure;
 use std::str::FromStr;
 
 /// Partial (≈ 10 m stretches) or full (whole tracks) runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub enum RunKind {
     /// Consecutive stretches of `segment_m` of a pedestrian's path; start and goal only.
     Partial,
@@ -116,7 +118,7 @@ impl Default for PlaybackOptions {
 }
 
 /// One run: whose place the robot takes, and when and where.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PlaybackRun {
     /// The removed pedestrian.
     pub pedestrian: u64,
@@ -225,7 +227,7 @@ pub fn runs(recording: &Recording, kind: RunKind, options: &PlaybackOptions) -> 
 }
 
 /// How a run went, for the robot or for the person.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunOutcome {
     /// Whether the goal was reached before time ran out (always true for the person).
     pub reached: bool,

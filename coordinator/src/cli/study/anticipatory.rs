@@ -4,10 +4,8 @@ use super::non_negative;
 use crate::cli::positive;
 use agent::asfm::AsfmParams;
 use anyhow::Result;
-use coordinator::study::anticipatory::AnticipatoryStudy;
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::time::Instant;
+use studies::anticipatory::AnticipatoryStudy;
 
 /// `study anticipatory`'s arguments.
 #[derive(Debug, clap::Args)]
@@ -21,9 +19,8 @@ pub struct AnticipatoryArgs {
     /// Σ of Eq. 13 per axis (m²; Table II: 0.1).
     #[arg(long, default_value_t = 0.1, value_parser = positive)]
     likelihood_variance: f64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Output folder.
     #[arg(long, default_value = "results/anticipatory")]
     out: PathBuf,
@@ -39,15 +36,12 @@ pub(super) fn run(args: AnticipatoryArgs) -> Result<()> {
         a_o: args.a_o,
         runs: args.runs,
     };
-    let started = Instant::now();
-    let (rows, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
-        study.execute(progress)
-    })?;
-    let cells = coordinator::study::anticipatory::write_outputs(&args.out, &study, &rows)?;
+    let (runner, done) = args.run.run(&args.out, &study)?;
+    let rows = done.rows;
+    let cells = studies::anticipatory::write_outputs(&args.out, &study, &rows)?;
+    runner.finish()?;
     eprintln!(
-        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, estimate.csv and the figures",
-        rows.len(),
-        started.elapsed().as_secs_f64(),
+        "wrote {}/runs.csv, summary.json, estimate.csv and the figures",
         args.out.display(),
     );
     println!(

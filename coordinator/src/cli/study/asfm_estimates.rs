@@ -5,9 +5,7 @@ use crate::cli::density;
 use agent::asfm::{AsfmParams, AsfmVariant};
 use agent::planner::{LocalKind, PlannerSpec};
 use anyhow::{Context, Result};
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::time::Instant;
 use world_sim::dataset::Recording;
 use world_sim::playback::{PlaybackOptions, map_of, median_speed};
 use world_sim::scenario::Scenario;
@@ -38,9 +36,8 @@ pub struct AsfmEstimatesArgs {
     /// (people per m²).
     #[arg(long, default_value_t = 0.3, value_parser = density)]
     mixed_density: f64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// The variant: asfm (the paper's), asfm-q or asfm-crowd.
     #[arg(long, default_value = "asfm", value_parser = asfm_variant)]
     planner: AsfmVariant,
@@ -65,74 +62,55 @@ fn asfm_variant(name: &str) -> Result<AsfmVariant, String> {
 
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
-    use coordinator::study::estimates::{
-        SimCrowd, mixed_auc, mixed_closest_auc, recorded, simulated, write_outputs,
+    use studies::estimates::{
+        EstimatesStudy, RecordedCrowd, SimCrowd, mixed_auc, mixed_closest_auc, write_outputs,
     };
-    let recordings = args
+    let recorded = args
         .datasets
         .iter()
         .map(|d| {
             let recording = Recording::load(d)?;
             let map = map_of(&recording)
                 .with_context(|| format!("{}: map.xml obstacles", d.display()))?;
-            Ok((recording, map))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let base = Scenario::builtin("open-space")?;
-    let variant = args.planner.params();
-    let params = AsfmParams {
-        process_noise: args.process_noise.unwrap_or(variant.process_noise),
-        ..variant
-    };
-    let total = recordings.len() * args.limit + 3 * args.seeds as usize;
-    let seeds = args.first_seed..=args.first_seed + args.seeds - 1;
-    let started = Instant::now();
-    let (rows, threads) = with_progress(args.jobs, total as u64, |progress| {
-        let mut rows = Vec::new();
-        for (recording, map) in &recordings {
             let mut options = PlaybackOptions::default();
-            options.robot.max_speed = (median_speed(recording) * 100.0).round() / 100.0;
-            rows.extend(recorded(
+            options.robot.max_speed = (median_speed(&recording) * 100.0).round() / 100.0;
+            Ok(RecordedCrowd {
                 recording,
                 map,
-                &options,
-                &params,
-                Some(args.limit),
-                progress,
-            ));
-        }
-        for crowd in [SimCrowd::Reacting, SimCrowd::Ignoring] {
-            rows.extend(simulated(
-                &base,
-                &params,
-                args.density,
-                seeds.clone(),
-                crowd,
-                progress,
-            ));
-        }
-        rows.extend(simulated(
-            &base,
-            &params,
-            args.mixed_density,
-            seeds.clone(),
-            SimCrowd::Mixed(0.5),
-            progress,
-        ));
-        rows
-    })?;
+                options,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let variant = args.planner.params();
+    let study = EstimatesStudy {
+        recorded,
+        limit: Some(args.limit),
+        base: Scenario::builtin("open-space")?,
+        crowds: vec![
+            (SimCrowd::Reacting, args.density),
+            (SimCrowd::Ignoring, args.density),
+            (SimCrowd::Mixed(0.5), args.mixed_density),
+        ],
+        seeds: args.first_seed..=args.first_seed + args.seeds - 1,
+        params: AsfmParams {
+            process_noise: args.process_noise.unwrap_or(variant.process_noise),
+            ..variant
+        },
+    };
+    let (runner, done) = args.run.run(&args.out, &study)?;
+    let rows: Vec<_> = done.rows.into_iter().flatten().collect();
     let summary = write_outputs(&args.out, &rows)?;
+    runner.finish()?;
     eprintln!(
-        "{} people on {threads} threads in {:.1} s; wrote {}/estimates.csv, summary.json, estimates.png",
+        "{} people; wrote {}/estimates.csv, summary.json, estimates.png",
         rows.len(),
-        started.elapsed().as_secs_f64(),
         args.out.display(),
     );
     if let (Some(auc), Some(closest)) = (mixed_auc(&rows), mixed_closest_auc(&rows)) {
         println!(
             "mixed crowd, reacting against ignoring: AUC of Â_o after {} s near the robot {auc:.3}; \
              of the closest approach {closest:.3}",
-            coordinator::study::estimates::NEAR_S
+            studies::estimates::NEAR_S
         );
     }
     println!("| source | people | Â_o: min / q1 / median / q3 / max | mean | \\|Â_o\\| < 2 |");

@@ -4,10 +4,8 @@ use super::walking_speed;
 use crate::cli::positive;
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result};
-use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::time::Instant;
+use studies::hallway::{HallwayStudy, hallway_scenario};
 
 /// `study hallway`'s arguments.
 #[derive(Debug, clap::Args)]
@@ -44,9 +42,8 @@ pub struct HallwayArgs {
     /// The robot's top speed (m/s; the paper's: 3).
     #[arg(long, default_value_t = 3.0, value_parser = positive)]
     robot_speed: f64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Output folder.
     #[arg(long, default_value = "results/hallway")]
     out: PathBuf,
@@ -80,15 +77,12 @@ pub(super) fn run(args: HallwayArgs) -> Result<()> {
                 .with_context(|| format!("hallway {l} m, people at {v} m/s"))?;
         }
     }
-    let started = Instant::now();
-    let (rows, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
-        study.execute(progress)
-    })?;
-    let summary = coordinator::study::hallway::write_outputs(&args.out, &study, &rows)?;
+    let (runner, done) = args.run.run(&args.out, &study)?;
+    let rows = done.rows;
+    let summary = studies::hallway::write_outputs(&args.out, &study, &rows)?;
+    runner.finish()?;
     eprintln!(
-        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json and figures",
-        rows.len(),
-        started.elapsed().as_secs_f64(),
+        "wrote {}/runs.csv, summary.json and figures",
         args.out.display(),
     );
     println!(

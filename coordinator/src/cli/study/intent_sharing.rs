@@ -3,9 +3,9 @@
 use crate::cli::{Overrides, ScenarioRef, positive};
 use agent::planner::PlannerSpec;
 use anyhow::Result;
-use coordinator::study::intent_sharing::{IntentSharingStudy, report};
-use coordinator::study::{with_progress, write_json};
 use std::path::PathBuf;
+use studies::intent_sharing::{IntentSharingStudy, report};
+use studies::{Runner, write_json};
 
 /// `study intent-sharing`'s arguments.
 #[derive(Debug, clap::Args)]
@@ -28,9 +28,12 @@ pub struct IntentSharingArgs {
     /// Built-in warehouse scenario or a scenario file.
     #[arg(long, default_value = "warehouse")]
     scenario: ScenarioRef,
-    /// Write the per-run table here as JSON.
+    /// Write the per-run table here as JSON (and save runs as they end beside it, in
+    /// `<out>.checkpoint.bin`).
     #[arg(long)]
     out: Option<PathBuf>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
     /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
@@ -52,8 +55,14 @@ pub(super) fn run(args: IntentSharingArgs) -> Result<()> {
         seeds: args.seeds,
         seconds: args.seconds,
     };
-    let (runs, _) = with_progress(None, 2 * args.seeds, |progress| study.execute(progress))?;
-    let runs = runs?;
+    let checkpoint = args.out.as_ref().map(|out| {
+        let mut name = out.as_os_str().to_owned();
+        name.push(".checkpoint.bin");
+        PathBuf::from(name)
+    });
+    let runner = Runner::new(args.run.jobs, ".", args.run.resume).checkpoint_at(checkpoint);
+    let (runner, done) = args.run.run_with(runner, &study)?;
+    let runs = done.rows;
     println!(
         "{} seeds x {} s, {robots} robots ({}), {humans} people; means per run:",
         args.seeds, args.seconds, args.planner
@@ -63,5 +72,6 @@ pub(super) fn run(args: IntentSharingArgs) -> Result<()> {
         // Through a JSON value, whose keys are in alphabetical order.
         write_json(&path, &serde_json::to_value(&runs)?)?;
     }
+    runner.finish()?;
     Ok(())
 }

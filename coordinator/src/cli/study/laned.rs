@@ -3,10 +3,8 @@
 use super::walking_speed;
 use crate::cli::positive;
 use anyhow::{Context, Result};
-use coordinator::study::laned::{LanedStudy, laned_hallway};
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::time::Instant;
+use studies::laned::{LanedStudy, laned_hallway};
 
 /// `study laned`'s arguments.
 #[derive(Debug, clap::Args)]
@@ -34,9 +32,8 @@ pub struct LanedArgs {
     /// The robot's top speed (m/s; the paper's: 3).
     #[arg(long, default_value_t = 3.0, value_parser = positive)]
     robot_speed: f64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Output folder.
     #[arg(long, default_value = "results/laned")]
     out: PathBuf,
@@ -60,15 +57,12 @@ pub(super) fn run(args: LanedArgs) -> Result<()> {
         ratios: args.ratios,
         seeds: args.seeds,
     };
-    let started = Instant::now();
-    let (rows, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
-        study.execute(progress)
-    })?;
-    let cells = coordinator::study::laned::write_outputs(&args.out, &study, &rows)?;
+    let (runner, done) = args.run.run(&args.out, &study)?;
+    let rows = done.rows;
+    let cells = studies::laned::write_outputs(&args.out, &study, &rows)?;
+    runner.finish()?;
     eprintln!(
-        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, average_speed.png",
-        rows.len(),
-        started.elapsed().as_secs_f64(),
+        "wrote {}/runs.csv, summary.json, average_speed.png",
         args.out.display(),
     );
     println!(

@@ -21,7 +21,8 @@ use traffic::TrafficArgs;
 
 use anyhow::Result;
 use clap::Subcommand;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use studies::{Finished, Runner};
 
 /// The studies.
 #[derive(Debug, Subcommand)]
@@ -58,6 +59,50 @@ pub enum Study {
         #[arg(long, default_value = "results/open-space")]
         dir: PathBuf,
     },
+}
+
+/// What every study takes besides its own settings: threads, and resuming an interrupted run.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Go on with an interrupted study: take the runs it had finished from the checkpoint in
+    /// its output folder (`checkpoint.bin`, saved as each run ends) and make only the rest.
+    /// Without it, a study refuses to start over a checkpoint.
+    #[arg(long)]
+    resume: bool,
+}
+
+impl RunArgs {
+    /// Runs `study` into `out` with a progress bar, saving each run as it ends; reports how
+    /// it went on stderr. Call [`Runner::finish`] once the outputs are written.
+    fn run<S: studies::Study>(&self, out: &Path, study: &S) -> Result<(Runner, Finished<S::Row>)> {
+        self.run_with(Runner::new(self.jobs, out, self.resume), study)
+    }
+
+    /// [`RunArgs::run`] with `runner`'s checkpoint.
+    fn run_with<S: studies::Study>(
+        &self,
+        runner: Runner,
+        study: &S,
+    ) -> Result<(Runner, Finished<S::Row>)> {
+        if let Some(path) = runner.checkpoint().filter(|p| !self.resume && !p.exists()) {
+            eprintln!(
+                "saving runs to {} as they end; if interrupted, go on with --resume",
+                path.display()
+            );
+        }
+        let done = runner.run(study)?;
+        eprintln!(
+            "{} runs ({} resumed) on {} threads in {:.1} s",
+            done.rows.len(),
+            done.resumed,
+            done.threads,
+            done.elapsed.as_secs_f64()
+        );
+        Ok((runner, done))
+    }
 }
 
 /// A finite number ≥ 0.

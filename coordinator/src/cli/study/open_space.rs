@@ -3,11 +3,9 @@
 use crate::cli::{ScenarioRef, density};
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result};
-use coordinator::study::open_space::{StudyPlan, write_outputs, write_summary};
-use coordinator::study::runs::parse_runs_csv;
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::time::Instant;
+use studies::open_space::{StudyPlan, write_outputs, write_summary};
+use studies::runs::parse_runs_csv;
 use world_sim::scenario::Scenario;
 
 /// `study open-space`'s arguments.
@@ -35,9 +33,8 @@ pub struct OpenSpaceArgs {
     /// seeds held out from the tuning seeds 1–100).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     first_seed: u64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Output folder for runs.csv and summary.json.
     #[arg(long, default_value = "results/open-space")]
     out: PathBuf,
@@ -63,17 +60,10 @@ pub(super) fn run(args: OpenSpaceArgs) -> Result<()> {
         first_seed: args.first_seed,
         seeds: args.seeds,
     };
-    let started = Instant::now();
-    let (rows, threads) = with_progress(args.jobs, plan.runs().len() as u64, |progress| {
-        plan.execute(progress)
-    })?;
-    let summary = write_outputs(&args.out, &plan, &rows)?;
-    eprintln!(
-        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv and summary.json",
-        rows.len(),
-        started.elapsed().as_secs_f64(),
-        args.out.display(),
-    );
+    let (runner, done) = args.run.run(&args.out, &plan)?;
+    let summary = write_outputs(&args.out, &plan, &done.rows)?;
+    runner.finish()?;
+    eprintln!("wrote {}/runs.csv and summary.json", args.out.display());
     for c in summary.comparisons.iter().filter(|c| c.metric == "svr") {
         eprintln!(
             "  svr {:>8} {:.4} vs {:>4} {:.4} (Wilcoxon p = {})",

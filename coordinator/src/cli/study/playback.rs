@@ -4,10 +4,8 @@ use crate::cli::positive;
 use agent::igp::SeedRule;
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result, bail};
-use coordinator::study::playback::{Half, PlaybackStudy, table_markdown};
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::time::Instant;
+use studies::playback::{Half, PlaybackStudy, table_markdown};
 use world_sim::dataset::Recording;
 use world_sim::playback::{PlaybackOptions, RunKind, map_of, median_speed};
 
@@ -35,9 +33,8 @@ pub struct PlaybackArgs {
     /// median walking speed).
     #[arg(long, value_parser = positive)]
     robot_speed: Option<f64>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Output folder (default: results/eth/<sequence>-<runs>).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -129,17 +126,11 @@ pub(super) fn run(args: PlaybackArgs) -> Result<()> {
         study.recording.tracks.len(),
         study.planners.len()
     );
-    let started = Instant::now();
-    let (rows, threads) = with_progress(args.jobs, study.jobs() as u64, |progress| {
-        study.execute(progress)
-    })?;
-    let table = coordinator::study::playback::write_outputs(&out, &study, &rows)?;
-    eprintln!(
-        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, table.json, table.md",
-        rows.len(),
-        started.elapsed().as_secs_f64(),
-        out.display()
-    );
+    let (runner, done) = args.run.run(&out, &study)?;
+    let rows = done.rows;
+    let table = studies::playback::write_outputs(&out, &study, &rows)?;
+    runner.finish()?;
+    eprintln!("wrote {}/runs.csv, table.json, table.md", out.display());
     print!("{}", table_markdown(&table));
     Ok(())
 }

@@ -3,11 +3,8 @@
 use crate::cli::positive;
 use agent::planner::PlannerSpec;
 use anyhow::{Context, Result, bail};
-use coordinator::study::traffic::{self as traffic_study, TrafficStudy};
-use coordinator::study::with_progress;
 use std::path::PathBuf;
-use std::sync::{Mutex, PoisonError};
-use std::time::Instant;
+use studies::traffic::{self as traffic_study, TrafficStudy};
 use world_sim::scenario::Scenario;
 use world_sim::traffic_policy::PolicyParams;
 
@@ -63,9 +60,8 @@ pub struct TrafficArgs {
     /// Planner stack of every robot.
     #[arg(long, default_value = "pgp+orca")]
     planner: PlannerSpec,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    jobs: Option<usize>,
+    #[command(flatten)]
+    run: super::RunArgs,
     /// Output folder.
     #[arg(long, default_value = "results/traffic")]
     out: PathBuf,
@@ -196,53 +192,18 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
         }
         None => Vec::new(),
     };
-    // Each run is saved as it ends, so an interrupted study loses nothing finished.
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let partial_path = args.out.join("runs.partial.csv");
-    let partial = Mutex::new(
-        csv::Writer::from_path(&partial_path)
-            .with_context(|| format!("creating {}", partial_path.display()))?,
-    );
-    let save_error: Mutex<Option<String>> = Mutex::new(None);
-    eprintln!(
-        "saving runs to {} as they end; if interrupted, go on with `--reuse {} --reuse-policy off,on`",
-        partial_path.display(),
-        partial_path.display()
-    );
-    let started = Instant::now();
-    let (runs, threads) = with_progress(args.jobs, study.runs().len() as u64, |progress| {
-        study.execute_reusing(&earlier, &|run| {
-            progress();
-            let mut writer = partial.lock().unwrap_or_else(PoisonError::into_inner);
-            let saved = writer
-                .serialize(run)
-                .map_err(|e| e.to_string())
-                .and_then(|()| writer.flush().map_err(|e| e.to_string()));
-            if let Err(e) = saved {
-                let mut first = save_error.lock().unwrap_or_else(PoisonError::into_inner);
-                first.get_or_insert(e);
-            }
-        })
-    })?;
-    let runs = runs?;
-    if let Some(e) = save_error
-        .into_inner()
-        .unwrap_or_else(PoisonError::into_inner)
-    {
-        eprintln!(
-            "warning: saving runs to {} failed: {e}",
-            partial_path.display()
-        );
-    }
+    let (runner, done) = args.run.run(
+        &args.out,
+        &traffic_study::Reusing {
+            study: &study,
+            earlier: &earlier,
+        },
+    )?;
+    let runs = done.rows;
     let cells = traffic_study::write_outputs(&args.out, &study, &runs)?;
-    drop(partial);
-    std::fs::remove_file(&partial_path)
-        .with_context(|| format!("removing {}", partial_path.display()))?;
+    runner.finish()?;
     eprintln!(
-        "{} runs on {threads} threads in {:.1} s; wrote {}/runs.csv, summary.json, summary.md and throughput.png",
-        runs.len(),
-        started.elapsed().as_secs_f64(),
+        "wrote {}/runs.csv, summary.json, summary.md and throughput.png",
         args.out.display(),
     );
     print!("{}", traffic_study::table(&cells));

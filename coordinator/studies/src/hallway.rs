@@ -8,8 +8,8 @@
 use super::csv_fields::{fixed1_or_empty, fixed4, to_csv};
 use super::output::{StudyError, write_json};
 use super::plots::{Series, write_lines};
+use super::runner::Study;
 use agent::planner::PlannerSpec;
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 use world_sim::episode::run_episode;
@@ -54,7 +54,7 @@ pub struct HallwayStudy {
 }
 
 /// One run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct HallwayRow {
     /// Planner name.
     pub planner: String,
@@ -112,29 +112,32 @@ impl HallwayStudy {
         s.max_time_s = 60.0 + 2.0 * length;
         s
     }
+}
 
-    /// Runs everything on the current rayon pool; `progress` is called after each run.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<HallwayRow> {
+impl Study for HallwayStudy {
+    type Key = (PlannerSpec, f64, f64, u64);
+    type Row = HallwayRow;
+    type Error = std::convert::Infallible;
+
+    fn keys(&self) -> Vec<Self::Key> {
         self.runs()
-            .into_par_iter()
-            .map(|(planner, length, speed, seed)| {
-                let m = run_episode(&self.scenario_for(length, speed, seed), planner)[0];
-                progress();
-                HallwayRow {
-                    planner: planner.to_string(),
-                    length_m: length,
-                    human_speed: speed,
-                    seed,
-                    reached: m.success,
-                    time_to_goal_s: m.success.then_some(m.time_to_goal_s),
-                    path_m: m.path_length_m,
-                    path_changes: m.human_path_changes,
-                    personal_space_entries: m.personal_space_entries,
-                    robot_caused_contacts: m.robot_caused_contacts,
-                    person_caused_contacts: m.person_caused_contacts,
-                }
-            })
-            .collect()
+    }
+
+    fn run(&self, &(planner, length, speed, seed): &Self::Key) -> Result<HallwayRow, Self::Error> {
+        let m = run_episode(&self.scenario_for(length, speed, seed), planner)[0];
+        Ok(HallwayRow {
+            planner: planner.to_string(),
+            length_m: length,
+            human_speed: speed,
+            seed,
+            reached: m.success,
+            time_to_goal_s: m.success.then_some(m.time_to_goal_s),
+            path_m: m.path_length_m,
+            path_changes: m.human_path_changes,
+            personal_space_entries: m.personal_space_entries,
+            robot_caused_contacts: m.robot_caused_contacts,
+            person_caused_contacts: m.person_caused_contacts,
+        })
     }
 }
 

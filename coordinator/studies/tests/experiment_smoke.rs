@@ -1,10 +1,9 @@
 //! A small version of the open-space study: the whole pipeline runs, its outputs are complete,
 //! and they do not depend on the number of threads.
 
-#![cfg(feature = "studies")]
-
-use coordinator::study::open_space::StudyPlan;
-use coordinator::study::runs::runs_csv;
+use studies::Study;
+use studies::open_space::StudyPlan;
+use studies::runs::runs_csv;
 use world_sim::scenario::Scenario;
 
 fn plan() -> StudyPlan {
@@ -26,7 +25,7 @@ fn run_with(threads: usize) -> (String, String) {
         .num_threads(threads)
         .build()
         .expect("thread pool");
-    let rows = pool.install(|| plan.execute(&|| {}));
+    let Ok(rows) = pool.install(|| plan.execute(&|| {}));
     let summary = plan.summarize(&rows);
     (
         runs_csv(&rows),

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::sync::Once;
 
 /// DejaVu Sans (see `assets/DejaVuSans.LICENSE`), bundled so that plots need no system fonts.
-static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
 /// A plot could not be drawn or written.

@@ -7,11 +7,10 @@
 //! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
 //! re-run the study and commit its results (each study's REPORT.md has the command).
 
-#![cfg(feature = "studies")]
-
-use coordinator::study::csv_fields::to_csv;
-use coordinator::study::open_space::StudyPlan;
-use coordinator::study::runs::runs_csv;
+use studies::Study;
+use studies::csv_fields::to_csv;
+use studies::open_space::StudyPlan;
+use studies::runs::runs_csv;
 use world_sim::scenario::Scenario;
 
 #[test]
@@ -25,7 +24,10 @@ fn open_space_smoke_rows_under_the_safety_layer_are_the_committed_rows() {
 }
 
 fn smoke_rows_are_committed(dir: &str, safety: bool) {
-    let path = format!("{}/../results/{dir}/runs.csv", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../../results/{dir}/runs.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let committed = std::fs::read_to_string(&path).expect("the committed study");
     let mut scenario = Scenario::builtin("open-space").expect("built-in");
     scenario.robot.safety = safety;
@@ -36,7 +38,7 @@ fn smoke_rows_are_committed(dir: &str, safety: bool) {
         first_seed: 1,
         seeds: 2,
     };
-    let rows = plan.execute(&|| {});
+    let Ok(rows) = plan.execute(&|| {});
     let ours = runs_csv(&rows);
     let mut lines = ours.lines();
     let header = lines.next().expect("a header");
@@ -62,20 +64,21 @@ const PLANNERS: [&str; 6] = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf
 /// are the committed rows.
 #[test]
 fn laned_smoke_rows_are_the_committed_rows() {
-    use coordinator::study::laned::{LanedStudy, laned_hallway};
+    use studies::laned::{LanedStudy, laned_hallway};
     let study = LanedStudy {
         scenario: laned_hallway(50.0, 3, 1.0, 3.0, false).expect("valid"),
         ratios: vec![0.0001, 0.01],
         seeds: 2,
     };
-    rows_are_committed("laned", &to_csv(study.execute(&|| {})), 4);
+    let Ok(rows) = study.execute(&|| {});
+    rows_are_committed("laned", &to_csv(rows), 4);
 }
 
 /// The hallway study (`results/hallway`): pnp and orca in the 25 m hallway at two human
 /// speeds, two seeds, re-run as the command runs them, are the committed rows.
 #[test]
 fn hallway_smoke_rows_are_the_committed_rows() {
-    use coordinator::study::hallway::{HallwayStudy, hallway_scenario};
+    use studies::hallway::{HallwayStudy, hallway_scenario};
     let study = HallwayStudy {
         scenario: hallway_scenario(3.0, false).expect("valid"),
         planners: ["pnp", "orca"]
@@ -88,14 +91,15 @@ fn hallway_smoke_rows_are_the_committed_rows() {
         first_seed: 1,
         seeds: 2,
     };
-    rows_are_committed("hallway", &to_csv(study.execute(&|| {})), 2 * 2 * 2);
+    let Ok(rows) = study.execute(&|| {});
+    rows_are_committed("hallway", &to_csv(rows), 2 * 2 * 2);
 }
 
 /// The fleet traffic study (`results/traffic`): seed 1 of the 10-robot fleets in both sites,
 /// policy off and on, 300 s each as the command runs them, are the committed rows.
 #[test]
 fn traffic_rows_are_the_committed_rows() {
-    use coordinator::study::traffic::{Site, TrafficStudy};
+    use studies::traffic::{Site, TrafficStudy};
     let site = |name: &str| Site {
         scenario: Scenario::builtin(name).expect("built-in"),
         fleets: vec![10],
@@ -117,7 +121,10 @@ fn traffic_rows_are_the_committed_rows() {
 /// Every row of `ours` (a runs.csv with its header) is a line of `results/<dir>/runs.csv`,
 /// under the same header, and there are `rows` of them.
 fn rows_are_committed(dir: &str, ours: &str, rows: usize) {
-    let path = format!("{}/../results/{dir}/runs.csv", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../../results/{dir}/runs.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let committed = std::fs::read_to_string(&path).expect("the committed study");
     let mut lines = ours.lines();
     assert_eq!(lines.next(), committed.lines().next(), "runs.csv columns");

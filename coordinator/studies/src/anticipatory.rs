@@ -12,6 +12,7 @@ use super::csv_fields::{fixed1_or_empty, fixed4, to_csv};
 use super::laned::five_numbers;
 use super::output::{StudyError, write_json};
 use super::plots::{write_boxes, write_lines};
+use super::runner::Study;
 use agent::asfm::model::{attraction, desired_toward, repulsion, step};
 use agent::asfm::{Asfm, AsfmParams, Estimation};
 use agent::map::StaticMap;
@@ -20,7 +21,6 @@ use agent::model::{AgentKind, EgoState, Neighbour};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
@@ -60,7 +60,7 @@ impl Method {
 }
 
 /// One run's outcome.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Row {
     /// The obstacle's true A_o.
     pub a_o: Real,
@@ -196,17 +196,19 @@ impl AnticipatoryStudy {
             })
             .collect()
     }
+}
 
-    /// Runs everything on the current rayon pool; `progress` is called after each run.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<Row> {
+impl Study for AnticipatoryStudy {
+    type Key = (Real, Method, u64);
+    type Row = Row;
+    type Error = std::convert::Infallible;
+
+    fn keys(&self) -> Vec<Self::Key> {
         self.runs()
-            .into_par_iter()
-            .map(|(a, m, s)| {
-                let row = run(a, m, s, &self.params).0;
-                progress();
-                row
-            })
-            .collect()
+    }
+
+    fn run(&self, &(a, m, s): &Self::Key) -> Result<Row, Self::Error> {
+        Ok(run(a, m, s, &self.params).0)
     }
 }
 

@@ -5,10 +5,10 @@
 //! not on the number of threads.
 
 use super::output::{StudyError, write_json};
+use super::runner::Study;
 use super::runs::{RunRow, runs_csv};
 use super::summary::{Summary, summarize};
 use agent::planner::PlannerSpec;
-use rayon::prelude::*;
 use std::path::Path;
 use world_sim::episode::run_episode;
 use world_sim::scenario::Scenario;
@@ -43,31 +43,34 @@ impl StudyPlan {
         out
     }
 
-    /// Runs everything on the current rayon pool; `progress` is called after each run.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<RunRow> {
-        self.runs()
-            .into_par_iter()
-            .map(|(algorithm, density, seed)| {
-                let mut scenario = self.scenario.clone();
-                if let Some(open) = scenario.open_space.as_mut() {
-                    open.density = density;
-                }
-                scenario.seed = seed;
-                let metrics = run_episode(&scenario, algorithm)[0];
-                progress();
-                RunRow {
-                    algorithm,
-                    density,
-                    seed,
-                    metrics,
-                }
-            })
-            .collect()
-    }
-
     /// Group means and the paired comparisons of `rows`, run by this plan.
     pub fn summarize(&self, rows: &[RunRow]) -> Summary {
         summarize(&self.algorithms, &self.densities, rows)
+    }
+}
+
+impl Study for StudyPlan {
+    type Key = (PlannerSpec, f64, u64);
+    type Row = RunRow;
+    type Error = std::convert::Infallible;
+
+    fn keys(&self) -> Vec<Self::Key> {
+        self.runs()
+    }
+
+    fn run(&self, &(algorithm, density, seed): &Self::Key) -> Result<RunRow, Self::Error> {
+        let mut scenario = self.scenario.clone();
+        if let Some(open) = scenario.open_space.as_mut() {
+            open.density = density;
+        }
+        scenario.seed = seed;
+        let metrics = run_episode(&scenario, algorithm)[0];
+        Ok(RunRow {
+            algorithm,
+            density,
+            seed,
+            metrics,
+        })
     }
 }
 

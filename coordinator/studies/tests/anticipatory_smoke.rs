@@ -2,11 +2,10 @@
 //! outputs are complete, they do not depend on the number of threads, and its rows are the
 //! committed ones.
 
-#![cfg(feature = "studies")]
-
 use agent::asfm::AsfmParams;
-use coordinator::study::anticipatory::{AnticipatoryStudy, Method, run, summarize, write_outputs};
-use coordinator::study::csv_fields::to_csv;
+use studies::Study;
+use studies::anticipatory::{AnticipatoryStudy, Method, run, summarize, write_outputs};
+use studies::csv_fields::to_csv;
 
 fn study() -> AnticipatoryStudy {
     AnticipatoryStudy {
@@ -23,7 +22,10 @@ fn anticipatory_smoke_is_complete_committed_and_thread_count_independent() {
             .num_threads(threads)
             .build()
             .expect("thread pool");
-        pool.install(|| study().execute(&|| {}))
+        pool.install(|| {
+            let Ok(rows) = study().execute(&|| {});
+            rows
+        })
     };
     let rows = run_with(2);
     let csv = to_csv(rows.clone());
@@ -39,7 +41,7 @@ fn anticipatory_smoke_is_complete_committed_and_thread_count_independent() {
     );
     // Every row is in the committed results/anticipatory/runs.csv (same header).
     let path = format!(
-        "{}/../results/anticipatory/runs.csv",
+        "{}/../../results/anticipatory/runs.csv",
         env!("CARGO_MANIFEST_DIR")
     );
     let committed = std::fs::read_to_string(&path).expect("the committed experiment");
@@ -91,33 +93,44 @@ fn assuming_an_obstacle_avoids_when_it_does_not_breaks_d_min() {
 
 #[test]
 fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
-    use coordinator::study::estimates::{
-        SimCrowd, mixed_auc, mixed_closest_auc, recorded, simulated, summarize,
+    use studies::estimates::{
+        EstimatesStudy, RecordedCrowd, SimCrowd, mixed_auc, mixed_closest_auc, summarize,
     };
     use world_sim::dataset::Recording;
     use world_sim::playback::{PlaybackOptions, map_of, median_speed};
     let dir = format!(
-        "{}/../world-sim/datasets/ETH/seq_eth",
+        "{}/../../world-sim/datasets/ETH/seq_eth",
         env!("CARGO_MANIFEST_DIR")
     );
     let recording = Recording::load(std::path::Path::new(&dir)).expect("seq_eth");
     let map = map_of(&recording).expect("its map");
     let mut options = PlaybackOptions::default();
     options.robot.max_speed = median_speed(&recording);
-    let params = AsfmParams::default();
-    let mut rows = recorded(&recording, &map, &options, &params, Some(2), &|| {});
     let base = world_sim::scenario::Scenario::builtin("open-space").expect("built in");
-    rows.extend(simulated(
-        &base,
-        &params,
-        0.1,
-        1..=1,
-        SimCrowd::Reacting,
-        &|| {},
-    ));
+    let study = EstimatesStudy {
+        recorded: vec![RecordedCrowd {
+            recording,
+            map,
+            options,
+        }],
+        limit: Some(2),
+        base: base.clone(),
+        crowds: vec![(SimCrowd::Reacting, 0.1)],
+        seeds: 1..=1,
+        params: AsfmParams::default(),
+    };
+    let Ok(rows) = study.execute(&|| {});
+    let mut rows: Vec<_> = rows.into_iter().flatten().collect();
     // The paper's planner keeps too far from people for 3 s near it; `asfm-crowd` passes.
-    let crowd = AsfmParams::crowd();
-    let mixed = simulated(&base, &crowd, 0.3, 1..=2, SimCrowd::Mixed(0.5), &|| {});
+    let mixed = EstimatesStudy {
+        recorded: Vec::new(),
+        crowds: vec![(SimCrowd::Mixed(0.5), 0.3)],
+        seeds: 1..=2,
+        params: AsfmParams::crowd(),
+        ..study
+    };
+    let Ok(mixed) = mixed.execute(&|| {});
+    let mixed: Vec<_> = mixed.into_iter().flatten().collect();
     for auc in [mixed_auc(&mixed), mixed_closest_auc(&mixed)] {
         assert!(
             auc.is_some_and(|a| (0.0..=1.0).contains(&a)),
@@ -138,7 +151,7 @@ fn the_estimates_check_runs_on_a_recording_and_in_the_simulator() {
 
 #[test]
 fn the_auc_is_the_chance_a_reacting_person_scores_above_an_ignoring_one() {
-    use coordinator::study::estimates::auc;
+    use studies::estimates::auc;
     assert_eq!(auc(&[3.0, 4.0], &[1.0, 2.0]), Some(1.0));
     assert_eq!(auc(&[1.0, 2.0], &[3.0, 4.0]), Some(0.0));
     // 3 beats 1 and 2, ties 3 (half), 1 ties 1 (half) and loses to 2 and 3: (2.5 + 0.5) / 6.

@@ -1,10 +1,9 @@
 //! A small version of the hallway study: the whole pipeline runs, its outputs are complete,
 //! and they do not depend on the number of threads.
 
-#![cfg(feature = "studies")]
-
-use coordinator::study::csv_fields::to_csv;
-use coordinator::study::hallway::{HallwayStudy, median_time, summarize, write_outputs};
+use studies::Study;
+use studies::csv_fields::to_csv;
+use studies::hallway::{HallwayStudy, median_time, summarize, write_outputs};
 use world_sim::scenario::Scenario;
 
 fn study() -> HallwayStudy {
@@ -31,7 +30,8 @@ fn run_with(threads: usize) -> String {
         .num_threads(threads)
         .build()
         .expect("thread pool");
-    to_csv(pool.install(|| study.execute(&|| {})))
+    let Ok(rows) = pool.install(|| study.execute(&|| {}));
+    to_csv(rows)
 }
 
 #[test]
@@ -44,7 +44,7 @@ fn hallway_smoke_is_complete_and_thread_count_independent() {
     assert!(lines[1].starts_with("pnp,12.0,0.5,1,"), "{}", lines[1]);
 
     let study = study();
-    let rows = study.execute(&|| {});
+    let Ok(rows) = study.execute(&|| {});
     let tmp = tempfile::tempdir().expect("a temporary folder");
     let out = tmp.path().join("out");
     let summary = write_outputs(&out, &study, &rows).expect("outputs written");
@@ -73,7 +73,7 @@ fn hallway_smoke_is_complete_and_thread_count_independent() {
 
 #[test]
 fn laned_smoke_sweeps_c3_and_summarises_the_average_speed() {
-    use coordinator::study::laned::{LanedStudy, five_numbers, summarize};
+    use studies::laned::{LanedStudy, five_numbers, summarize};
     let mut scenario = Scenario::builtin("hallway").expect("built-in scenario");
     let hall = scenario.hallway.as_mut().expect("a hallway");
     hall.length_m = 12.0;
@@ -90,7 +90,7 @@ fn laned_smoke_sweeps_c3_and_summarises_the_average_speed() {
     };
     // c3 = 1/(c1·ratio) with c1 = 1.
     assert_eq!(study.params(0.001).c3, 1000.0);
-    let rows = study.execute(&|| {});
+    let Ok(rows) = study.execute(&|| {});
     assert_eq!(rows.len(), 4);
     assert!(
         rows.iter()

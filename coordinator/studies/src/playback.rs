@@ -5,10 +5,10 @@
 
 use super::csv_fields::{fixed1, fixed1_or_empty, fixed4, fixed6_or_empty};
 use super::output::{StudyError, write_json};
+use super::runner::Study;
 use agent::igp::{IgpParams, IgpPlanner, SeedRule};
 use agent::map::StaticMap;
 use agent::planner::{LocalKind, PlannerSpec, PlannerStack};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -63,7 +63,7 @@ impl std::str::FromStr for Half {
 }
 
 /// One planner (or the human) on one run.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlaybackRow {
     /// Planner name, or [`HUMAN`].
     pub planner: String,
@@ -87,37 +87,6 @@ impl PlaybackStudy {
             runs.truncate(limit);
         }
         runs
-    }
-
-    /// How many (planner, run) pairs [`PlaybackStudy::execute`] plays, human rows included.
-    pub fn jobs(&self) -> usize {
-        self.runs().len() * (self.planners.len() + 1)
-    }
-
-    /// Plays every planner on every run on the current rayon pool, plus the human rows;
-    /// `progress` is called after each. Rows come back human first, then planner by planner.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<PlaybackRow> {
-        let runs = self.runs();
-        let mut jobs: Vec<(Option<PlannerSpec>, &PlaybackRun)> =
-            runs.iter().map(|r| (None, r)).collect();
-        for &spec in &self.planners {
-            jobs.extend(runs.iter().map(|r| (Some(spec), r)));
-        }
-        jobs.into_par_iter()
-            .map(|(spec, run)| {
-                let row = match spec {
-                    None => PlaybackRow {
-                        planner: HUMAN.into(),
-                        run: run.clone(),
-                        outcome: playback::human_outcome(&self.recording, run, &self.options),
-                        planning_s: 0.0,
-                    },
-                    Some(spec) => self.play(spec, run),
-                };
-                progress();
-                row
-            })
-            .collect()
     }
 
     fn play(&self, spec: PlannerSpec, run: &PlaybackRun) -> PlaybackRow {
@@ -161,6 +130,35 @@ impl PlaybackStudy {
             outcome,
             planning_s,
         }
+    }
+}
+
+/// Every run played by every planner, plus the human rows: human first, then planner by
+/// planner (`None` is the human).
+impl Study for PlaybackStudy {
+    type Key = (Option<PlannerSpec>, PlaybackRun);
+    type Row = PlaybackRow;
+    type Error = std::convert::Infallible;
+
+    fn keys(&self) -> Vec<Self::Key> {
+        let runs = self.runs();
+        let mut keys: Vec<Self::Key> = runs.iter().map(|r| (None, r.clone())).collect();
+        for &spec in &self.planners {
+            keys.extend(runs.iter().map(|r| (Some(spec), r.clone())));
+        }
+        keys
+    }
+
+    fn run(&self, (spec, run): &Self::Key) -> Result<PlaybackRow, Self::Error> {
+        Ok(match spec {
+            None => PlaybackRow {
+                planner: HUMAN.into(),
+                run: run.clone(),
+                outcome: playback::human_outcome(&self.recording, run, &self.options),
+                planning_s: 0.0,
+            },
+            Some(spec) => self.play(*spec, run),
+        })
     }
 }
 
@@ -489,7 +487,7 @@ mod tests {
 
     fn seq_eth() -> Recording {
         let dir =
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../world-sim/datasets/ETH/seq_eth");
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../world-sim/datasets/ETH/seq_eth");
         Recording::load(&dir).expect("seq_eth loads")
     }
 
@@ -510,8 +508,8 @@ mod tests {
             igp_seeds: SeedRule::PerBody,
             half: None,
         };
-        let rows = study.execute(&|| {});
-        assert_eq!(rows.len(), study.jobs());
+        let Ok(rows) = study.execute(&|| {});
+        assert_eq!(rows.len(), study.keys().len());
         assert_eq!(rows.len(), 12);
         let t = table(&rows, &study.planners);
         assert_eq!(
@@ -528,7 +526,7 @@ mod tests {
             assert!(r.mean_replan_s.is_some_and(|s| s > 0.0));
         }
         // Deterministic apart from the replan times.
-        let again = study.execute(&|| {});
+        let Ok(again) = study.execute(&|| {});
         let strip = |rows: &[PlaybackRow]| {
             rows.iter()
                 .map(|r| (r.planner.clone(), r.outcome))

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use world_sim::metrics::RobotMetrics;
 
 /// One run's outcome.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRow {
     /// Planner.
     pub algorithm: PlannerSpec,

@@ -1,7 +1,7 @@
 """Reference p-values for coordinator/src/stats.rs, from SciPy.
 
     python -m venv .venv && .venv/bin/pip install scipy
-    .venv/bin/python coordinator/tests/reference/wilcoxon_reference.py
+    .venv/bin/python coordinator/studies/tests/reference/wilcoxon_reference.py
 """
 import scipy
 from scipy.stats import wilcoxon

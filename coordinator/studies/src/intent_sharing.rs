@@ -2,9 +2,9 @@
 //! intents and without, in-process; robot–robot near misses and contacts, tasks, and the
 //! social metrics, compared per seed with the Wilcoxon signed-rank test.
 
+use super::runner::Study;
 use super::stats::{mean, wilcoxon_signed_rank};
 use agent::planner::PlannerSpec;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use world_sim::fleet::{FleetReport, NotAWarehouse, run_fleet};
@@ -93,22 +93,23 @@ impl SharingRun {
     ];
 }
 
-impl IntentSharingStudy {
-    /// Runs every seed with sharing on and off on the current rayon pool, in (seed, on, off)
-    /// order; `progress` is called after each run.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Result<Vec<SharingRun>, NotAWarehouse> {
-        let runs: Vec<(u64, bool)> = (1..=self.seeds)
+/// Every seed with sharing on and off, in (seed, on, off) order.
+impl Study for IntentSharingStudy {
+    type Key = (u64, bool);
+    type Row = SharingRun;
+    type Error = NotAWarehouse;
+
+    fn keys(&self) -> Vec<Self::Key> {
+        (1..=self.seeds)
             .flat_map(|s| [(s, true), (s, false)])
-            .collect();
-        runs.par_iter()
-            .map(|&(seed, sharing)| {
-                let mut scenario = self.scenario.clone();
-                scenario.seed = seed;
-                let report = run_fleet(&scenario, self.planner, self.seconds, sharing)?;
-                progress();
-                Ok(SharingRun::new(seed, sharing, &report))
-            })
             .collect()
+    }
+
+    fn run(&self, &(seed, sharing): &Self::Key) -> Result<SharingRun, NotAWarehouse> {
+        let mut scenario = self.scenario.clone();
+        scenario.seed = seed;
+        let report = run_fleet(&scenario, self.planner, self.seconds, sharing)?;
+        Ok(SharingRun::new(seed, sharing, &report))
     }
 }
 

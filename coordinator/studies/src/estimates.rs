@@ -12,10 +12,10 @@
 use super::laned::five_numbers;
 use super::output::{StudyError, write_json};
 use super::plots::write_boxes;
+use super::runner::Study;
 use agent::asfm::{Asfm, AsfmParams};
 use agent::planner::{LocalPlan, LocalPlanner, PlannerSpec, PlannerStack, PlanningInput};
-use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
@@ -139,7 +139,7 @@ impl LocalPlanner for Recorded {
 }
 
 /// One person's estimate.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EstimateRow {
     /// Where: the recording's name, or `sim-reacting` / `sim-ignoring`.
     pub source: String,
@@ -153,47 +153,20 @@ pub struct EstimateRow {
     pub closest_m: f64,
 }
 
-/// Each recorded person's Â_o in `asfm`'s partial runs on `recording` (the first `limit`),
-/// the robot with `params` at `options`' top speed under its safety layer setting.
-pub fn recorded(
-    recording: &Recording,
-    map: &agent::map::StaticMap,
-    options: &PlaybackOptions,
-    params: &AsfmParams,
-    limit: Option<usize>,
-    progress: &(dyn Fn() + Sync),
-) -> Vec<EstimateRow> {
-    let mut all: Vec<PlaybackRun> = runs(recording, RunKind::Partial, options);
-    if let Some(n) = limit {
-        all.truncate(n);
-    }
-    all.par_iter()
-        .enumerate()
-        .flat_map_iter(|(i, run)| {
-            let logs = Logs::default();
-            let mut planner = Recorded::new(
-                Asfm::new(AsfmParams {
-                    v_max: options.robot.max_speed,
-                    ..params.clone()
-                }),
-                &logs,
-            );
-            let robot = &options.robot;
-            let mut guard = robot.guard(0.0);
-            world_sim::playback::play(recording, map, run, options, &mut |input| {
-                let planned = planner.plan(input, input.goal).command;
-                guard
-                    .as_mut()
-                    .map_or(planned, |g| g.check(planned, input).command)
-            });
-            progress();
-            logs.rows(&logs.finals, |_| recording.name.clone(), i as u64)
-        })
-        .collect()
+/// A recorded crowd the study plays `asfm` in: the recording, its obstacles and the options
+/// (the robot's top speed, its safety layer setting).
+#[derive(Debug, Clone)]
+pub struct RecordedCrowd {
+    /// The recording.
+    pub recording: Recording,
+    /// Its obstacle lines.
+    pub map: agent::map::StaticMap,
+    /// How runs are cut and played.
+    pub options: PlaybackOptions,
 }
 
 /// The simulated crowd of a source.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum SimCrowd {
     /// Everyone steps aside for robots (Social Force).
     Reacting,
@@ -203,59 +176,168 @@ pub enum SimCrowd {
     Mixed(f64),
 }
 
-/// Each simulated person's Â_o in `asfm`'s open-space runs (`seeds`) at `density`, in
-/// `crowd`; the robot with `params`. A reacting or ignoring crowd gives each person's last
-/// Â_o after [`MIN_TRACKED_S`] of tracking (sources `sim-reacting`, `sim-ignoring`); a mixed
-/// one each person's Â_o once they have been [`NEAR_S`] near the robot, by what they are
+/// What to run: `asfm` with `params` in the partial runs of each recorded crowd (the first
+/// `limit` of each), and in the simulator's open space for each (crowd, density) at every seed.
+#[derive(Debug, Clone)]
+pub struct EstimatesStudy {
+    /// The recorded crowds.
+    pub recorded: Vec<RecordedCrowd>,
+    /// At most this many partial runs per recording.
+    pub limit: Option<usize>,
+    /// The open-space scenario the simulated crowds start from.
+    pub base: Scenario,
+    /// The simulated crowds and their densities (people per m²), in output order.
+    pub crowds: Vec<(SimCrowd, f64)>,
+    /// The simulator's seeds.
+    pub seeds: std::ops::RangeInclusive<u64>,
+    /// The planner's parameters (its top speed is the robot's).
+    pub params: AsfmParams,
+}
+
+/// One run of the estimates study.
+#[derive(Debug, Clone)]
+pub enum EstimateRun {
+    /// The `index`-th partial run of the `recording`-th recorded crowd.
+    Recorded {
+        /// Which recorded crowd.
+        recording: usize,
+        /// The run's index among the recording's runs.
+        index: u64,
+        /// The run.
+        run: PlaybackRun,
+    },
+    /// A simulated crowd at a density, one seed.
+    Simulated {
+        /// Who reacts.
+        crowd: SimCrowd,
+        /// People per m².
+        density: f64,
+        /// The seed.
+        seed: u64,
+    },
+}
+
+/// Recorded runs first, recording by recording; then each simulated crowd, seed by seed. A
+/// run's row is the estimates of the people it tracked: for a recorded crowd each person's
+/// last Â_o after [`MIN_TRACKED_S`] of tracking (source: the recording's name); for a reacting
+/// or ignoring crowd the same (sources `sim-reacting`, `sim-ignoring`); for a mixed crowd each
+/// person's Â_o once they have been [`NEAR_S`] near the robot, by what they are
 /// (`sim-mixed-reacting`, `sim-mixed-ignoring`).
-pub fn simulated(
-    base: &Scenario,
-    params: &AsfmParams,
-    density: f64,
-    seeds: std::ops::RangeInclusive<u64>,
-    crowd: SimCrowd,
-    progress: &(dyn Fn() + Sync),
-) -> Vec<EstimateRow> {
-    seeds
-        .into_par_iter()
-        .flat_map_iter(|seed| {
-            let mut scenario = base.clone();
-            if let Some(open) = scenario.open_space.as_mut() {
-                open.density = density;
+impl Study for EstimatesStudy {
+    type Key = EstimateRun;
+    type Row = Vec<EstimateRow>;
+    type Error = std::convert::Infallible;
+
+    fn keys(&self) -> Vec<EstimateRun> {
+        let mut keys = Vec::new();
+        for (r, crowd) in self.recorded.iter().enumerate() {
+            let mut all = runs(&crowd.recording, RunKind::Partial, &crowd.options);
+            if let Some(n) = self.limit {
+                all.truncate(n);
             }
-            scenario.humans.react_to_robots = crowd != SimCrowd::Ignoring;
-            if let SimCrowd::Mixed(share) = crowd {
-                scenario.humans.react_share = share;
-            }
-            scenario.seed = seed;
-            let logs = Logs::default();
-            let spec: PlannerSpec = "asfm".parse().expect("a known planner");
-            let v_max = scenario.robot.max_speed;
-            run_episode_with(&scenario, |_| {
-                let asfm = Asfm::new(AsfmParams {
-                    v_max,
-                    ..params.clone()
-                });
-                PlannerStack::with_local(spec, Box::new(Recorded::new(asfm, &logs)))
-            });
-            progress();
-            let people = World::from_scenario(&scenario).humans;
-            let log = match crowd {
-                SimCrowd::Mixed(_) => &logs.at_near,
-                _ => &logs.finals,
-            };
-            let source = |person: u64| {
-                match crowd {
-                    SimCrowd::Reacting => "sim-reacting",
-                    SimCrowd::Ignoring => "sim-ignoring",
-                    SimCrowd::Mixed(_) if people.reacts(person as usize) => "sim-mixed-reacting",
-                    SimCrowd::Mixed(_) => "sim-mixed-ignoring",
-                }
-                .to_string()
-            };
-            logs.rows(log, source, seed)
+            keys.extend(
+                all.into_iter()
+                    .enumerate()
+                    .map(|(i, run)| EstimateRun::Recorded {
+                        recording: r,
+                        index: i as u64,
+                        run,
+                    }),
+            );
+        }
+        for &(crowd, density) in &self.crowds {
+            keys.extend(self.seeds.clone().map(|seed| EstimateRun::Simulated {
+                crowd,
+                density,
+                seed,
+            }));
+        }
+        keys
+    }
+
+    fn run(&self, key: &EstimateRun) -> Result<Vec<EstimateRow>, Self::Error> {
+        Ok(match *key {
+            EstimateRun::Recorded {
+                recording,
+                index,
+                ref run,
+            } => self.recorded_run(&self.recorded[recording], index, run),
+            EstimateRun::Simulated {
+                crowd,
+                density,
+                seed,
+            } => self.simulated_run(crowd, density, seed),
         })
-        .collect()
+    }
+}
+
+impl EstimatesStudy {
+    fn recorded_run(
+        &self,
+        crowd: &RecordedCrowd,
+        index: u64,
+        run: &PlaybackRun,
+    ) -> Vec<EstimateRow> {
+        let RecordedCrowd {
+            recording,
+            map,
+            options,
+        } = crowd;
+        let logs = Logs::default();
+        let mut planner = Recorded::new(
+            Asfm::new(AsfmParams {
+                v_max: options.robot.max_speed,
+                ..self.params.clone()
+            }),
+            &logs,
+        );
+        let robot = &options.robot;
+        let mut guard = robot.guard(0.0);
+        world_sim::playback::play(recording, map, run, options, &mut |input| {
+            let planned = planner.plan(input, input.goal).command;
+            guard
+                .as_mut()
+                .map_or(planned, |g| g.check(planned, input).command)
+        });
+        logs.rows(&logs.finals, |_| recording.name.clone(), index)
+    }
+
+    fn simulated_run(&self, crowd: SimCrowd, density: f64, seed: u64) -> Vec<EstimateRow> {
+        let mut scenario = self.base.clone();
+        if let Some(open) = scenario.open_space.as_mut() {
+            open.density = density;
+        }
+        scenario.humans.react_to_robots = crowd != SimCrowd::Ignoring;
+        if let SimCrowd::Mixed(share) = crowd {
+            scenario.humans.react_share = share;
+        }
+        scenario.seed = seed;
+        let logs = Logs::default();
+        let spec: PlannerSpec = "asfm".parse().expect("a known planner");
+        let v_max = scenario.robot.max_speed;
+        run_episode_with(&scenario, |_| {
+            let asfm = Asfm::new(AsfmParams {
+                v_max,
+                ..self.params.clone()
+            });
+            PlannerStack::with_local(spec, Box::new(Recorded::new(asfm, &logs)))
+        });
+        let people = World::from_scenario(&scenario).humans;
+        let log = match crowd {
+            SimCrowd::Mixed(_) => &logs.at_near,
+            _ => &logs.finals,
+        };
+        let source = |person: u64| {
+            match crowd {
+                SimCrowd::Reacting => "sim-reacting",
+                SimCrowd::Ignoring => "sim-ignoring",
+                SimCrowd::Mixed(_) if people.reacts(person as usize) => "sim-mixed-reacting",
+                SimCrowd::Mixed(_) => "sim-mixed-ignoring",
+            }
+            .to_string()
+        };
+        logs.rows(log, source, seed)
+    }
 }
 
 /// The area under the ROC curve of a score as a test of "reacts" (`positives`) against

@@ -1,9 +1,8 @@
 //! `runs.csv` reads back into the same rows, so summaries and figures can be rebuilt from it.
 
-#![cfg(feature = "studies")]
-
-use coordinator::study::open_space::StudyPlan;
-use coordinator::study::runs::{parse_runs_csv, runs_csv, runs_csv_header};
+use studies::Study;
+use studies::open_space::StudyPlan;
+use studies::runs::{parse_runs_csv, runs_csv, runs_csv_header};
 use world_sim::scenario::Scenario;
 
 #[test]
@@ -18,7 +17,7 @@ fn runs_csv_round_trips_and_rebuilds_the_same_summary() {
         first_seed: 1,
         seeds: 2,
     };
-    let rows = plan.execute(&|| {});
+    let Ok(rows) = plan.execute(&|| {});
     let csv = runs_csv(&rows);
     let back = parse_runs_csv(&csv).expect("our own output parses");
     assert_eq!(runs_csv(&back.rows), csv);

@@ -5,8 +5,8 @@
 //! cause and their total, closeness, people's delay and what the safety layer changed, per
 //! run, and throughput against fleet size.
 
+use crate::runner::Study;
 use agent::planner::PlannerSpec;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use world_sim::efficiency::{FreeFlow, efficiency, free_flow};
 use world_sim::fleet::{FleetOptions, FleetReport, NotAWarehouse, run_fleet_with};
@@ -287,50 +287,74 @@ impl TrafficStudy {
         }
         out
     }
+}
 
-    /// Runs everything on the current rayon pool; `progress` is called after each run.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Result<Vec<TrafficRun>, NotAWarehouse> {
-        self.execute_reusing(&[], &|_| progress())
+impl Study for TrafficStudy {
+    type Key = (usize, usize, u64, bool, bool);
+    type Row = TrafficRun;
+    type Error = NotAWarehouse;
+
+    fn keys(&self) -> Vec<Self::Key> {
+        self.runs()
     }
 
-    /// Like [`TrafficStudy::execute`], but a run found in `earlier` (same site, fleet size,
-    /// seed and policy setting) is taken from there instead of run again: for settings whose
-    /// code has not changed since (the runs are deterministic, so they would come out the
-    /// same bits). Ignores the other rows of `earlier`. `finished` gets each run as it ends
-    /// (reused ones too), e.g. to save it at once.
-    pub fn execute_reusing(
+    fn run(
         &self,
-        earlier: &[TrafficRun],
-        finished: &(dyn Fn(&TrafficRun) + Sync),
-    ) -> Result<Vec<TrafficRun>, NotAWarehouse> {
-        self.runs()
-            .par_iter()
-            .map(|&(s, robots, seed, policy, safety)| {
-                let site = &self.sites[s];
-                let found = earlier.iter().find(|r| {
-                    (r.scenario.as_str(), r.robots, r.seed, r.policy, r.safety)
-                        == (site.scenario.name.as_str(), robots, seed, policy, safety)
-                });
-                if let Some(run) = found {
-                    finished(run);
-                    return Ok(run.clone());
-                }
-                let mut scenario = site.scenario.clone();
-                scenario.seed = seed;
-                scenario.robot.safety = safety;
-                scenario.set_fleet_size(Some(robots), None);
-                let options = FleetOptions {
-                    share_intents: true,
-                    policy: policy.then_some(self.policy_params),
-                    human_impact_window_s: Some(IMPACT_WINDOW_S),
-                };
-                let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
-                let free = free_flow(&scenario, self.planner, self.seconds, options)?;
-                let run = TrafficRun::new(&scenario.name, seed, safety, &report, &free);
-                finished(&run);
-                Ok(run)
-            })
-            .collect()
+        &(s, robots, seed, policy, safety): &Self::Key,
+    ) -> Result<TrafficRun, NotAWarehouse> {
+        let mut scenario = self.sites[s].scenario.clone();
+        scenario.seed = seed;
+        scenario.robot.safety = safety;
+        scenario.set_fleet_size(Some(robots), None);
+        let options = FleetOptions {
+            share_intents: true,
+            policy: policy.then_some(self.policy_params),
+            human_impact_window_s: Some(IMPACT_WINDOW_S),
+        };
+        let report = run_fleet_with(&scenario, self.planner, self.seconds, options)?;
+        let free = free_flow(&scenario, self.planner, self.seconds, options)?;
+        Ok(TrafficRun::new(
+            &scenario.name,
+            seed,
+            safety,
+            &report,
+            &free,
+        ))
+    }
+}
+
+/// A traffic study whose runs found in `earlier` (same site, fleet size, seed, policy and
+/// layer setting) are taken from there instead of run again: for settings whose code has not
+/// changed since (the runs are deterministic, so they would come out the same bits). The
+/// other rows of `earlier` are ignored.
+#[derive(Debug, Clone, Copy)]
+pub struct Reusing<'a> {
+    /// The study.
+    pub study: &'a TrafficStudy,
+    /// Runs of an earlier `runs.csv`.
+    pub earlier: &'a [TrafficRun],
+}
+
+impl Study for Reusing<'_> {
+    type Key = (usize, usize, u64, bool, bool);
+    type Row = TrafficRun;
+    type Error = NotAWarehouse;
+
+    fn keys(&self) -> Vec<Self::Key> {
+        self.study.runs()
+    }
+
+    fn run(&self, key: &Self::Key) -> Result<TrafficRun, NotAWarehouse> {
+        let &(s, robots, seed, policy, safety) = key;
+        let name = self.study.sites[s].scenario.name.as_str();
+        let found = self.earlier.iter().find(|r| {
+            (r.scenario.as_str(), r.robots, r.seed, r.policy, r.safety)
+                == (name, robots, seed, policy, safety)
+        });
+        match found {
+            Some(run) => Ok(run.clone()),
+            None => self.study.run(key),
+        }
     }
 }
 
@@ -352,7 +376,7 @@ mod tests {
         let dir = tempfile::tempdir().expect("temp dir");
         let scenario = Scenario::builtin("aws-small-warehouse").expect("valid");
         let path = dir.path().join("site.png");
-        super::super::plots::write_site(&path, &scenario).expect("drawn");
+        crate::plots::write_site(&path, &scenario).expect("drawn");
         let bytes = std::fs::read(&path).expect("written");
         assert!(
             bytes.starts_with(b"\x89PNG") && bytes.len() > 50_000,
@@ -437,9 +461,12 @@ mod tests {
         // Runs found in an earlier runs.csv are taken from it, the rest are run.
         let mut earlier = runs[0].clone();
         earlier.tasks = 999;
-        let again = study
-            .execute_reusing(std::slice::from_ref(&earlier), &|_| {})
-            .expect("fleet sites");
+        let again = Reusing {
+            study: &study,
+            earlier: std::slice::from_ref(&earlier),
+        }
+        .execute(&|| {})
+        .expect("fleet sites");
         assert_eq!(again[0], earlier);
         assert_eq!(again[1..], runs[1..]);
     }

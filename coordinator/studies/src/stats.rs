@@ -61,7 +61,7 @@ mod tests {
     use super::*;
 
     /// Values from SciPy 1.17.1: `scipy.stats.wilcoxon(d, method="approx").pvalue`
-    /// (see coordinator/tests/reference/wilcoxon_reference.py).
+    /// (see coordinator/studies/tests/reference/wilcoxon_reference.py).
     #[test]
     fn matches_scipy_normal_approximation() {
         let d = [

@@ -2,10 +2,10 @@
 //! setting), the tables of `summary.md`, and the files the study writes.
 
 use super::{TrafficRun, TrafficStudy};
-use crate::study::csv_fields::to_csv;
-use crate::study::output::{StudyError, write_json};
-use crate::study::plots::{Series, write_lines};
-use crate::study::stats::mean;
+use crate::csv_fields::to_csv;
+use crate::output::{StudyError, write_json};
+use crate::plots::{Series, write_lines};
+use crate::stats::mean;
 use serde::Serialize;
 use std::path::Path;
 use world_sim::stuck::{StuckBreakdown, StuckCauses};
@@ -296,7 +296,7 @@ pub fn stuck_table(cells: &[Cell]) -> String {
 }
 
 /// Writes `runs.csv`, `summary.json`, `summary.md` and `throughput.png` into `out`, and
-/// `site-NAME.png` for each site from a floor plan ([`crate::study::plots::write_site`]).
+/// `site-NAME.png` for each site from a floor plan ([`crate::plots::write_site`]).
 pub fn write_outputs(
     out: &Path,
     study: &TrafficStudy,
@@ -361,7 +361,7 @@ pub fn write_outputs(
         .filter(|s| s.scenario.floor_plan.is_some())
     {
         let name = format!("site-{}.png", site.scenario.name);
-        crate::study::plots::write_site(&out.join(name), &site.scenario)?;
+        crate::plots::write_site(&out.join(name), &site.scenario)?;
     }
     Ok(cells)
 }

@@ -7,9 +7,9 @@
 use super::csv_fields::{fixed1_or_empty, fixed4, to_csv};
 use super::output::{StudyError, write_json};
 use super::plots::write_boxes;
+use super::runner::Study;
 use agent::planner::PlannerStack;
 use agent::pnp::PnpParams;
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 use world_sim::episode::run_episode_with;
@@ -53,7 +53,7 @@ pub struct LanedStudy {
 }
 
 /// One run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct LanedRow {
     /// 1/(c1·c3).
     pub ratio: f64,
@@ -92,34 +92,37 @@ impl LanedStudy {
             ..d
         }
     }
+}
 
-    /// Runs everything on the current rayon pool; `progress` is called after each run.
-    pub fn execute(&self, progress: &(dyn Fn() + Sync)) -> Vec<LanedRow> {
+impl Study for LanedStudy {
+    type Key = (f64, u64);
+    type Row = LanedRow;
+    type Error = std::convert::Infallible;
+
+    fn keys(&self) -> Vec<Self::Key> {
         self.runs()
-            .into_par_iter()
-            .map(|(ratio, seed)| {
-                let mut scenario = self.scenario.clone();
-                scenario.seed = seed;
-                let params = self.params(ratio);
-                let c3 = params.c3;
-                let m = run_episode_with(&scenario, |_| PlannerStack::pnp(params.clone()))[0];
-                progress();
-                let duration = if m.success {
-                    m.time_to_goal_s
-                } else {
-                    scenario.max_time_s
-                };
-                LanedRow {
-                    ratio,
-                    c3,
-                    seed,
-                    reached: m.success,
-                    time_to_goal_s: m.success.then_some(m.time_to_goal_s),
-                    average_speed: m.path_length_m / duration,
-                    robot_caused_contacts: m.robot_caused_contacts,
-                }
-            })
-            .collect()
+    }
+
+    fn run(&self, &(ratio, seed): &Self::Key) -> Result<LanedRow, Self::Error> {
+        let mut scenario = self.scenario.clone();
+        scenario.seed = seed;
+        let params = self.params(ratio);
+        let c3 = params.c3;
+        let m = run_episode_with(&scenario, |_| PlannerStack::pnp(params.clone()))[0];
+        let duration = if m.success {
+            m.time_to_goal_s
+        } else {
+            scenario.max_time_s
+        };
+        Ok(LanedRow {
+            ratio,
+            c3,
+            seed,
+            reached: m.success,
+            time_to_goal_s: m.success.then_some(m.time_to_goal_s),
+            average_speed: m.path_length_m / duration,
+            robot_caused_contacts: m.robot_caused_contacts,
+        })
     }
 }
 
