@@ -456,6 +456,16 @@ impl PlannerStack {
         }
     }
 
+    /// The stack with its short-term planner wrapped by `wrap` (instrumentation, or the
+    /// runtime's fault injection); PGP and the name stay.
+    pub fn wrap_local(
+        mut self,
+        wrap: impl FnOnce(Box<dyn LocalPlanner>) -> Box<dyn LocalPlanner>,
+    ) -> Self {
+        self.local = wrap(self.local);
+        self
+    }
+
     /// A stack with explicit PGP parameters (its subgoal distance is used as given).
     pub fn with_pgp(spec: PlannerSpec, pgp: PgpParams) -> Self {
         let mut stack = Self::new(spec);

@@ -96,7 +96,7 @@ impl Drop for AgentProcess {
 
 /// A free loopback TCP endpoint, `tcp/127.0.0.1:<port>`.
 pub fn free_endpoint() -> String {
-    let port = agent::runtime::net::free_loopback_port().expect("a free loopback port");
+    let port = fleet_net::free_loopback_port().expect("a free loopback port");
     format!("tcp/127.0.0.1:{port}")
 }
 
@@ -111,12 +111,8 @@ pub fn runtime() -> tokio::runtime::Runtime {
 
 /// A loopback router session listening at `endpoint` (as the coordinator's, or a zenohd).
 pub fn router(rt: &tokio::runtime::Runtime, endpoint: &str) -> zenoh::Session {
-    let config = agent::runtime::net::loopback(
-        agent::runtime::net::Role::Router,
-        &[endpoint.to_owned()],
-        &[],
-    )
-    .expect("a router config");
+    let config = fleet_net::loopback(fleet_net::Role::Router, &[endpoint.to_owned()], &[])
+        .expect("a router config");
     rt.block_on(async { zenoh::open(config).await })
         .expect("a router session")
 }

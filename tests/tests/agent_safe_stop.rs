@@ -6,8 +6,8 @@
 //! 2. observations stop while no coordinator token was ever seen: a safe stop once the
 //!    observation timeout has passed, never before.
 
-use agent::runtime::net::{Role, open_loopback};
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
+use fleet_net::{Role, open_loopback};
 use gapfleet_tests::free_endpoint;
 use schemas::{Channel, CommandMsg, Keys, Observation, P2, decode, encode};
 use std::sync::Arc;

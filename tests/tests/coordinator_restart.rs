@@ -85,8 +85,8 @@ fn a_killed_coordinator_restarts_where_its_journal_ends() {
     let watcher = rt
         .block_on(async {
             zenoh::open(
-                agent::runtime::net::loopback(
-                    agent::runtime::net::Role::Client,
+                fleet_net::loopback(
+                    fleet_net::Role::Client,
                     &[],
                     std::slice::from_ref(&endpoint),
                 )

@@ -11,8 +11,8 @@
 //! 6. the coordinator stops: every agent still running sends a safe stop within 0.5 s;
 //! 7. SIGTERM: every agent exits cleanly.
 
-use agent::runtime::net::{Role, loopback};
 use coordinator::serve::{CoordinatorConfig, Event, Status, run_coordinator};
+use fleet_net::{Role, loopback};
 use gapfleet_tests::{AgentProcess, free_endpoint};
 use schemas::{AgentInfo, Channel, CommandMsg, Keys, decode};
 use std::sync::mpsc;

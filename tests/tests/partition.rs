@@ -1,7 +1,7 @@
 //! A network partition between one agent and the router, on loopback: the agent's session goes
 //! through a TCP proxy that the test pauses (nothing is forwarded, nothing is lost: the bytes
 //! wait, as on a dead Wi-Fi link) and later lets through again. Zenoh's lease is 3 s
-//! (`agent::runtime::net::LEASE_MS`).
+//! (`fleet_net::LEASE_MS`).
 //!
 //! - the agent safe-stops within 0.5 s (its observations stopped);
 //! - the coordinator stops the robot once more than 3 observations newer than the one its
@@ -12,9 +12,9 @@
 //! - when the link heals, the agent reconnects by itself and the robot drives again, and
 //!   nothing is counted twice.
 
-use agent::runtime::net::{Role, loopback};
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
 use coordinator::serve::{CoordinatorConfig, Event, Observer, Status, run_coordinator};
+use fleet_net::{Role, loopback};
 use gapfleet_tests::free_endpoint;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

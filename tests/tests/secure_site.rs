@@ -13,11 +13,11 @@
 //! 3. The same list enforced by a real `zenohd` 1.10.2 router between the coordinator and the
 //!    agents (tests/run.sh installs it).
 
-use agent::runtime::net::from_file;
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
 use coordinator::serve::{CoordinatorConfig, Status, run_coordinator};
 use coordinator::site::Identity;
 use coordinator::site::{SitePaths, TemporarySite};
+use fleet_net::from_file;
 use gapfleet_tests::{Zenohd, zenohd};
 use schemas::{Channel, CommandMsg, Keys, Motion, P2, SafetyZone, encode};
 use std::path::Path;

@@ -8,8 +8,8 @@
 //! - the other robots never lack a fresh command (their stale-command counts stay 0) and every
 //!   observation sent to them is answered.
 
-use agent::runtime::net::{Role, loopback};
 use coordinator::serve::{CoordinatorConfig, Status, run_coordinator};
+use fleet_net::{Role, loopback};
 use gapfleet_tests::{AgentProcess, free_endpoint};
 use schemas::{Channel, CommandMsg, Keys, Observation, decode};
 use std::sync::mpsc;

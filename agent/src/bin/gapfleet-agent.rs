@@ -15,9 +15,9 @@
 //! ```
 
 use agent::planner::PlannerSpec;
-use agent::runtime::net::{NetArgs, Role, config};
 use agent::runtime::{AgentConfig, AgentCounters, run_agent};
 use clap::Parser;
+use fleet_net::{NetArgs, Role, config};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -193,7 +193,7 @@ async fn main() -> anyhow::Result<()> {
         &session,
         agent_config,
         counters.clone(),
-        agent::runtime::shutdown_signal(),
+        fleet_net::shutdown_signal(),
     )
     .await?;
     session
@@ -260,7 +260,7 @@ async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
         session,
         config,
         counters.clone(),
-        agent::runtime::shutdown_signal(),
+        fleet_net::shutdown_signal(),
     )
     .await?;
     let load = |c: &std::sync::atomic::AtomicU64| c.load(std::sync::atomic::Ordering::Relaxed);

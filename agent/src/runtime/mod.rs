@@ -10,7 +10,7 @@
 //! disappears, it publishes a safe-stop command; on shutdown it publishes one more and
 //! withdraws its token. Bad messages are counted and logged, never fatal.
 
-pub mod net;
+mod faults;
 pub mod ros;
 pub mod standalone;
 pub mod wire;
@@ -21,6 +21,7 @@ use crate::math::Vec2;
 use crate::model::Command;
 use crate::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use crate::safety::{SafetyLimits, Zone};
+use fleet_net::log_rejection;
 use schemas::{
     AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, SafetyZone, decode, encode,
 };
@@ -59,7 +60,8 @@ pub struct AgentConfig {
     /// observation's step); `None` runs the planner's commands as they are, as the papers do.
     pub safety: Option<SafetyLimits>,
     /// Fault injection for tests: every plan holds the agent's thread this much longer, as a
-    /// slow planner would (zero in normal use).
+    /// slow planner would (zero in normal use). It wraps the planner (`faults`); the agent's
+    /// loop does not know of it.
     pub fault_plan_delay: Duration,
     /// Drive a ROS 2 robot ([`ros`]): its own odometry, people and scan replace the
     /// observation's ego state and people, and each command also goes to its `cmd_vel`. The
@@ -118,310 +120,446 @@ pub struct AgentCounters {
     pub ros: Arc<ros::RosCounters>,
 }
 
-/// Runs one agent on `session` until `shutdown` completes.
+/// Runs one agent on `session` until `shutdown` completes: [`Agent`]'s phases, each on the
+/// event that calls for it.
 pub async fn run_agent(
     session: &zenoh::Session,
     config: AgentConfig,
     counters: Arc<AgentCounters>,
     shutdown: impl Future<Output = ()>,
 ) -> Result<(), AgentError> {
-    let keys = Keys::new(&config.site)?;
-    let id = config.robot_id;
-    let zerr = |what: &'static str| move |source: zenoh::Error| AgentError::Zenoh { what, source };
-    let token = session
-        .liveliness()
-        .declare_token(keys.alive(id))
-        .await
-        .map_err(zerr("liveliness token"))?;
-    let cmd_pub = session
-        .declare_publisher(keys.robot(id, Channel::Cmd))
-        .await
-        .map_err(zerr("command publisher"))?;
-    let intent_pub = session
-        .declare_publisher(keys.robot(id, Channel::Intent))
-        .await
-        .map_err(zerr("intent publisher"))?;
-    let info_pub = session
-        .declare_publisher(keys.robot(id, Channel::Info))
-        .await
-        .map_err(zerr("info publisher"))?;
-    let fan_pub = session
-        .declare_publisher(keys.robot(id, Channel::Fan))
-        .await
-        .map_err(zerr("fan publisher"))?;
-    // Observations are decoded as they arrive, in Zenoh's own thread (a small MessagePack
-    // message: microseconds), and only the newest valid one is kept for the planner: nothing
-    // here can block the session, a planner slower than the tick plans on the newest
-    // observation rather than working through a backlog, and every bad message is counted.
-    let newest = Arc::new(NewestObservation::default());
-    let obs_sub = {
-        let newest = newest.clone();
-        let counters = counters.clone();
-        let gaps = AtomicU64::new(0);
-        session
-            .declare_subscriber(keys.robot(id, Channel::Obs))
-            .callback(
-                move |sample| match decode::<Observation>(&sample.payload().to_bytes()) {
-                    Ok(obs) if obs.robot_id == id => {
-                        counters.received.fetch_add(1, Ordering::Relaxed);
-                        let seq = obs.seq;
-                        let arrival = newest.put(obs);
-                        if arrival.replaced {
-                            counters.superseded.fetch_add(1, Ordering::Relaxed);
-                        }
-                        if arrival.missed > 0 {
-                            let n = counters.missed.fetch_add(arrival.missed, Ordering::Relaxed)
-                                + arrival.missed;
-                            let gap = gaps.fetch_add(1, Ordering::Relaxed) + 1;
-                            if log_rejection(gap) {
-                                tracing::warn!(
-                                    robot = id,
-                                    missed = n,
-                                    "{} observations before number {seq} never arrived",
-                                    arrival.missed
-                                );
-                            }
-                        }
-                    }
-                    Ok(obs) => reject(
-                        &counters,
-                        id,
-                        &format!("observation for robot {}", obs.robot_id),
-                    ),
-                    Err(e) => reject(&counters, id, &e.to_string()),
-                },
-            )
-            .await
-            .map_err(zerr("observation subscriber"))?
-    };
-    // A ring, not a FIFO: a full FIFO would block the session; only the newest changes matter.
-    let coordinator_sub = session
-        .liveliness()
-        .declare_subscriber(keys.coordinator())
-        .history(true)
-        .with(zenoh::handlers::RingChannel::new(16))
-        .await
-        .map_err(zerr("coordinator liveliness subscriber"))?;
-
-    let ros_link = match config.ros.clone() {
-        Some(ros) => Some(
-            ros::RosLink::declare(session, ros, counters.ros.clone())
-                .await
-                .map_err(AgentError::Ros)?,
-        ),
-        None => None,
-    };
-    let planner_name = config.planner.to_string();
-    let mut stack = PlannerStack::new(config.planner);
-    let mut guard = config
-        .safety
-        .map(|limits| Guard::new(limits).on_base(config.base));
-    stack.set_record_fan(config.share_fan);
-    let mut map: Option<(u32, StaticMap)> = None;
-    let mut last_map_attempt: Option<Instant> = None;
-    let mut last: Option<(u64, f64)> = None; // seq and stamp of the newest observation
-    let mut deadline = tokio::time::Instant::now() + config.obs_timeout;
-    let mut stopped = true;
-    let mut plan_times_us: Vec<u32> = Vec::new();
+    let (mut agent, inputs) = Agent::declare(session, config, counters).await?;
     let mut heartbeat = tokio::time::interval(Duration::from_secs(1));
     tokio::pin!(shutdown);
-    tracing::info!(robot = id, planner = %planner_name, "agent up");
-
+    tracing::info!(robot = agent.id, planner = %agent.planner_name, "agent up");
     loop {
         tokio::select! {
             () = &mut shutdown => break,
-            () = newest.ready.notified() => {
-                let Some(obs) = newest.take() else { continue };
-                // Older than what was planned on: drop, unless the agent had lost contact (the
-                // coordinator restarted and counts from 0 again).
-                if let Some((seq, _)) = last
-                    && obs.seq <= seq
-                    && !stopped
-                {
-                    counters.stale.fetch_add(1, Ordering::Relaxed);
-                    continue;
-                }
-                last = Some((obs.seq, obs.sim_time));
-                deadline = tokio::time::Instant::now() + config.obs_timeout;
-                stopped = false;
-
-                if map.as_ref().is_none_or(|(v, _)| *v != obs.map_version) {
-                    let due = last_map_attempt.is_none_or(|t| t.elapsed() > Duration::from_secs(1));
-                    if due {
-                        last_map_attempt = Some(Instant::now());
-                        let fetched = tokio::time::timeout(
-                            MAP_QUERY_TIMEOUT,
-                            fetch_map(session, &keys, obs.map_version),
-                        )
-                        .await;
-                        match fetched {
-                            Ok(Ok((version, m, stations))) => {
-                                counters.maps.fetch_add(1, Ordering::Relaxed);
-                                // The site's stations are where its people go: foIGP's intents.
-                                stack.set_destinations(&stations);
-                                map = Some((version, m));
-                            }
-                            Ok(Err(e)) => tracing::warn!(robot = id, "no map yet: {e}"),
-                            Err(_) => tracing::warn!(robot = id, "no map yet: the query timed out"),
-                        }
-                    }
-                }
-                // The command goes out first: it closes the control loop; the intent and the fan
-                // follow right after it.
-                // In ROS mode the robot's own sensing; without fresh odometry it stands.
-                if let Some(link) = &ros_link {
-                    link.wait_for_odometry(obs.sim_time, ODOMETRY_WAIT).await;
-                }
-                let sensed = match (&ros_link, &map) {
-                    (Some(link), Some((_, m))) => link.sensed().map(|s| {
-                        let age = s.odom_age;
-                        let (ego, neighbours) = sensed_world(s, &obs, m);
-                        (ego, neighbours, age)
-                    }),
-                    (Some(_), None) => None,
-                    (None, _) => Some((wire::ego(&obs), wire::neighbours(&obs), Duration::ZERO)),
-                };
-                // The heading the command is turned into the robot's base frame with.
-                let heading = sensed.as_ref().map_or(obs.heading, |(ego, ..)| ego.heading);
-                // A real robot reports where its odometry puts it, for a coordinator that does
-                // not simulate it.
-                let reported = match (&ros_link, &sensed) {
-                    (Some(_), Some((ego, _, age))) => Some(wire::robot_state(ego, *age)),
-                    _ => None,
-                };
-                let (command, extras) = match (&map, obs.goal, sensed) {
-                    (Some((_, m)), Some(goal), Some((ego, neighbours, _))) => {
-                        let profile = if ros_link.is_some() { None } else { wire::visibility(&obs) };
-                        let started = Instant::now();
-                        let input = PlanningInput {
-                            ego: &ego,
-                            neighbours: &neighbours,
-                            map: m,
-                            goal: wire::vec(goal),
-                            dt: obs.dt,
-                            visibility: profile.as_ref(),
-                            safety: None,
-                        };
-                        let (plan, guarded) = match &mut guard {
-                            Some(guard) => {
-                                let (plan, guarded) = guard.plan(&mut stack, &input);
-                                (plan, Some(guarded))
-                            }
-                            None => (stack.plan(&input), None),
-                        };
-                        if !config.fault_plan_delay.is_zero() {
-                            // Blocking on purpose: a busy planner holds its thread.
-                            std::thread::sleep(config.fault_plan_delay);
-                        }
-                        let mut zone = SafetyZone::Clear;
-                        if let Some(guarded) = guarded {
-                            zone = match guarded.zone {
-                                Zone::Clear => SafetyZone::Clear,
-                                Zone::Warning => {
-                                    counters.warned.fetch_add(1, Ordering::Relaxed);
-                                    SafetyZone::Warning
-                                }
-                                Zone::Protective => {
-                                    counters.protective.fetch_add(1, Ordering::Relaxed);
-                                    SafetyZone::Protective
-                                }
-                                Zone::Yield => {
-                                    counters.yielded.fetch_add(1, Ordering::Relaxed);
-                                    SafetyZone::Yield
-                                }
-                            };
-                        }
-                        plan_times_us.push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
-                        counters.plans.fetch_add(1, Ordering::Relaxed);
-                        let (mut cmd, intent) = wire::answer(&obs, &planner_name, &plan);
-                        cmd.safety = zone;
-                        let fan = plan.fan.as_ref().filter(|_| config.share_fan).map(|f| wire::fan(&obs, f));
-                        (cmd, Some((intent, fan)))
-                    }
-                    // Idle, or no map yet: stand still.
-                    _ => (
-                        CommandMsg {
-                            robot_id: id,
-                            obs_seq: obs.seq,
-                            stamp: obs.sim_time,
-                            motion: wire::motion(Command::STOP),
-                            safe_stop: false,
-                            safety: SafetyZone::Clear,
-                            state: None,
-                        },
-                        None,
-                    ),
-                };
-                let mut command = command;
-                command.state = reported;
-                if let Some(link) = &ros_link {
-                    link.drive(wire::command(command.motion), heading).await;
-                }
-                if let Err(e) = cmd_pub.put(encode(&command)).await {
-                    tracing::warn!(robot = id, "command not sent: {e}");
-                }
-                if let Some((intent, fan)) = extras {
-                    if let Err(e) = intent_pub.put(encode(&intent)).await {
-                        tracing::warn!(robot = id, "intent not sent: {e}");
-                    }
-                    if let Some(msg) = fan
-                        && let Err(e) = fan_pub.put(encode(&msg)).await
-                    {
-                        tracing::debug!(robot = id, "fan not sent: {e}");
-                    }
+            () = inputs.newest.ready.notified() => {
+                if let Some(obs) = inputs.newest.take() {
+                    agent.on_observation(obs).await;
                 }
             }
-            () = tokio::time::sleep_until(deadline), if !stopped => {
-                tracing::warn!(robot = id, "observations stopped: safe stop");
-                safe_stop(&cmd_pub, id, last, &counters).await;
-                if let Some(link) = &ros_link {
-                    link.drive(Command::STOP, 0.0).await;
-                }
-                stopped = true;
+            () = tokio::time::sleep_until(agent.deadline), if !agent.stopped => {
+                tracing::warn!(robot = agent.id, "observations stopped: safe stop");
+                agent.stop().await;
             }
-            sample = coordinator_sub.recv_async() => {
+            sample = inputs.coordinator.recv_async() => {
                 let Ok(sample) = sample else { break };
-                match sample.kind() {
-                    zenoh::sample::SampleKind::Put => tracing::info!(robot = id, "coordinator up"),
-                    zenoh::sample::SampleKind::Delete if stopped => {
-                        tracing::info!(robot = id, "coordinator gone");
-                    }
-                    zenoh::sample::SampleKind::Delete => {
-                        tracing::warn!(robot = id, "coordinator gone: safe stop");
-                        safe_stop(&cmd_pub, id, last, &counters).await;
-                if let Some(link) = &ros_link {
-                    link.drive(Command::STOP, 0.0).await;
-                }
-                        stopped = true;
-                    }
-                }
+                agent.on_coordinator(sample.kind()).await;
             }
-            _ = heartbeat.tick() => {
-                let info = AgentInfo {
-                    robot_id: id,
-                    planner: planner_name.clone(),
-                    version: env!("CARGO_PKG_VERSION").to_owned(),
-                    plans: counters.plans.load(Ordering::Relaxed),
-                    rejected: counters.rejected.load(Ordering::Relaxed),
-                    plan_p99_us: p99(&mut plan_times_us),
-                    maps: counters.maps.load(Ordering::Relaxed),
-                    map_version: map.as_ref().map_or(0, |(v, _)| *v),
-                };
-                plan_times_us.clear();
-                if let Err(e) = info_pub.put(encode(&info)).await {
-                    tracing::debug!(robot = id, "info not sent: {e}");
-                }
+            _ = heartbeat.tick() => agent.heartbeat().await,
+        }
+    }
+    agent.stop().await;
+    let id = agent.id;
+    // The liveliness token goes with the agent, then the subscriptions.
+    drop(agent);
+    drop(inputs);
+    tracing::info!(robot = id, "agent down");
+    Ok(())
+}
+
+/// What wakes an agent: its newest observation (kept by the subscriber's callback) and the
+/// coordinator's liveliness. Apart from [`Agent`], which the loop changes while it waits on
+/// these.
+struct Inputs {
+    newest: Arc<NewestObservation>,
+    _observations: zenoh::pubsub::Subscriber<()>,
+    /// A ring, not a FIFO: a full FIFO would block the session; only the newest changes matter.
+    coordinator:
+        zenoh::pubsub::Subscriber<zenoh::handlers::RingChannelHandler<zenoh::sample::Sample>>,
+}
+
+/// One agent: its declarations on the session, its planner stack under the safety layer, and
+/// what it keeps between observations. Its phases, as [`run_agent`] calls them:
+/// [`Agent::on_observation`] (accept, refresh the map, sense, plan, send),
+/// [`Agent::on_coordinator`], [`Agent::heartbeat`] and [`Agent::stop`].
+struct Agent<'s> {
+    session: &'s zenoh::Session,
+    keys: Keys,
+    id: u32,
+    config: AgentConfig,
+    counters: Arc<AgentCounters>,
+    _token: zenoh::liveliness::LivelinessToken,
+    cmd_pub: zenoh::pubsub::Publisher<'s>,
+    intent_pub: zenoh::pubsub::Publisher<'s>,
+    info_pub: zenoh::pubsub::Publisher<'s>,
+    fan_pub: zenoh::pubsub::Publisher<'s>,
+    ros_link: Option<ros::RosLink>,
+    planner_name: String,
+    stack: PlannerStack,
+    guard: Option<Guard>,
+    map: Option<(u32, StaticMap)>,
+    last_map_attempt: Option<Instant>,
+    /// Sequence number and stamp of the newest observation planned on.
+    last: Option<(u64, f64)>,
+    /// When the robot is stopped for want of observations.
+    deadline: tokio::time::Instant,
+    /// Whether the robot stands after a safe stop (or before the first observation).
+    stopped: bool,
+    plan_times_us: Vec<u32>,
+}
+
+/// What the robot senses for one plan: its ego state, the bodies around it, and the age of its
+/// odometry (zero off ROS).
+type Sensed = (
+    crate::model::EgoState,
+    Vec<crate::model::Neighbour>,
+    Duration,
+);
+
+impl<'s> Agent<'s> {
+    /// Declares the agent's token, publishers and subscribers, and its ROS 2 side.
+    async fn declare(
+        session: &'s zenoh::Session,
+        config: AgentConfig,
+        counters: Arc<AgentCounters>,
+    ) -> Result<(Self, Inputs), AgentError> {
+        let keys = Keys::new(&config.site)?;
+        let id = config.robot_id;
+        let token = session
+            .liveliness()
+            .declare_token(keys.alive(id))
+            .await
+            .map_err(zerr("liveliness token"))?;
+        let publisher = |channel, what| {
+            let key = keys.robot(id, channel);
+            async move { session.declare_publisher(key).await.map_err(zerr(what)) }
+        };
+        let cmd_pub = publisher(Channel::Cmd, "command publisher").await?;
+        let intent_pub = publisher(Channel::Intent, "intent publisher").await?;
+        let info_pub = publisher(Channel::Info, "info publisher").await?;
+        let fan_pub = publisher(Channel::Fan, "fan publisher").await?;
+        let newest = Arc::new(NewestObservation::default());
+        let observations =
+            observation_subscriber(session, &keys, id, newest.clone(), counters.clone()).await?;
+        let coordinator = session
+            .liveliness()
+            .declare_subscriber(keys.coordinator())
+            .history(true)
+            .with(zenoh::handlers::RingChannel::new(16))
+            .await
+            .map_err(zerr("coordinator liveliness subscriber"))?;
+        let ros_link = match config.ros.clone() {
+            Some(ros) => Some(
+                ros::RosLink::declare(session, ros, counters.ros.clone())
+                    .await
+                    .map_err(AgentError::Ros)?,
+            ),
+            None => None,
+        };
+        let mut stack = PlannerStack::new(config.planner);
+        stack.set_record_fan(config.share_fan);
+        if !config.fault_plan_delay.is_zero() {
+            stack = faults::slowed(stack, config.fault_plan_delay);
+        }
+        let guard = config
+            .safety
+            .map(|limits| Guard::new(limits).on_base(config.base));
+        let agent = Self {
+            session,
+            keys,
+            id,
+            planner_name: config.planner.to_string(),
+            deadline: tokio::time::Instant::now() + config.obs_timeout,
+            config,
+            counters,
+            _token: token,
+            cmd_pub,
+            intent_pub,
+            info_pub,
+            fan_pub,
+            ros_link,
+            stack,
+            guard,
+            map: None,
+            last_map_attempt: None,
+            last: None,
+            stopped: true,
+            plan_times_us: Vec::new(),
+        };
+        let inputs = Inputs {
+            newest,
+            _observations: observations,
+            coordinator,
+        };
+        Ok((agent, inputs))
+    }
+
+    /// An observation: accept it, refresh the map, sense, plan, and send the command first,
+    /// then the intent and the fan.
+    async fn on_observation(&mut self, obs: Observation) {
+        if !self.accept(&obs) {
+            return;
+        }
+        self.refresh_map(obs.map_version).await;
+        let sensed = self.sense(&obs).await;
+        // The heading the command is turned into the robot's base frame with.
+        let heading = sensed.as_ref().map_or(obs.heading, |(ego, ..)| ego.heading);
+        // A real robot reports where its odometry puts it, for a coordinator that does not
+        // simulate it.
+        let reported = match (&self.ros_link, &sensed) {
+            (Some(_), Some((ego, _, age))) => Some(wire::robot_state(ego, *age)),
+            _ => None,
+        };
+        let (mut command, extras) = self.plan(&obs, sensed);
+        command.state = reported;
+        self.send(command, extras, heading).await;
+    }
+
+    /// Whether to plan on `obs`: not older than what was planned on, unless the agent had lost
+    /// contact (the coordinator restarted and counts from 0 again).
+    fn accept(&mut self, obs: &Observation) -> bool {
+        if let Some((seq, _)) = self.last
+            && obs.seq <= seq
+            && !self.stopped
+        {
+            self.counters.stale.fetch_add(1, Ordering::Relaxed);
+            return false;
+        }
+        self.last = Some((obs.seq, obs.sim_time));
+        self.deadline = tokio::time::Instant::now() + self.config.obs_timeout;
+        self.stopped = false;
+        true
+    }
+
+    /// Fetches the map when the observation names another version, at most once a second.
+    async fn refresh_map(&mut self, version: u32) {
+        if self.map.as_ref().is_some_and(|(v, _)| *v == version) {
+            return;
+        }
+        let due = self
+            .last_map_attempt
+            .is_none_or(|t| t.elapsed() > Duration::from_secs(1));
+        if !due {
+            return;
+        }
+        self.last_map_attempt = Some(Instant::now());
+        let fetched = tokio::time::timeout(
+            MAP_QUERY_TIMEOUT,
+            fetch_map(self.session, &self.keys, version),
+        )
+        .await;
+        match fetched {
+            Ok(Ok((version, m, stations))) => {
+                self.counters.maps.fetch_add(1, Ordering::Relaxed);
+                // The site's stations are where its people go: foIGP's intents.
+                self.stack.set_destinations(&stations);
+                self.map = Some((version, m));
+            }
+            Ok(Err(e)) => tracing::warn!(robot = self.id, "no map yet: {e}"),
+            Err(_) => tracing::warn!(robot = self.id, "no map yet: the query timed out"),
+        }
+    }
+
+    /// What the robot senses: the observation's, or in ROS mode the robot's own (without fresh
+    /// odometry, or before the map, nothing: it stands). (`&mut`: the agent is not `Sync`, and
+    /// its phases' futures must be `Send`.)
+    async fn sense(&mut self, obs: &Observation) -> Option<Sensed> {
+        let Some(link) = &self.ros_link else {
+            return Some((wire::ego(obs), wire::neighbours(obs), Duration::ZERO));
+        };
+        link.wait_for_odometry(obs.sim_time, ODOMETRY_WAIT).await;
+        let (_, m) = self.map.as_ref()?;
+        link.sensed().map(|s| {
+            let age = s.odom_age;
+            let (ego, neighbours) = sensed_world(s, obs, m);
+            (ego, neighbours, age)
+        })
+    }
+
+    /// The command for `obs`, with the intent and fan to share; a stop without them when idle
+    /// or without a map.
+    fn plan(
+        &mut self,
+        obs: &Observation,
+        sensed: Option<Sensed>,
+    ) -> (
+        CommandMsg,
+        Option<(schemas::IntentMsg, Option<schemas::FanMsg>)>,
+    ) {
+        let (Some((_, m)), Some(goal), Some((ego, neighbours, _))) = (&self.map, obs.goal, sensed)
+        else {
+            let stop = CommandMsg {
+                robot_id: self.id,
+                obs_seq: obs.seq,
+                stamp: obs.sim_time,
+                motion: wire::motion(Command::STOP),
+                safe_stop: false,
+                safety: SafetyZone::Clear,
+                state: None,
+            };
+            return (stop, None);
+        };
+        let profile = if self.ros_link.is_some() {
+            None
+        } else {
+            wire::visibility(obs)
+        };
+        let started = Instant::now();
+        let input = PlanningInput {
+            ego: &ego,
+            neighbours: &neighbours,
+            map: m,
+            goal: wire::vec(goal),
+            dt: obs.dt,
+            visibility: profile.as_ref(),
+            safety: None,
+        };
+        let (plan, zone) = match &mut self.guard {
+            Some(guard) => {
+                let (plan, guarded) = guard.plan(&mut self.stack, &input);
+                (plan, Some(guarded.zone))
+            }
+            None => (self.stack.plan(&input), None),
+        };
+        let zone = match zone {
+            None | Some(Zone::Clear) => SafetyZone::Clear,
+            Some(Zone::Warning) => {
+                self.counters.warned.fetch_add(1, Ordering::Relaxed);
+                SafetyZone::Warning
+            }
+            Some(Zone::Protective) => {
+                self.counters.protective.fetch_add(1, Ordering::Relaxed);
+                SafetyZone::Protective
+            }
+            Some(Zone::Yield) => {
+                self.counters.yielded.fetch_add(1, Ordering::Relaxed);
+                SafetyZone::Yield
+            }
+        };
+        self.plan_times_us
+            .push(started.elapsed().as_micros().min(u32::MAX as u128) as u32);
+        self.counters.plans.fetch_add(1, Ordering::Relaxed);
+        let (mut cmd, intent) = wire::answer(obs, &self.planner_name, &plan);
+        cmd.safety = zone;
+        let fan = plan
+            .fan
+            .as_ref()
+            .filter(|_| self.config.share_fan)
+            .map(|f| wire::fan(obs, f));
+        (cmd, Some((intent, fan)))
+    }
+
+    /// Sends the command (to the ROS 2 robot too), then the intent and the fan.
+    async fn send(
+        &mut self,
+        command: CommandMsg,
+        extras: Option<(schemas::IntentMsg, Option<schemas::FanMsg>)>,
+        heading: f64,
+    ) {
+        if let Some(link) = &self.ros_link {
+            link.drive(wire::command(command.motion), heading).await;
+        }
+        if let Err(e) = self.cmd_pub.put(encode(&command)).await {
+            tracing::warn!(robot = self.id, "command not sent: {e}");
+        }
+        if let Some((intent, fan)) = extras {
+            if let Err(e) = self.intent_pub.put(encode(&intent)).await {
+                tracing::warn!(robot = self.id, "intent not sent: {e}");
+            }
+            if let Some(msg) = fan
+                && let Err(e) = self.fan_pub.put(encode(&msg)).await
+            {
+                tracing::debug!(robot = self.id, "fan not sent: {e}");
             }
         }
     }
-    safe_stop(&cmd_pub, id, last, &counters).await;
-    if let Some(link) = &ros_link {
-        link.drive(Command::STOP, 0.0).await;
+
+    /// The coordinator's liveliness token came or went: gone, the robot stops.
+    async fn on_coordinator(&mut self, kind: zenoh::sample::SampleKind) {
+        match kind {
+            zenoh::sample::SampleKind::Put => tracing::info!(robot = self.id, "coordinator up"),
+            zenoh::sample::SampleKind::Delete if self.stopped => {
+                tracing::info!(robot = self.id, "coordinator gone");
+            }
+            zenoh::sample::SampleKind::Delete => {
+                tracing::warn!(robot = self.id, "coordinator gone: safe stop");
+                self.stop().await;
+            }
+        }
     }
-    drop(token);
-    drop(obs_sub);
-    tracing::info!(robot = id, "agent down");
-    Ok(())
+
+    /// A safe stop: the command, and the ROS 2 robot stopped.
+    async fn stop(&mut self) {
+        safe_stop(&self.cmd_pub, self.id, self.last, &self.counters).await;
+        if let Some(link) = &self.ros_link {
+            link.drive(Command::STOP, 0.0).await;
+        }
+        self.stopped = true;
+    }
+
+    /// Once a second: the agent's info (planner, counts, plan times since the last).
+    async fn heartbeat(&mut self) {
+        let info = AgentInfo {
+            robot_id: self.id,
+            planner: self.planner_name.clone(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            plans: self.counters.plans.load(Ordering::Relaxed),
+            rejected: self.counters.rejected.load(Ordering::Relaxed),
+            plan_p99_us: p99(&mut self.plan_times_us),
+            maps: self.counters.maps.load(Ordering::Relaxed),
+            map_version: self.map.as_ref().map_or(0, |(v, _)| *v),
+        };
+        self.plan_times_us.clear();
+        if let Err(e) = self.info_pub.put(encode(&info)).await {
+            tracing::debug!(robot = self.id, "info not sent: {e}");
+        }
+    }
+}
+
+fn zerr(what: &'static str) -> impl Fn(zenoh::Error) -> AgentError {
+    move |source| AgentError::Zenoh { what, source }
+}
+
+/// The agent's observations, decoded as they arrive in Zenoh's own thread (a small
+/// MessagePack message: microseconds); only the newest valid one is kept for the planner.
+/// Nothing here can block the session, a planner slower than the tick plans on the newest
+/// observation rather than working through a backlog, and every bad message is counted.
+async fn observation_subscriber(
+    session: &zenoh::Session,
+    keys: &Keys,
+    id: u32,
+    newest: Arc<NewestObservation>,
+    counters: Arc<AgentCounters>,
+) -> Result<zenoh::pubsub::Subscriber<()>, AgentError> {
+    let gaps = AtomicU64::new(0);
+    session
+        .declare_subscriber(keys.robot(id, Channel::Obs))
+        .callback(
+            move |sample| match decode::<Observation>(&sample.payload().to_bytes()) {
+                Ok(obs) if obs.robot_id == id => {
+                    counters.received.fetch_add(1, Ordering::Relaxed);
+                    let seq = obs.seq;
+                    let arrival = newest.put(obs);
+                    if arrival.replaced {
+                        counters.superseded.fetch_add(1, Ordering::Relaxed);
+                    }
+                    if arrival.missed > 0 {
+                        let n = counters.missed.fetch_add(arrival.missed, Ordering::Relaxed)
+                            + arrival.missed;
+                        let gap = gaps.fetch_add(1, Ordering::Relaxed) + 1;
+                        if log_rejection(gap) {
+                            tracing::warn!(
+                                robot = id,
+                                missed = n,
+                                "{} observations before number {seq} never arrived",
+                                arrival.missed
+                            );
+                        }
+                    }
+                }
+                Ok(obs) => reject(
+                    &counters,
+                    id,
+                    &format!("observation for robot {}", obs.robot_id),
+                ),
+                Err(e) => reject(&counters, id, &e.to_string()),
+            },
+        )
+        .await
+        .map_err(zerr("observation subscriber"))
 }
 
 /// The newest valid observation, not yet planned on: written by the subscriber's callback,
@@ -475,22 +613,6 @@ impl NewestObservation {
             .unwrap_or_else(|e| e.into_inner())
             .newest
             .take()
-    }
-}
-
-/// Completes on SIGINT or SIGTERM: the shutdown of every gapfleet process.
-pub async fn shutdown_signal() {
-    use tokio::signal::unix::{SignalKind, signal};
-    match signal(SignalKind::terminate()) {
-        Ok(mut term) => {
-            tokio::select! {
-                _ = tokio::signal::ctrl_c() => {}
-                _ = term.recv() => {}
-            }
-        }
-        Err(_) => {
-            let _ = tokio::signal::ctrl_c().await;
-        }
     }
 }
 
@@ -564,13 +686,6 @@ enum MapFetchError {
     /// The map's geometry is unusable.
     #[error(transparent)]
     Map(#[from] crate::map::MapError),
-}
-
-/// Whether the `n`-th rejected message (counting from 1) is logged: the first ten, then every
-/// hundredth, so that a flood of bad messages cannot flood the log. Every gapfleet process
-/// logs what it rejects this way.
-pub fn log_rejection(n: u64) -> bool {
-    n <= 10 || n.is_multiple_of(100)
 }
 
 fn reject(counters: &AgentCounters, id: u32, why: &str) {

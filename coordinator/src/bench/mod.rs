@@ -23,7 +23,7 @@ pub enum BenchError {
     Dashboard(#[from] dashboards::DashboardError),
     /// A Zenoh session could not be opened.
     #[error(transparent)]
-    Session(#[from] agent::runtime::net::ConfigError),
+    Session(#[from] fleet_net::ConfigError),
     /// The raw round trip's sessions refused a declaration or a query.
     #[error("raw round trip: {0}")]
     Raw(zenoh::Error),

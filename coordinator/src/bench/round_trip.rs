@@ -7,8 +7,8 @@ use super::machine::{CpuSpeed, CpuSpeedProbe, CpuTimes, overlaps};
 use crate::serve::RoundTrip;
 use crate::serve::demo::{DemoOptions, Transport, run_demo};
 use agent::planner::{LocalKind, PlannerSpec};
-use agent::runtime::net::{Role, free_loopback_port, open_loopback};
 use agent::runtime::percentile;
+use fleet_net::{Role, free_loopback_port, open_loopback};
 use std::time::{Duration, Instant};
 
 type Result<T> = std::result::Result<T, BenchError>;

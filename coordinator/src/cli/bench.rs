@@ -265,7 +265,7 @@ impl Bench {
                     speed,
                     std::time::Duration::from_secs_f64(window_s),
                     std::time::Duration::from_secs_f64(warm_up_s),
-                    agent::runtime::shutdown_signal(),
+                    fleet_net::shutdown_signal(),
                     |w| {
                         if !json {
                             row(w);

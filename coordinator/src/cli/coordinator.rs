@@ -1,12 +1,12 @@
 //! `gapfleet coordinator`: the warehouse world served to `gapfleet-agent` processes over Zenoh.
 
 use super::{RerunArgs, RobotSet, SiteArgs, init_logging, positive, runtime, speed};
-use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::serve::dashboard::{DashboardObserver, HUMAN_IMPACT_WINDOW_S};
 use coordinator::serve::demo::status_line;
 use coordinator::serve::journal::{self, Header, Journal};
 use coordinator::serve::{CoordinatorConfig, Event, Resume, Status, run_coordinator};
+use fleet_net::{NetArgs, Role, config};
 use world_sim::fleet::Fleet;
 
 /// `gapfleet coordinator`'s arguments.
@@ -213,7 +213,7 @@ impl CoordinatorArgs {
                 &session,
                 fleet,
                 config_,
-                agent::runtime::shutdown_signal(),
+                fleet_net::shutdown_signal(),
                 &mut observers,
             )
             .await?;

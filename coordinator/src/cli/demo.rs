@@ -148,7 +148,7 @@ impl DemoArgs {
         let mut printed = 0u64;
         let report = runtime()?.block_on(run_demo(
             options,
-            agent::runtime::shutdown_signal(),
+            fleet_net::shutdown_signal(),
             |status, _| {
                 printed += 1;
                 if tty {

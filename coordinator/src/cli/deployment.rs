@@ -134,7 +134,7 @@ impl LoopArgs {
                 .tempdir()?
                 .keep(),
         };
-        let port = agent::runtime::net::free_loopback_port().context("a free port")?;
+        let port = fleet_net::free_loopback_port().context("a free port")?;
         let endpoint = format!("tcp/127.0.0.1:{port}");
         eprintln!(
             "gapfleet loop: zenohd on {endpoint}, hardware, {robots} agents and a coordinator of \
@@ -205,7 +205,7 @@ impl LoopArgs {
         let flag = asked_to_stop.clone();
         let signals = super::runtime()?;
         signals.spawn(async move {
-            agent::runtime::shutdown_signal().await;
+            fleet_net::shutdown_signal().await;
             flag.store(true, Ordering::Relaxed);
         });
         let mut interrupted = false;

@@ -1,10 +1,10 @@
 //! `gapfleet hardware`: the robots' hardware, played by the simulator, as ROS 2 robots.
 
 use super::{RobotSet, SiteArgs, init_logging, positive, runtime, speed};
-use agent::runtime::net::{NetArgs, Role, config};
 use anyhow::Result;
 use coordinator::serve::hardware::{HardwareConfig, HardwareReport, run_hardware};
 use coordinator::serve::ros_robots::RosSimConfig;
+use fleet_net::{NetArgs, Role, config};
 use world_sim::fleet::Fleet;
 
 /// `gapfleet hardware`'s arguments.
@@ -94,7 +94,7 @@ impl HardwareArgs {
                 &session,
                 fleet,
                 hardware,
-                agent::runtime::shutdown_signal(),
+                fleet_net::shutdown_signal(),
                 |r| eprintln!("{}", status_line(r)),
             )
             .await?;

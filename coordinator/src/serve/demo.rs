@@ -8,8 +8,8 @@ use super::{
     CoordinatorConfig, CoordinatorError, RoundTrip, Status, declare_presence, run_coordinator,
 };
 use agent::planner::PlannerSpec;
-use agent::runtime::net::{ConfigError, Role, free_loopback_port, open_loopback};
 use agent::runtime::{AgentConfig, AgentCounters, AgentError, run_agent};
+use fleet_net::{ConfigError, Role, free_loopback_port, open_loopback};
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -263,7 +263,7 @@ pub async fn run_demo(
 
 /// Opens a session with the config file at `path`.
 async fn open_file(path: &std::path::Path) -> Result<zenoh::Session, ConfigError> {
-    let config = agent::runtime::net::from_file(path)?;
+    let config = fleet_net::from_file(path)?;
     zenoh::open(config).await.map_err(|source| ConfigError {
         setting: format!("session with {}", path.display()),
         source,

@@ -101,7 +101,7 @@ impl RoundTrips {
 /// Counts a rejected message and logs why (the first ten, then every hundredth).
 pub(super) fn reject(status: &mut Status, why: std::fmt::Arguments<'_>) {
     status.rejected += 1;
-    if agent::runtime::log_rejection(status.rejected) {
+    if fleet_net::log_rejection(status.rejected) {
         tracing::warn!(rejected = status.rejected, "rejected: {why}");
     }
 }

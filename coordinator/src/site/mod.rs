@@ -21,7 +21,7 @@
 pub mod acl;
 mod certs;
 
-use agent::runtime::net::Role;
+use fleet_net::Role;
 use schemas::Keys;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -380,10 +380,10 @@ struct Credentials {
 }
 
 /// What every gapfleet session sets: no multicast scouting, the fleet's publications batched
-/// (see [`agent::runtime::net::FLEET_QOS`]).
+/// (see [`fleet_net::FLEET_QOS`]).
 fn common(mode: Role) -> Value {
     let qos: Value =
-        serde_json::from_str(agent::runtime::net::FLEET_QOS).expect("FLEET_QOS is a JSON constant");
+        serde_json::from_str(fleet_net::FLEET_QOS).expect("FLEET_QOS is a JSON constant");
     json!({
         "mode": mode.as_str(),
         "scouting": { "multicast": { "enabled": false } },
@@ -395,8 +395,8 @@ fn path(p: &Path) -> String {
     p.display().to_string()
 }
 
-/// Mutual TLS with `tls`'s certificate, a lease of [`agent::runtime::net::LEASE_MS`], a drop
-/// wait of [`agent::runtime::net::DROP_WAIT_US`], [`agent::runtime::net::DATA_QUEUE_BATCHES`]
+/// Mutual TLS with `tls`'s certificate, a lease of [`fleet_net::LEASE_MS`], a drop
+/// wait of [`fleet_net::DROP_WAIT_US`], [`fleet_net::DATA_QUEUE_BATCHES`]
 /// batches for data, and
 /// `user`'s login; a routing process (`dictionary` given) also listens with the certificate
 /// and checks logins against the dictionary.
@@ -420,11 +420,11 @@ fn transport(tls: &Tls, user: &Credentials, dictionary: Option<&Path>) -> Value 
         "link": {
             "protocols": ["tls"],
             "tx": {
-                "lease": agent::runtime::net::LEASE_MS,
+                "lease": fleet_net::LEASE_MS,
                 "queue": {
-                    "size": { "data": agent::runtime::net::DATA_QUEUE_BATCHES },
+                    "size": { "data": fleet_net::DATA_QUEUE_BATCHES },
                     "congestion_control": { "drop": {
-                        "wait_before_drop": agent::runtime::net::DROP_WAIT_US,
+                        "wait_before_drop": fleet_net::DROP_WAIT_US,
                     } },
                 },
             },
@@ -487,7 +487,7 @@ mod tests {
         ] {
             let zenoh = zenoh::Config::from_file(&config)
                 .unwrap_or_else(|e| panic!("{}: {e}", config.display()));
-            agent::runtime::net::check_fleet_settings(&zenoh)
+            fleet_net::check_fleet_settings(&zenoh)
                 .unwrap_or_else(|e| panic!("{}: {e}", config.display()));
             let mode = std::fs::metadata(&config)
                 .expect("written")

@@ -509,7 +509,7 @@ impl JournalSink {
             Ok(()) => {}
             Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
                 let n = self.lost.fetch_add(1, Ordering::Relaxed) + 1;
-                if agent::runtime::log_rejection(n) {
+                if fleet_net::log_rejection(n) {
                     tracing::warn!(lost = n, "journal behind: record dropped");
                 }
             }
@@ -757,7 +757,7 @@ fn write_loop(
                         // if it fails.
                         if let Err(e) = snapshot_files::write(dir, header, at, &bytes) {
                             failed_files += 1;
-                            if agent::runtime::log_rejection(failed_files) {
+                            if fleet_net::log_rejection(failed_files) {
                                 tracing::warn!(
                                     failed = failed_files,
                                     "snapshot file of tick {at} not written: {e}"

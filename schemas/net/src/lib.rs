@@ -1,5 +1,7 @@
-//! Zenoh session settings shared by every gapfleet process: a config file, or endpoints on the
-//! command line, with multicast scouting off unless a config file turns it on.
+//! What every gapfleet process (agents, the coordinator, the robots' hardware, benchmarks)
+//! shares on the network: Zenoh session settings (a config file, or endpoints on the command
+//! line, with multicast scouting off unless a config file turns it on), the shutdown signal,
+//! and how rejected network input is logged.
 
 use std::path::PathBuf;
 
@@ -227,6 +229,29 @@ pub fn free_loopback_port() -> std::io::Result<u16> {
     Ok(std::net::TcpListener::bind("127.0.0.1:0")?
         .local_addr()?
         .port())
+}
+
+/// Completes on SIGINT or SIGTERM: the shutdown of every gapfleet process.
+pub async fn shutdown_signal() {
+    use tokio::signal::unix::{SignalKind, signal};
+    match signal(SignalKind::terminate()) {
+        Ok(mut term) => {
+            tokio::select! {
+                _ = tokio::signal::ctrl_c() => {}
+                _ = term.recv() => {}
+            }
+        }
+        Err(_) => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}
+
+/// Whether the `n`-th rejected message (counting from 1) is logged: the first ten, then every
+/// hundredth, so that a flood of bad messages cannot flood the log. Every gapfleet process
+/// logs what it rejects this way.
+pub fn log_rejection(n: u64) -> bool {
+    n <= 10 || n.is_multiple_of(100)
 }
 
 #[cfg(test)]
