@@ -76,6 +76,23 @@ impl fmt::Display for Channel {
 #[error("site name {0:?} must be 1-64 characters of letters, digits, '-' and '_'")]
 pub struct KeyError(pub String);
 
+/// A site's keys from its name (a command line's `--site`): the one place a site name is
+/// checked.
+impl std::str::FromStr for Keys {
+    type Err = KeyError;
+
+    fn from_str(site: &str) -> Result<Self, KeyError> {
+        Self::new(site)
+    }
+}
+
+/// Shows the site's name.
+impl fmt::Display for Keys {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.site())
+    }
+}
+
 /// Builds and parses the key expressions of one site.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Keys {
@@ -101,6 +118,11 @@ impl Keys {
     /// `gapfleet/<site>`.
     pub fn prefix(&self) -> &str {
         &self.prefix
+    }
+
+    /// The site's name.
+    pub fn site(&self) -> &str {
+        &self.prefix[ROOT.len() + 1..]
     }
 
     /// `gapfleet/<site>/robot/<id>/<channel>`.
@@ -187,6 +209,11 @@ mod tests {
         for site in ["", "a/b", "*", "a b", "x$", &"s".repeat(65)] {
             assert!(Keys::new(site).is_err(), "{site:?}");
         }
+        let keys: Keys = "site-1".parse().unwrap();
+        assert_eq!(
+            (keys.site(), keys.to_string().as_str()),
+            ("site-1", "site-1")
+        );
         let keys = Keys::new("w").unwrap();
         for key in [
             "gapfleet/w/robot/x/obs",

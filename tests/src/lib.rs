@@ -163,6 +163,11 @@ pub fn recv_until<T>(
     None
 }
 
+/// The keys of the test site `site` (a valid name).
+pub fn keys(site: &str) -> schemas::Keys {
+    schemas::Keys::new(site).expect("a valid site name")
+}
+
 /// `zenohd` from $GAPFLEET_ZENOHD or PATH (tests/run.sh installs 1.10.2).
 pub fn zenohd() -> String {
     let zenohd = std::env::var("GAPFLEET_ZENOHD").unwrap_or_else(|_| "zenohd".to_owned());

@@ -75,7 +75,11 @@ async fn first_safe_stop(site: &str, obs_timeout: Duration, coordinator_token: b
     let agent_session = open_loopback(Role::Client, &endpoint)
         .await
         .expect("agent session");
-    let mut config = AgentConfig::new(ROBOT, site, "pgp+orca".parse().expect("planner"));
+    let mut config = AgentConfig::new(
+        ROBOT,
+        gapfleet_tests::keys(site),
+        "pgp+orca".parse().expect("planner"),
+    );
     config.obs_timeout = obs_timeout;
     let counters = Arc::new(AgentCounters::default());
     let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();

@@ -68,7 +68,7 @@ fn ten_agent_processes_survive_kills_restarts_garbage_and_a_coordinator_stop() {
     let (event_tx, events) = mpsc::channel();
     let (snap_tx, snaps) = mpsc::channel::<Snapshot>();
     let (stop_tx, stop_rx) = tokio::sync::oneshot::channel::<()>();
-    let mut config = CoordinatorConfig::new(SITE);
+    let mut config = CoordinatorConfig::new(gapfleet_tests::keys(SITE));
     config.speed = 4.0;
     config.events = Some(event_tx);
     // The coordinator runs on the router's session; stopping it (step 5) ends the coordinator

@@ -24,7 +24,7 @@ fn a_recorded_demo_replays_bit_for_bit() {
         planner: "pgp+orca".parse().expect("a planner"),
         seconds: 40.0,
         speed: 4.0,
-        site: "journal-test".to_owned(),
+        keys: gapfleet_tests::keys("journal-test"),
         listen: None,
         transport: Transport::Tcp,
         journal: Some(journal.sink()),

@@ -118,7 +118,7 @@ fn a_partitioned_agent_stops_is_flagged_and_comes_back() {
 
     let scenario = gapfleet_tests::warehouse(2, 0);
     let fleet = Fleet::new(&scenario).expect("a warehouse");
-    let mut config = CoordinatorConfig::new(SITE);
+    let mut config = CoordinatorConfig::new(gapfleet_tests::keys(SITE));
     config.seconds = Some(25.0);
     let (tx, ticks) = mpsc::channel();
     let session = router.clone();
@@ -143,7 +143,11 @@ fn a_partitioned_agent_stops_is_flagged_and_comes_back() {
             let session = zenoh::open(loopback(Role::Client, &[], &[at]).expect("config"))
                 .await
                 .expect("an agent session");
-            let config = AgentConfig::new(id, SITE, "pgp+orca".parse().expect("a planner"));
+            let config = AgentConfig::new(
+                id,
+                gapfleet_tests::keys(SITE),
+                "pgp+orca".parse().expect("a planner"),
+            );
             run_agent(&session, config, c, async move {
                 let _ = stop.wait_for(|s| *s).await;
             })

@@ -74,8 +74,8 @@ async fn settle() {
 #[test]
 fn the_router_refuses_strangers_and_holds_each_identity_to_its_part() {
     let rt = gapfleet_tests::runtime();
-    let site = TemporarySite::new(SITE, 8).expect("a site");
-    let other = TemporarySite::new(SITE, 8).expect("another site");
+    let site = TemporarySite::new(&gapfleet_tests::keys(SITE), 8).expect("a site");
+    let other = TemporarySite::new(&gapfleet_tests::keys(SITE), 8).expect("another site");
     let paths = &site.paths;
     let keys = Keys::new(SITE).expect("valid");
     rt.block_on(async {
@@ -312,7 +312,7 @@ async fn forge_against_a_fleet(coordinator_session: Session, paths: &SitePaths) 
     let keys = Keys::new(SITE).expect("valid");
     let scenario = gapfleet_tests::warehouse(2, 0);
     let fleet = Fleet::new(&scenario).expect("a warehouse");
-    let mut config = CoordinatorConfig::new(SITE);
+    let mut config = CoordinatorConfig::new(gapfleet_tests::keys(SITE));
     config.speed = 4.0;
     config.seconds = Some(24.0);
     let seen = Arc::new(Mutex::new(Seen::default()));
@@ -375,7 +375,11 @@ async fn run_agent_until(
     counters: Arc<AgentCounters>,
     shutdown: impl std::future::Future<Output = ()>,
 ) {
-    let config = AgentConfig::new(0, SITE, "pgp+orca".parse().expect("a planner"));
+    let config = AgentConfig::new(
+        0,
+        gapfleet_tests::keys(SITE),
+        "pgp+orca".parse().expect("a planner"),
+    );
     run_agent(&session, config, counters, shutdown)
         .await
         .expect("the agent runs");
@@ -406,7 +410,7 @@ fn check_forgeries_failed(seen: &Seen, forged_for_1: u64) {
 #[test]
 fn forged_commands_have_no_effect_on_a_secured_fleet() {
     let rt = gapfleet_tests::runtime();
-    let site = TemporarySite::new(SITE, 2).expect("a site");
+    let site = TemporarySite::new(&gapfleet_tests::keys(SITE), 2).expect("a site");
     let paths = &site.paths;
     let (seen, forged_for_1) = rt.block_on(async {
         let router = open(from_file(&paths.coordinator_config()).expect("parses"))
@@ -420,7 +424,7 @@ fn forged_commands_have_no_effect_on_a_secured_fleet() {
 #[test]
 fn a_zenohd_router_enforces_the_same_list() {
     let zenohd = zenohd();
-    let site = TemporarySite::new(SITE, 2).expect("a site");
+    let site = TemporarySite::new(&gapfleet_tests::keys(SITE), 2).expect("a site");
     let paths = &site.paths;
     let _router = Zenohd(
         std::process::Command::new(zenohd)

@@ -74,7 +74,7 @@ fn a_slow_agent_and_an_undrained_subscriber_do_not_hold_up_the_fleet() {
 
     let scenario = gapfleet_tests::warehouse(3, 10);
     let fleet = Fleet::new(&scenario).expect("a warehouse");
-    let mut config = CoordinatorConfig::new(SITE);
+    let mut config = CoordinatorConfig::new(gapfleet_tests::keys(SITE));
     config.seconds = Some(15.0);
     let (status_tx, statuses) = mpsc::channel::<Status>();
     let session = router.clone();

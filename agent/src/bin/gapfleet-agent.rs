@@ -34,7 +34,7 @@ struct Args {
     planner: PlannerSpec,
     /// Site name (key prefix gapfleet/<site>).
     #[arg(long, default_value = "demo")]
-    site: String,
+    site: schemas::Keys,
     /// Safe-stop after this many milliseconds without observations, in [10, 3600000] (0 would
     /// stop the robot for good).
     #[arg(
@@ -177,7 +177,7 @@ async fn main() -> anyhow::Result<()> {
     let Some(robot_id) = args.robot_id else {
         anyhow::bail!("--robot-id is required without --ros");
     };
-    let mut agent_config = AgentConfig::new(robot_id, &args.site, args.planner);
+    let mut agent_config = AgentConfig::new(robot_id, args.site.clone(), args.planner);
     agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
     agent_config.share_fan = args.share_fan;
     agent_config.fault_plan_delay = Duration::from_millis(args.fault_plan_delay_ms);

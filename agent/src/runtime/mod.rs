@@ -48,8 +48,8 @@ const MAP_QUERY_TIMEOUT: Duration = Duration::from_millis(500);
 pub struct AgentConfig {
     /// The robot it drives.
     pub robot_id: u32,
-    /// Site name (the second chunk of every key).
-    pub site: String,
+    /// The site's keys (its name is the second chunk of every key).
+    pub keys: Keys,
     /// Planner stack.
     pub planner: PlannerSpec,
     /// Safe-stop when no observation arrived for this long.
@@ -73,11 +73,12 @@ pub struct AgentConfig {
 }
 
 impl AgentConfig {
-    /// Robot `robot_id` of `site` with `planner` and the default observation timeout.
-    pub fn new(robot_id: u32, site: &str, planner: PlannerSpec) -> Self {
+    /// Robot `robot_id` of the site of `keys` with `planner` and the default observation
+    /// timeout.
+    pub fn new(robot_id: u32, keys: Keys, planner: PlannerSpec) -> Self {
         Self {
             robot_id,
-            site: site.to_owned(),
+            keys,
             planner,
             obs_timeout: DEFAULT_OBS_TIMEOUT,
             share_fan: false,
@@ -216,7 +217,7 @@ impl<'s> Agent<'s> {
         config: AgentConfig,
         counters: Arc<AgentCounters>,
     ) -> Result<(Self, Inputs), AgentError> {
-        let keys = Keys::new(&config.site)?;
+        let keys = config.keys.clone();
         let id = config.robot_id;
         let token = session
             .liveliness()
@@ -627,9 +628,6 @@ pub enum AgentError {
         /// Zenoh's error.
         source: zenoh::Error,
     },
-    /// The site name cannot be part of a key expression.
-    #[error("agent: {0}")]
-    Key(#[from] schemas::KeyError),
     /// The ROS 2 side could not be declared.
     #[error("agent: ROS 2: {0}")]
     Ros(#[from] ros::RosError),

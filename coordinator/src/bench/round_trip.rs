@@ -87,7 +87,7 @@ pub async fn bench_fleet(
         },
         seconds,
         speed: 1.0,
-        site: "bench".to_owned(),
+        keys: schemas::Keys::new("bench").expect("a valid site name"),
         listen: None,
         transport,
         journal: None,

@@ -268,7 +268,7 @@ pub async fn bench_soak(
         planner,
         seconds: ticks as f64 * dt,
         speed,
-        site: "soak".to_owned(),
+        keys: schemas::Keys::new("soak").expect("a valid site name"),
         listen: None,
         transport: Transport::Tcp,
         journal: None,

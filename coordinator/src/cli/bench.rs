@@ -193,7 +193,10 @@ impl Bench {
                     // A fresh site per secured run; its files go with it.
                     let site = if secured {
                         let robots = u32::try_from(agents).unwrap_or(u32::MAX);
-                        Some(coordinator::site::TemporarySite::new("bench", robots)?)
+                        Some(coordinator::site::TemporarySite::new(
+                            &schemas::Keys::new("bench").expect("a valid site name"),
+                            robots,
+                        )?)
                     } else {
                         None
                     };

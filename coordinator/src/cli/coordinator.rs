@@ -22,7 +22,7 @@ pub struct CoordinatorArgs {
     seconds: Option<f64>,
     /// Site name.
     #[arg(long, default_value = "demo")]
-    site: String,
+    site: schemas::Keys,
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
@@ -99,7 +99,7 @@ impl CoordinatorArgs {
                     }
                 }
                 let header = Header::new(
-                    &self.site,
+                    self.site.site(),
                     self.site_args.scenario.source(overrides),
                     !self.no_intent_sharing,
                     !self.no_traffic_policy,
@@ -141,7 +141,7 @@ impl CoordinatorArgs {
         if !self.no_traffic_policy && fleet.traffic_policy().is_none() {
             fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
         }
-        let mut config_ = CoordinatorConfig::new(&self.site);
+        let mut config_ = CoordinatorConfig::new(self.site.clone());
         config_.speed = self.speed;
         config_.seconds = self.seconds;
         config_.journal = journal.as_ref().map(Journal::sink);
@@ -180,7 +180,7 @@ impl CoordinatorArgs {
                 .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
             eprintln!(
                 "gapfleet coordinator: site {:?}, {} robots ({} real), {} people, listening {:?} connecting {:?}",
-                self.site,
+                self.site.site(),
                 fleet.robots(),
                 live.len(),
                 fleet.world.humans.crowd.len(),

@@ -39,7 +39,7 @@ pub struct DemoArgs {
     listen: Option<String>,
     /// Site name.
     #[arg(long, default_value = "demo")]
-    site: String,
+    site: schemas::Keys,
     /// Secure the fleet as a deployed site would be (`gapfleet site init` into a temporary
     /// folder): mutual TLS on every link, user/password authentication, and an access-control
     /// list that lets each agent use only its own robot's keys. Not with --listen.
@@ -117,7 +117,7 @@ impl DemoArgs {
             Some(dir) => Some(Journal::create(
                 dir,
                 &Header::new(
-                    &self.site,
+                    self.site.site(),
                     self.scenario.source(self.overrides()),
                     !self.no_intent_sharing,
                     !self.no_traffic_policy,
@@ -130,7 +130,7 @@ impl DemoArgs {
             planner: self.planner,
             seconds: self.seconds,
             speed: self.speed,
-            site: self.site,
+            keys: self.site,
             listen: self.listen,
             transport,
             journal: journal.as_ref().map(Journal::sink),

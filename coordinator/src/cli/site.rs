@@ -22,7 +22,7 @@ pub struct InitArgs {
     dir: PathBuf,
     /// Site name (the second chunk of every key).
     #[arg(long, default_value = "demo")]
-    site: String,
+    site: schemas::Keys,
     /// Robots 0..N get an identity each.
     #[arg(long, default_value_t = 10)]
     robots: u32,
@@ -55,7 +55,7 @@ impl Site {
                     args.hosts
                 };
                 let spec = SiteSpec {
-                    site: args.site,
+                    keys: args.site,
                     robots: args.robots,
                     observers: args.observers,
                     endpoint: args.endpoint,
@@ -69,12 +69,14 @@ impl Site {
                 let last = spec.robots - 1;
                 println!(
                     "site {:?}: {} robots, observers {:?}, written to {d}\n",
-                    spec.site, spec.robots, spec.observers
+                    spec.keys.site(),
+                    spec.robots,
+                    spec.observers
                 );
                 println!("The coordinator routes (the access-control list is in its config):");
                 println!(
                     "  gapfleet coordinator --site {} --robots {} --zenoh-config {}",
-                    spec.site,
+                    spec.keys,
                     spec.robots,
                     paths.coordinator_config().display()
                 );
@@ -82,14 +84,14 @@ impl Site {
                 println!("  zenohd -c {}", paths.router_config().display());
                 println!(
                     "  gapfleet coordinator --site {} --robots {} --zenoh-config {}",
-                    spec.site,
+                    spec.keys,
                     spec.robots,
                     paths.coordinator_behind_router_config().display()
                 );
                 println!("Robot N's agent (N = 0..{last}):");
                 println!(
                     "  gapfleet-agent --site {} --robot-id N --zenoh-config {d}/robot-N/zenoh.json5",
-                    spec.site
+                    spec.keys
                 );
                 if let Some(first) = spec.observers.first() {
                     println!("Observers read with their own config, e.g.");

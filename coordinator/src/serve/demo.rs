@@ -31,8 +31,8 @@ pub struct DemoOptions {
     pub seconds: f64,
     /// Simulated seconds per wall second.
     pub speed: f64,
-    /// Site name.
-    pub site: String,
+    /// The site's keys.
+    pub keys: schemas::Keys,
     /// Where the coordinator listens (default: a free loopback port; plain TCP only).
     pub listen: Option<String>,
     /// How the sessions connect.
@@ -178,7 +178,7 @@ pub async fn run_demo(
         };
         let c = Arc::new(AgentCounters::default());
         counters.push(c.clone());
-        let mut agent_config = AgentConfig::new(id, &options.site, options.planner);
+        let mut agent_config = AgentConfig::new(id, options.keys.clone(), options.planner);
         // Fans only travel when someone draws them.
         agent_config.share_fan = options.sinks.any();
         let robot = &options.scenario.robot;
@@ -212,7 +212,7 @@ pub async fn run_demo(
             .await
             .map_err(|e| DemoError::FreeFlow(e.to_string()))??
     };
-    let mut config = CoordinatorConfig::new(&options.site);
+    let mut config = CoordinatorConfig::new(options.keys.clone());
     let _ = config.free_flow.set(free);
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
@@ -222,7 +222,7 @@ pub async fn run_demo(
     // The demo holds the coordinator's token itself and drops it after its agents have shut
     // down: the end of a demo is planned, not a lost coordinator.
     config.announce_presence = false;
-    let presence = declare_presence(&router, &options.site).await?;
+    let presence = declare_presence(&router, &options.keys).await?;
     let mut final_fleet = None;
     let status_line = |status: &Status, fleet: &Fleet| {
         on_status(status, fleet);

@@ -394,7 +394,8 @@ mod tests {
     fn real_robots_are_lost_when_their_reports_stop_and_found_when_they_return() {
         let scenario = world_sim::scenario::Scenario::builtin("warehouse").expect("built in");
         let mut fleet = Fleet::new(&scenario).expect("a warehouse");
-        let mut config = CoordinatorConfig::new("test");
+        let mut config =
+            CoordinatorConfig::new(schemas::Keys::new("test").expect("a valid site name"));
         config.live = vec![0, 1];
         let mut links = vec![Link::default(); fleet.robots()];
         let mut status = Status::default();

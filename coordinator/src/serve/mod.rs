@@ -69,9 +69,8 @@ pub const FREE_FLOW_S: f64 = 600.0;
 /// robots the moment it is dropped.
 pub async fn declare_presence(
     session: &zenoh::Session,
-    site: &str,
+    keys: &Keys,
 ) -> Result<zenoh::liveliness::LivelinessToken, CoordinatorError> {
-    let keys = Keys::new(site)?;
     session
         .liveliness()
         .declare_token(keys.coordinator())
@@ -113,7 +112,7 @@ impl<'s> Wire<'s> {
         fleet: &Fleet,
         config: &CoordinatorConfig,
     ) -> Result<Self, CoordinatorError> {
-        let keys = Keys::new(&config.site)?;
+        let keys = config.keys.clone();
         let n = fleet.robots();
         let map = map_message(fleet);
         let map_version = map.map_version;
@@ -137,7 +136,7 @@ impl<'s> Wire<'s> {
         // crash, lost link) they stop their robots at once instead of waiting for observations
         // to time out.
         let presence = if config.announce_presence {
-            Some(declare_presence(session, &config.site).await?)
+            Some(declare_presence(session, &config.keys).await?)
         } else {
             None
         };

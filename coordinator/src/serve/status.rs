@@ -9,8 +9,8 @@ use world_sim::fleet::{Fleet, FleetEvent};
 /// How a coordinator runs.
 #[derive(Debug, Clone)]
 pub struct CoordinatorConfig {
-    /// Site name.
-    pub site: String,
+    /// The site's keys.
+    pub keys: schemas::Keys,
     /// Simulated seconds per wall second (1 = real time).
     pub speed: f64,
     /// Stop after this many simulated seconds (None: until shutdown).
@@ -68,10 +68,10 @@ pub struct Resume {
 pub const LOST_AFTER: Duration = Duration::from_millis(500);
 
 impl CoordinatorConfig {
-    /// Real time on `site`, until shutdown, 3-tick staleness (0.3 s at 10 Hz).
-    pub fn new(site: &str) -> Self {
+    /// Real time on the site of `keys`, until shutdown, 3-tick staleness (0.3 s at 10 Hz).
+    pub fn new(keys: schemas::Keys) -> Self {
         Self {
-            site: site.to_owned(),
+            keys,
             speed: 1.0,
             seconds: None,
             stale_ticks: 3,
@@ -187,9 +187,6 @@ pub enum CoordinatorError {
         /// Zenoh's error.
         source: zenoh::Error,
     },
-    /// Bad site name.
-    #[error(transparent)]
-    Key(#[from] schemas::KeyError),
     /// A real robot named that the site does not have.
     #[error("live robot {robot}: the site has {robots} robots")]
     Live {

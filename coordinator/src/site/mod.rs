@@ -29,8 +29,8 @@ use std::path::{Path, PathBuf};
 /// What a site is made of.
 #[derive(Debug, Clone)]
 pub struct SiteSpec {
-    /// Site name (the second chunk of every key).
-    pub site: String,
+    /// The site's keys (its name is the second chunk of every key).
+    pub keys: Keys,
     /// Robots 0..robots get an identity each.
     pub robots: u32,
     /// Read-only observers (dashboards, the Python client), by name.
@@ -50,9 +50,9 @@ pub struct SiteSpec {
 impl SiteSpec {
     /// A loopback site: `robots` robots, observers `dashboard` and `python`, routed at
     /// `tls/127.0.0.1:<port>`.
-    pub fn loopback(site: &str, robots: u32, port: u16) -> Self {
+    pub fn loopback(keys: &Keys, robots: u32, port: u16) -> Self {
         Self {
-            site: site.to_owned(),
+            keys: keys.clone(),
             robots,
             observers: vec!["dashboard".to_owned(), "python".to_owned()],
             endpoint: format!("tls/127.0.0.1:{port}"),
@@ -63,7 +63,6 @@ impl SiteSpec {
     }
 
     fn check(&self) -> Result<(), SiteError> {
-        Keys::new(&self.site).map_err(|e| SiteError::Spec(e.to_string()))?;
         if self.robots == 0 || self.robots as usize > schemas::codec::MAX_ROBOTS {
             return Err(SiteError::Spec(format!(
                 "robots must be in 1..={}, not {}",
@@ -252,7 +251,7 @@ pub fn init(dir: &Path, spec: &SiteSpec) -> Result<SitePaths, SiteError> {
     }
     let dir = dir.canonicalize().map_err(io(dir))?;
     let paths = SitePaths { dir: dir.clone() };
-    let ca = certs::Authority::new(&spec.site, spec.valid_days)?;
+    let ca = certs::Authority::new(spec.keys.site(), spec.valid_days)?;
     write(&paths.ca(), &ca.cert_pem(), false)?;
     write(&dir.join("ca-key.pem"), &ca.key_pem(), true)?;
 
@@ -280,7 +279,7 @@ pub fn init(dir: &Path, spec: &SiteSpec) -> Result<SitePaths, SiteError> {
     let dictionary_path = dir.join("credentials.txt");
     write(&dictionary_path, &dictionary, true)?;
 
-    let keys = Keys::new(&spec.site).map_err(|e| SiteError::Spec(e.to_string()))?;
+    let keys = spec.keys.clone();
     let access = acl::access_control(&keys, spec.robots, &spec.observers);
     let listen = spec.listen.as_deref().unwrap_or(&spec.endpoint);
     for (identity, password) in &credentials {
@@ -318,7 +317,7 @@ pub fn init(dir: &Path, spec: &SiteSpec) -> Result<SitePaths, SiteError> {
         }
     }
     let description = json!({
-        "site": spec.site,
+        "site": spec.keys.site(),
         "robots": spec.robots,
         "observers": spec.observers,
         "endpoint": spec.endpoint,
@@ -339,8 +338,9 @@ pub struct TemporarySite {
 }
 
 impl TemporarySite {
-    /// A loopback site `site` with robots 0..robots and observers `dashboard` and `python`.
-    pub fn new(site: &str, robots: u32) -> Result<Self, SiteError> {
+    /// A loopback site of `keys` with robots 0..robots and observers `dashboard` and `python`.
+    pub fn new(keys: &Keys, robots: u32) -> Result<Self, SiteError> {
+        let site = keys.site();
         static COUNT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         let n = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let dir =
@@ -351,7 +351,7 @@ impl TemporarySite {
             .port();
         // Leftovers of a crashed earlier process with this pid would make init refuse.
         let _ = std::fs::remove_dir_all(&dir);
-        let paths = init(&dir, &SiteSpec::loopback(site, robots, port))?;
+        let paths = init(&dir, &SiteSpec::loopback(keys, robots, port))?;
         Ok(Self { paths })
     }
 }
@@ -463,6 +463,10 @@ fn client_config(tls: &Tls, user: &Credentials, endpoint: &str) -> Value {
 mod tests {
     use super::*;
 
+    fn unit() -> Keys {
+        Keys::new("unit").expect("a valid site name")
+    }
+
     /// A folder named `name` (not yet there) in a temporary folder removed when dropped.
     fn temp_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
         let tmp = tempfile::tempdir().expect("a temporary folder");
@@ -476,7 +480,7 @@ mod tests {
     fn init_writes_a_site_zenoh_accepts() {
         use std::os::unix::fs::PermissionsExt;
         let (_tmp, dir) = temp_dir("init");
-        let paths = init(&dir, &SiteSpec::loopback("unit", 3, 7447)).expect("a site");
+        let paths = init(&dir, &SiteSpec::loopback(&unit(), 3, 7447)).expect("a site");
         for config in [
             paths.coordinator_config(),
             paths.coordinator_behind_router_config(),
@@ -509,7 +513,7 @@ mod tests {
                 .all(|l| l.split_once(':').is_some_and(|(_, p)| p.len() == 32))
         );
         assert!(matches!(
-            init(&dir, &SiteSpec::loopback("unit", 3, 7447)),
+            init(&dir, &SiteSpec::loopback(&unit(), 3, 7447)),
             Err(SiteError::NotEmpty(_))
         ));
     }
@@ -517,13 +521,13 @@ mod tests {
     #[test]
     fn bad_specs_are_refused_with_the_reason() {
         let (_tmp, dir) = temp_dir("bad");
-        let mut spec = SiteSpec::loopback("unit", 3, 7447);
+        let mut spec = SiteSpec::loopback(&unit(), 3, 7447);
         spec.endpoint = "tcp/127.0.0.1:7447".to_owned();
         let err = init(&dir, &spec)
             .expect_err("tcp is not secured")
             .to_string();
         assert!(err.contains("tls/<host>:<port>"), "{err}");
-        let mut spec = SiteSpec::loopback("unit", 0, 7447);
+        let mut spec = SiteSpec::loopback(&unit(), 0, 7447);
         assert!(
             init(&dir, &spec)
                 .expect_err("no robots")
@@ -545,7 +549,9 @@ mod tests {
                 .to_string()
                 .contains("twice")
         );
-        let spec = SiteSpec::loopback("no/slash", 2, 7447);
+        // A bad site name never gets this far: `--site` is parsed into `Keys`.
+        assert!("no/slash".parse::<Keys>().is_err());
+        let spec = SiteSpec::loopback(&unit(), 0, 7447);
         assert!(init(&dir, &spec).is_err());
         assert!(!dir.exists(), "nothing is written for a refused spec");
     }
