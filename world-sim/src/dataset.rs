@@ -43,6 +43,40 @@ pub enum DatasetError {
         /// What is wrong with it.
         message: String,
     },
+    /// `map.xml` is not an obstacle file.
+    #[error("{path}: {source}")]
+    Map {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        source: MapXmlError,
+    },
+}
+
+/// Why an OpenTraj `map.xml` could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum MapXmlError {
+    /// Not XML at all.
+    #[error("not valid XML: {0}")]
+    Xml(#[from] roxmltree::Error),
+    /// A `<Line>` lacks one of its coordinates.
+    #[error("line {line}: <Line> without attribute {name}")]
+    Missing {
+        /// The text line of the element.
+        line: u32,
+        /// The attribute.
+        name: &'static str,
+    },
+    /// A coordinate is not a finite number.
+    #[error("line {line}: attribute {name}={raw:?} is not a finite number")]
+    NotFinite {
+        /// The text line of the element.
+        line: u32,
+        /// The attribute.
+        name: &'static str,
+        /// Its text.
+        raw: String,
+    },
 }
 
 /// One annotated position of a pedestrian.
@@ -267,8 +301,7 @@ impl Recording {
         let tracks = parse_obsmat(&text, SAMPLE_DT).map_err(|e| e.at(&obsmat))?;
         let map = dir.join("map.xml");
         let walls = if map.exists() {
-            parse_map_xml(&read(&map)?)
-                .map_err(|message| DatasetError::File { path: map, message })?
+            parse_map_xml(&read(&map)?).map_err(|source| DatasetError::Map { path: map, source })?
         } else {
             Vec::new()
         };
@@ -459,21 +492,23 @@ pub fn parse_obsmat(text: &str, sample_dt: Real) -> Result<Vec<Track>, ObsmatErr
 }
 
 /// The `<Line x1 y1 x2 y2>` elements of an OpenTraj `map.xml`, in world metres.
-pub fn parse_map_xml(text: &str) -> Result<Vec<(Vec2, Vec2)>, String> {
-    let doc = roxmltree::Document::parse(text).map_err(|e| format!("not valid XML: {e}"))?;
+pub fn parse_map_xml(text: &str) -> Result<Vec<(Vec2, Vec2)>, MapXmlError> {
+    let doc = roxmltree::Document::parse(text)?;
     let mut walls = Vec::new();
     for node in doc.descendants().filter(|n| n.has_tag_name("Line")) {
         let line = doc.text_pos_at(node.range().start).row;
-        let attr = |name: &str| -> Result<Real, String> {
+        let attr = |name: &'static str| -> Result<Real, MapXmlError> {
             let raw = node
                 .attribute(name)
-                .ok_or_else(|| format!("line {line}: <Line> without attribute {name}"))?;
+                .ok_or(MapXmlError::Missing { line, name })?;
             raw.trim()
                 .parse::<Real>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    format!("line {line}: attribute {name}={raw:?} is not a finite number")
+                .ok_or_else(|| MapXmlError::NotFinite {
+                    line,
+                    name,
+                    raw: raw.to_owned(),
                 })
         };
         let a = Vec2::new(attr("x1")?, attr("y1")?);

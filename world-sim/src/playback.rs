@@ -36,16 +36,19 @@ pub enum RunKind {
     Full,
 }
 
+/// A run kind that is neither `partial` nor `full`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown run kind {0:?}; expected partial or full")]
+pub struct UnknownRunKind(pub String);
+
 impl FromStr for RunKind {
-    type Err = String;
+    type Err = UnknownRunKind;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
             "partial" => Ok(Self::Partial),
             "full" => Ok(Self::Full),
-            other => Err(format!(
-                "unknown run kind {other:?}; expected partial or full"
-            )),
+            other => Err(UnknownRunKind(other.to_owned())),
         }
     }
 }

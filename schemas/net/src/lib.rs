@@ -122,21 +122,51 @@ fn transport_settings() -> [(&'static str, String); 3] {
 /// init` writes them. `Err` names the first that differs; [`from_file`] warns with it, since a
 /// config written by hand may leave them out (Zenoh's defaults then: a 10 s lease, a 1 ms
 /// wait, 2 batches, express publications).
-pub fn check_fleet_settings(config: &zenoh::Config) -> Result<(), String> {
-    let read = |key: &str| config.get_json(key).map_err(|e| format!("{key}: {e}"));
+pub fn check_fleet_settings(config: &zenoh::Config) -> Result<(), SettingDiffers> {
+    let read = |key: &'static str| {
+        config
+            .get_json(key)
+            .map_err(|source| SettingDiffers::Unreadable { key, source })
+    };
     for (key, fleet) in transport_settings() {
         let value = read(key)?;
         if value != fleet {
-            return Err(format!("{key} is {value}, the fleet's is {fleet}"));
+            return Err(SettingDiffers::Value { key, value, fleet });
         }
     }
-    let qos = read("qos/publication")?;
-    if !(qos.contains("\"gapfleet/**\"") && qos.contains("\"express\":false")) {
-        return Err(format!(
-            "qos/publication is {qos}, the fleet's is {FLEET_QOS}"
-        ));
+    let key = "qos/publication";
+    let value = read(key)?;
+    if !(value.contains("\"gapfleet/**\"") && value.contains("\"express\":false")) {
+        return Err(SettingDiffers::Value {
+            key,
+            value,
+            fleet: FLEET_QOS.to_owned(),
+        });
     }
     Ok(())
+}
+
+/// The first of the fleet's transport settings a Zenoh config does not carry.
+#[derive(Debug, thiserror::Error)]
+pub enum SettingDiffers {
+    /// The setting could not be read.
+    #[error("{key}: {source}")]
+    Unreadable {
+        /// The setting.
+        key: &'static str,
+        /// Zenoh's error.
+        source: zenoh::Error,
+    },
+    /// It has another value.
+    #[error("{key} is {value}, the fleet's is {fleet}")]
+    Value {
+        /// The setting.
+        key: &'static str,
+        /// Its value in the config (JSON).
+        value: String,
+        /// The fleet's (JSON).
+        fleet: String,
+    },
 }
 
 fn json_list(items: &[String]) -> String {
@@ -276,15 +306,26 @@ mod tests {
         }
         let mut c = zenoh::Config::default();
         assert_eq!(
-            check_fleet_settings(&c),
-            Err("transport/link/tx/lease is 10000, the fleet's is 3000".to_owned())
+            check_fleet_settings(&c)
+                .expect_err("Zenoh's default lease")
+                .to_string(),
+            "transport/link/tx/lease is 10000, the fleet's is 3000"
         );
         for (key, value) in transport_settings() {
             set(&mut c, key, &value).expect("a setting");
         }
         let qos = check_fleet_settings(&c).expect_err("express publications");
-        assert!(qos.starts_with("qos/publication is "), "{qos}");
+        assert!(
+            matches!(
+                qos,
+                SettingDiffers::Value {
+                    key: "qos/publication",
+                    ..
+                }
+            ),
+            "{qos}"
+        );
         set(&mut c, "qos/publication", FLEET_QOS).expect("a setting");
-        assert_eq!(check_fleet_settings(&c), Ok(()));
+        check_fleet_settings(&c).expect("the fleet's settings");
     }
 }
