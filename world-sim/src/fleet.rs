@@ -1,7 +1,8 @@
 //! A warehouse fleet: the world plus pick/drop tasks, corridor routes for robots, shared
 //! intents between robots, and continuous metrics. The coordinator drives one of these over
 //! Zenoh; [`run_fleet`] drives one in-process with a planner per robot (batch experiments,
-//! the intent-sharing study).
+//! the intent-sharing study). [`FleetSummary`] holds its fleet-wide figures, computed in one
+//! place for every consumer.
 //!
 //! Task cycle of a robot: idle → (assigned) drive to the pick station → drive to its dock →
 //! done, idle again. Robots follow the site's corridor routes: the goal a planner gets is the
@@ -755,6 +756,9 @@ pub use run::{
     FleetOptions, FleetReport, STALLED_M, Stalls, drive, plan_all, run_fleet, run_fleet_with,
     stacks,
 };
+
+mod summary;
+pub use summary::FleetSummary;
 
 mod snapshot;
 pub use snapshot::{SNAPSHOT_FORMAT, SnapshotError};

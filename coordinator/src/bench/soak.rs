@@ -389,17 +389,9 @@ pub async fn bench_soak(
         after_warm_up: AfterWarmUp::of(&windows, warm_up.as_secs_f64()),
         windows,
         rss_growth_percent: growth,
-        tasks: report.tasks_done.iter().sum(),
-        contacts: report
-            .fleet_metrics
-            .iter()
-            .map(world_sim::metrics::RobotMetrics::total_contacts)
-            .sum(),
-        robot_caused_contacts: report
-            .fleet_metrics
-            .iter()
-            .map(|m| m.robot_caused_contacts)
-            .sum(),
+        tasks: report.summary.tasks,
+        contacts: report.summary.total_contacts,
+        robot_caused_contacts: report.summary.robot_caused_contacts,
     })
 }
 

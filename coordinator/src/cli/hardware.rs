@@ -39,12 +39,12 @@ fn status_line(r: &HardwareReport) -> String {
         r.sim_time,
         r.driven,
         r.starved,
-        r.path_length_m,
-        r.min_human_distance_m,
-        r.svr,
-        r.robot_caused_contacts,
-        r.person_caused_contacts,
-        r.robot_robot_contacts,
+        r.played.path_length_m,
+        r.played.min_human_distance_m,
+        r.played.svr,
+        r.played.robot_caused_contacts,
+        r.played.person_caused_contacts,
+        r.played.robot_robot_contacts,
         r.rejected
     )
 }

@@ -531,51 +531,10 @@ impl Observer for DashboardObserver {
         }));
 
         let per_robot: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
-        let n = per_robot.len().max(1) as f64;
-        let mean = |f: &dyn Fn(&world_sim::metrics::RobotMetrics) -> f64| {
-            per_robot.iter().map(f).sum::<f64>() / n
-        };
-        let min_human = per_robot
-            .iter()
-            .map(|m| m.min_human_distance_m)
-            .fold(f64::INFINITY, f64::min);
-        let minutes = (status.sim_time / 60.0).max(1.0 / 60.0);
         let mut fleet_metrics = vec![
-            ("svr", mean(&|m| m.svr)),
-            ("collision_rate", mean(&|m| m.collision_rate)),
-            ("social_force", mean(&|m| m.social_force)),
-            ("tasks_per_minute", status.tasks_done as f64 / minutes),
             ("live_agents", status.alive as f64),
             ("planner_p99_us", status.planner_p99_us),
             ("stale_commands", status.stale_commands as f64),
-            (
-                "robot_caused_contacts",
-                per_robot
-                    .iter()
-                    .map(|m| m.robot_caused_contacts)
-                    .sum::<u64>() as f64,
-            ),
-            (
-                "person_caused_contacts",
-                per_robot
-                    .iter()
-                    .map(|m| m.person_caused_contacts)
-                    .sum::<u64>() as f64,
-            ),
-            (
-                "robot_robot_contacts",
-                per_robot
-                    .iter()
-                    .map(|m| m.robot_robot_contacts)
-                    .sum::<u64>() as f64,
-            ),
-            (
-                "total_contacts",
-                per_robot
-                    .iter()
-                    .map(world_sim::metrics::RobotMetrics::total_contacts)
-                    .sum::<u64>() as f64,
-            ),
             (
                 "yielding_robots",
                 status
@@ -593,19 +552,32 @@ impl Observer for DashboardObserver {
                     .count() as f64,
             ),
         ];
-        fleet_metrics.push(("stuck_robots", traffic.stuck.len() as f64));
-        fleet_metrics.push(("deadlocks", fleet.traffic().totals().deadlocks as f64));
-        fleet_metrics.push(("gridlocks", fleet.traffic().totals().gridlocks as f64));
-        let causes = fleet.stuck_causes();
-        fleet_metrics.extend([
-            ("stuck_s_policy", causes.policy_s),
-            ("stuck_s_person", causes.person_s),
-            ("stuck_s_robot", causes.robot_s),
-            ("stuck_s_layer", causes.layer_s),
-            ("stuck_s_planner", causes.planner_s),
-        ]);
-        if let Some(e) = status.metrics.as_ref().and_then(|m| m.efficiency) {
-            fleet_metrics.push(("efficiency_pct", 100.0 * e));
+        // The fleet-wide figures, as the newest metrics frame summarised them.
+        if let Some(s) = &status.summary {
+            fleet_metrics.extend([
+                ("svr", s.svr),
+                ("collision_rate", s.collision_rate),
+                ("social_force", s.social_force),
+                ("tasks_per_minute", s.tasks_per_min()),
+                ("robot_caused_contacts", s.robot_caused_contacts as f64),
+                ("person_caused_contacts", s.person_caused_contacts as f64),
+                ("robot_robot_contacts", s.robot_robot_contacts as f64),
+                ("total_contacts", s.total_contacts as f64),
+                ("stuck_robots", s.stuck_robots as f64),
+                ("deadlocks", s.traffic.deadlocks as f64),
+                ("gridlocks", s.traffic.gridlocks as f64),
+                ("stuck_s_policy", s.stuck_causes.policy_s),
+                ("stuck_s_person", s.stuck_causes.person_s),
+                ("stuck_s_robot", s.stuck_causes.robot_s),
+                ("stuck_s_layer", s.stuck_causes.layer_s),
+                ("stuck_s_planner", s.stuck_causes.planner_s),
+            ]);
+            if let Some(e) = s.efficiency() {
+                fleet_metrics.push(("efficiency_pct", 100.0 * e));
+            }
+            if s.min_human_distance_m.is_finite() {
+                fleet_metrics.push(("min_human_distance", s.min_human_distance_m));
+            }
         }
         if let Some(policy) = fleet.traffic_policy() {
             let waiting = (0..fleet.robots())
@@ -618,9 +590,6 @@ impl Observer for DashboardObserver {
                 })
                 .count();
             fleet_metrics.push(("waiting_robots", waiting as f64));
-        }
-        if min_human.is_finite() {
-            fleet_metrics.push(("min_human_distance", min_human));
         }
         if let Some(impact) = fleet.human_impact() {
             // Where people lost time to robots, once per finished window.

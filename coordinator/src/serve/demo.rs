@@ -13,11 +13,8 @@ use fleet_net::{ConfigError, Role, free_loopback_port, open_loopback};
 use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use world_sim::efficiency::{FreeFlow, efficiency};
-use world_sim::fleet::Fleet;
+use world_sim::fleet::{Fleet, FleetSummary};
 use world_sim::scenario::Scenario;
-use world_sim::stuck::StuckCauses;
-use world_sim::traffic::TrafficTotals;
 use world_sim::traffic_policy::{PolicyParams, PolicyTotals, TrafficPolicy};
 
 /// What to run.
@@ -77,26 +74,10 @@ pub struct DemoReport {
     pub tasks_done: Vec<u64>,
     /// Dashboard frames logged and dropped, when a dashboard ran.
     pub dashboard: Option<dashboards::DashboardStats>,
-    /// Stuck robots and deadlocks, as the traffic monitor counted them.
-    pub traffic: TrafficTotals,
     /// What the traffic policy did, when on.
     pub policy: Option<PolicyTotals>,
-    /// Stuck robot-seconds by what held the robot.
-    pub stuck_causes: StuckCauses,
-    /// What one robot alone did on the site, for the fleet's efficiency.
-    pub free_flow: FreeFlow,
-}
-
-impl DemoReport {
-    /// The fleet's efficiency: tasks per robot-minute over the free flow's per minute.
-    pub fn efficiency(&self) -> Option<f64> {
-        efficiency(
-            self.status.tasks_done,
-            self.status.robots,
-            self.status.sim_time,
-            &self.free_flow,
-        )
-    }
+    /// The fleet-wide figures at the end, against the site's free flow.
+    pub summary: FleetSummary,
 }
 
 /// Why a demo could not run.
@@ -229,9 +210,11 @@ pub async fn run_demo(
         final_fleet = Some((
             (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
             (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),
-            fleet.traffic().totals(),
             fleet.traffic_policy().map(TrafficPolicy::totals),
-            fleet.stuck_causes(),
+            status
+                .summary
+                .clone()
+                .unwrap_or_else(|| FleetSummary::of(fleet).with_free_flow(Some(free))),
         ));
     };
     let mut observers = (status_line, dashboard);
@@ -246,18 +229,16 @@ pub async fn run_demo(
     }
     drop(presence);
     router.close().await.map_err(DemoError::Close)?;
-    let (fleet_metrics, tasks_done, traffic, policy, stuck_causes) =
-        final_fleet.unwrap_or_default();
+    // The coordinator reports its status at the end of every run, so this is never empty.
+    let (fleet_metrics, tasks_done, policy, summary) = final_fleet.unwrap_or_default();
     Ok(DemoReport {
         status,
         agents: counters,
         fleet_metrics,
         tasks_done,
         dashboard,
-        traffic,
         policy,
-        stuck_causes,
-        free_flow: free,
+        summary,
     })
 }
 
@@ -316,21 +297,22 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         s.metrics.as_ref().map_or(0, |m| m.humans),
         s.sim_time
     ));
-    let free = &report.free_flow;
-    out.push_str(&match report.efficiency() {
-        Some(e) => format!(
+    let fleet = &report.summary;
+    out.push_str(&match (fleet.efficiency(), fleet.free_flow) {
+        (Some(e), Some(free)) => format!(
             "fleet efficiency {:.0}%: {:.2} tasks per robot-minute, against {:.2} per minute \
              for one robot alone on the site ({} tasks in {:.0} s, no people)\n",
             100.0 * e,
-            s.tasks_done as f64 * 60.0 / s.sim_time.max(1e-9) / s.robots.max(1) as f64,
+            fleet.tasks_per_robot_min(),
             free.tasks_per_min(),
             free.tasks,
             free.seconds
         ),
-        None => format!(
+        (_, Some(free)) => format!(
             "fleet efficiency: not defined (one robot alone did {} tasks in {:.0} s)\n",
             free.tasks, free.seconds
         ),
+        (_, None) => "fleet efficiency: not defined (free flow not measured)\n".to_owned(),
     });
     out.push_str(&format!(
         "tasks done {} | plans {plans} | observation->command round trip p50 {:.2} ms, p99 {:.2} ms | stale-command ticks {} | rejected messages {} (coordinator) {rejected} (agents)\n",
@@ -360,19 +342,16 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             m.total_contacts(),
         ));
     }
-    let total = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| {
-        report.fleet_metrics.iter().map(f).sum::<u64>()
-    };
     out.push_str(&format!(
         "contacts (onsets): with people {} robot-caused, {} person-caused; robot-robot {} \
          (each robot counts its own); walls and shelves {}; total {}\n",
-        total(|m| m.robot_caused_contacts),
-        total(|m| m.person_caused_contacts),
-        total(|m| m.robot_robot_contacts),
-        total(|m| m.wall_contacts),
-        total(world_sim::metrics::RobotMetrics::total_contacts),
+        fleet.robot_caused_contacts,
+        fleet.person_caused_contacts,
+        fleet.robot_robot_contacts,
+        fleet.wall_contacts,
+        fleet.total_contacts,
     ));
-    let t = &report.traffic;
+    let t = &fleet.traffic;
     out.push_str(&format!(
         "traffic: {} deadlocks ({:.0} robot-s deadlocked), {} gridlocks ({:.0} robot-s); {} \
          times a robot got stuck, {:.0} robot-s stuck, at most {} at once\n",
@@ -384,7 +363,7 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
         t.stuck_robot_s,
         t.max_stuck
     ));
-    let c = &report.stuck_causes;
+    let c = &fleet.stuck_causes;
     out.push_str(&format!(
         "stuck robot-s by what held them: traffic policy {:.0}, a person in the way {:.0}, a \
          robot in the way {:.0}, the safety layer {:.0}, nothing visible (planner) {:.0}\n",
@@ -413,13 +392,11 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             d.logged, d.dropped
         ));
     }
-    if let Some(m) = &s.metrics {
-        out.push_str(&format!(
-            "fleet: collision rate {:.2}%  SVR {:.3}  robot near-miss steps {}\n",
-            m.collision_rate * 100.0,
-            m.svr,
-            m.near_misses
-        ));
-    }
+    out.push_str(&format!(
+        "fleet: collision rate {:.2}%  SVR {:.3}  robot near-miss steps {}\n",
+        fleet.collision_rate * 100.0,
+        fleet.svr,
+        fleet.near_miss_steps
+    ));
     out
 }

@@ -14,7 +14,7 @@ use agent::math::Vec2;
 use agent::model::Command;
 use std::future::Future;
 use std::time::Duration;
-use world_sim::fleet::Fleet;
+use world_sim::fleet::{Fleet, FleetSummary};
 
 /// Where a robot this process does not play stands (m): far off any site, beyond every
 /// sensor.
@@ -48,20 +48,9 @@ pub struct HardwareReport {
     pub driven: u64,
     /// Robot-ticks stood still for want of one (none yet, or older than the watchdog's).
     pub starved: u64,
-    /// Contacts caused by a played robot driving into a person.
-    pub robot_caused_contacts: u64,
-    /// Contacts caused by a person walking into a played robot.
-    pub person_caused_contacts: u64,
-    /// Contacts between robots.
-    pub robot_robot_contacts: u64,
-    /// Metres driven by the played robots.
-    pub path_length_m: f64,
-    /// The closest any played robot came to a person (m, centre to centre; infinite with no
-    /// people).
-    pub min_human_distance_m: f64,
-    /// The played robots' mean social violation rate (share of moving steps with someone
-    /// within 1 m), as the demo's fleet SVR.
-    pub svr: f64,
+    /// The played robots' figures (`world_sim::fleet::FleetSummary`): contacts, metres
+    /// driven, the closest any came to a person, their mean SVR.
+    pub played: FleetSummary,
     /// `cmd_vel` payloads refused.
     pub rejected: u64,
 }
@@ -147,18 +136,6 @@ pub async fn run_hardware(
 /// The report's counters from the fleet's metrics of the played robots.
 fn tally(fleet: &Fleet, played: &[bool], ros: &RosRobots, report: &mut HardwareReport) {
     report.sim_time = fleet.world.time;
-    let metrics: Vec<_> = (0..fleet.robots())
-        .filter(|&i| played[i])
-        .map(|i| fleet.metrics(i))
-        .collect();
-    report.robot_caused_contacts = metrics.iter().map(|m| m.robot_caused_contacts).sum();
-    report.person_caused_contacts = metrics.iter().map(|m| m.person_caused_contacts).sum();
-    report.robot_robot_contacts = metrics.iter().map(|m| m.robot_robot_contacts).sum();
-    report.path_length_m = metrics.iter().map(|m| m.path_length_m).sum();
-    report.min_human_distance_m = metrics
-        .iter()
-        .map(|m| m.min_human_distance_m)
-        .fold(f64::INFINITY, f64::min);
-    report.svr = metrics.iter().map(|m| m.svr).sum::<f64>() / metrics.len().max(1) as f64;
+    report.played = FleetSummary::of_robots(fleet, |i| played[i]);
     report.rejected = ros.rejected.load(std::sync::atomic::Ordering::Relaxed);
 }

@@ -4,14 +4,13 @@
 use super::links::Link;
 use super::status::Status;
 use agent::map::{LocalMap, StaticMap};
-use agent::math::Real;
 use agent::runtime::wire;
 use schemas::{
     FleetMetrics, Observation, RobotRow, StationMsg, StuckCausesMsg, TaskRef, TaskStage,
     TrafficConstraint, TrafficMsg,
 };
-use world_sim::efficiency::{FreeFlow, efficiency};
-use world_sim::fleet::{Fleet, Stage};
+use world_sim::efficiency::FreeFlow;
+use world_sim::fleet::{Fleet, FleetSummary, Stage};
 use world_sim::traffic_policy::Constraint;
 
 /// Robot `i`'s observation with sequence number `seq`, naming the served map's version.
@@ -117,68 +116,59 @@ fn unversioned_map(fleet: &Fleet) -> schemas::MapMsg {
     wire::map_to_wire(map, 0, stations, [site.origin, site.origin + site.size])
 }
 
-/// The fleet metrics frame published once per simulated second.
-/// `free` is the site's free flow, for the fleet's efficiency.
+/// The fleet metrics frame published once per simulated second: `summary`'s fleet-wide
+/// figures, and a row per robot.
 pub(super) fn metrics_frame(
     fleet: &Fleet,
+    summary: &FleetSummary,
     links: &[Link],
     status: &Status,
-    free: Option<&FreeFlow>,
 ) -> FleetMetrics {
-    let metrics: Vec<_> = (0..fleet.robots()).map(|i| fleet.metrics(i)).collect();
-    let per_robot: Vec<RobotRow> = metrics
-        .iter()
-        .enumerate()
-        .map(|(i, m)| RobotRow {
-            robot_id: i as u32,
-            alive: links[i].alive,
-            tasks_done: fleet.tasks_done(i),
-            collision_rate: m.collision_rate,
-            svr: m.svr,
-            min_human_distance: m
-                .min_human_distance_m
-                .is_finite()
-                .then_some(m.min_human_distance_m),
-            social_force: m.social_force,
-            stuck: fleet.traffic().is_stuck(i),
-            waits_on: fleet
-                .traffic()
-                .waits_on(i)
-                .iter()
-                .map(|&j| j as u32)
-                .collect(),
+    let per_robot: Vec<RobotRow> = (0..fleet.robots())
+        .map(|i| {
+            let m = fleet.metrics(i);
+            RobotRow {
+                robot_id: i as u32,
+                alive: links[i].alive,
+                tasks_done: fleet.tasks_done(i),
+                collision_rate: m.collision_rate,
+                svr: m.svr,
+                min_human_distance: m
+                    .min_human_distance_m
+                    .is_finite()
+                    .then_some(m.min_human_distance_m),
+                social_force: m.social_force,
+                stuck: fleet.traffic().is_stuck(i),
+                waits_on: fleet
+                    .traffic()
+                    .waits_on(i)
+                    .iter()
+                    .map(|&j| j as u32)
+                    .collect(),
+            }
         })
         .collect();
-    let traffic = fleet.traffic().totals();
-    let causes = fleet.stuck_causes();
-    let mean = |f: &dyn Fn(&RobotRow) -> Real| {
-        if per_robot.is_empty() {
-            0.0
-        } else {
-            per_robot.iter().map(f).sum::<Real>() / per_robot.len() as Real
-        }
-    };
+    let causes = &summary.stuck_causes;
     FleetMetrics {
         tick: status.tick,
-        sim_time: fleet.world.time,
-        robots: fleet.robots() as u32,
+        sim_time: summary.seconds,
+        robots: summary.robots as u32,
         alive: links.iter().filter(|l| l.alive).count() as u32,
         humans: fleet.world.humans.crowd.len() as u32,
-        tasks_done: status.tasks_done,
-        collision_rate: mean(&|r| r.collision_rate),
-        svr: mean(&|r| r.svr),
-        near_misses: metrics.iter().map(|m| m.robot_near_misses).sum(),
-        robot_caused_contacts: metrics.iter().map(|m| m.robot_caused_contacts).sum(),
-        person_caused_contacts: metrics.iter().map(|m| m.person_caused_contacts).sum(),
+        tasks_done: summary.tasks,
+        collision_rate: summary.collision_rate,
+        svr: summary.svr,
+        near_misses: summary.near_miss_steps,
+        robot_caused_contacts: summary.robot_caused_contacts,
+        person_caused_contacts: summary.person_caused_contacts,
         dropped_commands: status.stale_commands,
-        deadlocks: traffic.deadlocks,
-        stuck_robots: per_robot.iter().filter(|r| r.stuck).count() as u32,
-        stuck_robot_s: traffic.stuck_robot_s,
+        deadlocks: summary.traffic.deadlocks,
+        stuck_robots: summary.stuck_robots as u32,
+        stuck_robot_s: summary.traffic.stuck_robot_s,
         per_robot,
-        efficiency: free
-            .and_then(|f| efficiency(status.tasks_done, fleet.robots(), fleet.world.time, f)),
-        free_flow_tasks_per_min: free.map(FreeFlow::tasks_per_min),
-        gridlocks: traffic.gridlocks,
+        efficiency: summary.efficiency(),
+        free_flow_tasks_per_min: summary.free_flow.as_ref().map(FreeFlow::tasks_per_min),
+        gridlocks: summary.traffic.gridlocks,
         stuck_causes: StuckCausesMsg {
             policy_s: causes.policy_s,
             person_s: causes.person_s,
@@ -186,8 +176,8 @@ pub(super) fn metrics_frame(
             layer_s: causes.layer_s,
             planner_s: causes.planner_s,
         },
-        robot_robot_contacts: metrics.iter().map(|m| m.robot_robot_contacts).sum(),
-        wall_contacts: metrics.iter().map(|m| m.wall_contacts).sum(),
+        robot_robot_contacts: summary.robot_robot_contacts,
+        wall_contacts: summary.wall_contacts,
     }
 }
 

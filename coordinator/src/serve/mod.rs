@@ -38,7 +38,7 @@ use std::future::Future;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
-use world_sim::fleet::{Fleet, FleetEvent};
+use world_sim::fleet::{Fleet, FleetEvent, FleetSummary};
 use zenoh::handlers::{FifoChannelHandler, RingChannelHandler};
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::sample::Sample;
@@ -575,16 +575,17 @@ impl Coordinator<'_> {
         if let Err(e) = self.wire.metrics.put(encode(&frame)).await {
             tracing::warn!("metrics not sent: {e}");
         }
-        self.status.metrics = Some(frame);
     }
 
-    fn metrics_frame(&self) -> FleetMetrics {
-        messages::metrics_frame(
-            &self.fleet,
-            &self.links,
-            &self.status,
-            self.config.free_flow.get(),
-        )
+    /// Summarises the fleet (once per frame), keeps the summary and its frame in the status,
+    /// and returns the frame.
+    fn metrics_frame(&mut self) -> FleetMetrics {
+        let summary =
+            FleetSummary::of(&self.fleet).with_free_flow(self.config.free_flow.get().copied());
+        let frame = messages::metrics_frame(&self.fleet, &summary, &self.links, &self.status);
+        self.status.summary = Some(summary);
+        self.status.metrics = Some(frame.clone());
+        frame
     }
 
     /// Updates the status's derived fields and shows it to the observer.
@@ -705,7 +706,6 @@ pub async fn run_coordinator(
     // Final frame and status.
     let frame = c.metrics_frame();
     let _ = c.wire.metrics.put(encode(&frame)).await;
-    c.status.metrics = Some(frame);
     c.report_status(observer);
     c.wire.map_server.abort();
     Ok(c.status)

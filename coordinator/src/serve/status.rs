@@ -142,6 +142,9 @@ pub struct Status {
     pub tasks_done: u64,
     /// The newest metrics frame.
     pub metrics: Option<FleetMetrics>,
+    /// The fleet summary that frame was built from: the fleet-wide figures for the
+    /// dashboard and the demo's summary.
+    pub summary: Option<world_sim::fleet::FleetSummary>,
     /// Observation published → its command received, milliseconds: p50 and p99 since start.
     pub round_trip_ms: (f64, f64),
     /// Commands received.

@@ -62,19 +62,19 @@ pub struct SharingRun {
 
 impl SharingRun {
     fn new(seed: u64, sharing: bool, report: &FleetReport) -> Self {
-        let n = report.robots.len() as f64;
+        let fleet = &report.summary;
         Self {
             seed,
             sharing,
-            tasks: report.total_tasks(),
-            robot_near_miss_steps: report.robots.iter().map(|m| m.robot_near_misses).sum(),
-            robot_contact_steps: report.robots.iter().map(|m| m.robot_contacts).sum(),
-            collision_rate: report.robots.iter().map(|m| m.collision_rate).sum::<f64>() / n,
-            svr: report.robots.iter().map(|m| m.svr).sum::<f64>() / n,
-            robot_caused_contacts: report.robots.iter().map(|m| m.robot_caused_contacts).sum(),
-            person_caused_contacts: report.robots.iter().map(|m| m.person_caused_contacts).sum(),
-            robot_robot_contacts: report.robots.iter().map(|m| m.robot_robot_contacts).sum(),
-            wall_contacts: report.robots.iter().map(|m| m.wall_contacts).sum(),
+            tasks: fleet.tasks,
+            robot_near_miss_steps: fleet.near_miss_steps,
+            robot_contact_steps: fleet.robot_contact_steps,
+            collision_rate: fleet.collision_rate,
+            svr: fleet.svr,
+            robot_caused_contacts: fleet.robot_caused_contacts,
+            person_caused_contacts: fleet.person_caused_contacts,
+            robot_robot_contacts: fleet.robot_robot_contacts,
+            wall_contacts: fleet.wall_contacts,
             protective_commands: report.protective.iter().sum(),
         }
     }

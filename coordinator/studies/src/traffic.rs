@@ -8,7 +8,7 @@
 use crate::runner::Study;
 use agent::planner::PlannerSpec;
 use serde::{Deserialize, Serialize};
-use world_sim::efficiency::{FreeFlow, efficiency, free_flow};
+use world_sim::efficiency::{FreeFlow, free_flow};
 use world_sim::fleet::{FleetOptions, FleetReport, NotAWarehouse, run_fleet_with};
 use world_sim::scenario::Scenario;
 use world_sim::traffic_policy::PolicyParams;
@@ -199,40 +199,34 @@ fn layer_on() -> bool {
 
 impl TrafficRun {
     fn new(scenario: &str, seed: u64, safety: bool, report: &FleetReport, free: &FreeFlow) -> Self {
-        let sum = |f: fn(&world_sim::metrics::RobotMetrics) -> u64| -> u64 {
-            report.robots.iter().map(f).sum()
-        };
+        let fleet = report.summary.clone().with_free_flow(Some(*free));
         let policy = report.policy.unwrap_or_default();
         Self {
             scenario: scenario.to_owned(),
-            robots: report.robots.len(),
+            robots: fleet.robots,
             policy: report.policy.is_some(),
             safety,
             seed,
-            tasks: report.total_tasks(),
-            tasks_per_min: report.total_tasks() as f64 * 60.0 / report.seconds,
-            deadlocks: report.traffic.deadlocks,
-            deadlocked_robot_s: report.traffic.deadlocked_robot_s,
-            stuck_onsets: report.traffic.stuck_onsets,
-            stuck_robot_s: report.traffic.stuck_robot_s,
-            max_stuck: report.traffic.max_stuck,
-            robot_caused_contacts: sum(|m| m.robot_caused_contacts),
-            person_caused_contacts: sum(|m| m.person_caused_contacts),
-            robot_robot_contacts: sum(|m| m.robot_robot_contacts),
-            wall_contacts: sum(|m| m.wall_contacts),
-            total_contacts: sum(world_sim::metrics::RobotMetrics::total_contacts),
-            min_human_distance_m: report
-                .robots
-                .iter()
-                .map(|m| m.min_human_distance_m)
-                .fold(f64::INFINITY, f64::min),
-            intimate_robot_s: report.robots.iter().map(|m| m.intimate_time_s).sum(),
+            tasks: fleet.tasks,
+            tasks_per_min: fleet.tasks_per_min(),
+            deadlocks: fleet.traffic.deadlocks,
+            deadlocked_robot_s: fleet.traffic.deadlocked_robot_s,
+            stuck_onsets: fleet.traffic.stuck_onsets,
+            stuck_robot_s: fleet.traffic.stuck_robot_s,
+            max_stuck: fleet.traffic.max_stuck,
+            robot_caused_contacts: fleet.robot_caused_contacts,
+            person_caused_contacts: fleet.person_caused_contacts,
+            robot_robot_contacts: fleet.robot_robot_contacts,
+            wall_contacts: fleet.wall_contacts,
+            total_contacts: fleet.total_contacts,
+            min_human_distance_m: fleet.min_human_distance_m,
+            intimate_robot_s: fleet.intimate_robot_s,
             layer_checked: report.checked.iter().sum(),
             layer_warned: report.warned.iter().sum(),
             layer_protective: report.protective.iter().sum(),
             yielded: report.yielded.iter().sum(),
             layer_change_sum: report.change_sum,
-            human_delay_s: report.robots.iter().map(|m| m.human_delay_s).sum(),
+            human_delay_s: fleet.human_delay_s,
             grants: policy.grants,
             waits: policy.waits,
             retreats: policy.retreats,
@@ -249,20 +243,14 @@ impl TrafficRun {
             stuck_next_to_robot_s: report.stuck_where.robot_s,
             stuck_alone_s: report.stuck_where.nobody_s,
             free_flow_tasks: free.tasks,
-            efficiency: efficiency(
-                report.total_tasks(),
-                report.robots.len(),
-                report.seconds,
-                free,
-            )
-            .unwrap_or(0.0),
-            gridlocks: report.traffic.gridlocks,
-            gridlocked_robot_s: report.traffic.gridlocked_robot_s,
-            stuck_by_policy_s: report.stuck_causes.policy_s,
-            stuck_by_person_s: report.stuck_causes.person_s,
-            stuck_by_robot_s: report.stuck_causes.robot_s,
-            stuck_by_layer_s: report.stuck_causes.layer_s,
-            stuck_by_planner_s: report.stuck_causes.planner_s,
+            efficiency: fleet.efficiency().unwrap_or(0.0),
+            gridlocks: fleet.traffic.gridlocks,
+            gridlocked_robot_s: fleet.traffic.gridlocked_robot_s,
+            stuck_by_policy_s: fleet.stuck_causes.policy_s,
+            stuck_by_person_s: fleet.stuck_causes.person_s,
+            stuck_by_robot_s: fleet.stuck_causes.robot_s,
+            stuck_by_layer_s: fleet.stuck_causes.layer_s,
+            stuck_by_planner_s: fleet.stuck_causes.planner_s,
             people_stalled_share: report.people_stalled_share,
         }
     }

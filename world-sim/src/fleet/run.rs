@@ -1,7 +1,7 @@
 //! A fleet run in-process: every robot plans on what it perceives, as its agent would, under
 //! its safety layer; the batch studies' and tests' fleet, and what such a run produced.
 
-use super::{Fleet, NotAWarehouse};
+use super::{Fleet, FleetSummary, NotAWarehouse};
 use crate::metrics::RobotMetrics;
 use crate::scenario::Scenario;
 use crate::stuck::{StuckBreakdown, StuckCauses};
@@ -48,6 +48,8 @@ pub struct FleetReport {
     /// People in these worlds always have somewhere to go, so a stalled person is stuck (in
     /// a jam, or short of a goal the walls keep them from), robots or not.
     pub people_stalled_share: Real,
+    /// The fleet-wide figures at the end, with no free flow.
+    pub summary: FleetSummary,
 }
 
 /// A person who moves less than this in a window of [`Stalls`] has stalled (m).
@@ -273,5 +275,6 @@ pub fn run_fleet_with(
         stuck_where: fleet.stuck_where,
         stuck_causes: fleet.stuck_causes,
         people_stalled_share: stalls.share(),
+        summary: FleetSummary::of(&fleet),
     })
 }
