@@ -251,7 +251,7 @@ pub struct RunOutcome {
     /// How many plans were made (0 for the person).
     pub replans: usize,
     /// Contacts (bodies overlapping) begun while the robot moved toward the person
-    /// ([`contact_cause`]); for the person's own row, while they moved toward the other. A
+    /// ([`contact_cause`](crate::metrics::contact_cause)); for the person's own row, while they moved toward the other. A
     /// contact under way when the run starts is not counted (it began before the robot was
     /// put in the person's place), nor one with a person whose annotated track begins inside
     /// the robot (they appear there).

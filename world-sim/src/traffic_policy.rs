@@ -4,7 +4,7 @@
 //!
 //! - **One way at a time in narrow aisles.** An aisle stretch between two cross-aisles that is
 //!   narrower than two robots plus [`PolicyParams::passing_margin_m`] is a
-//!   [`Segment`](crate::warehouse::Segment). A robot asks for the next segment on its route
+//!   [`Segment`]. A robot asks for the next segment on its route
 //!   [`PolicyParams::request_distance_m`] before its mouth. The segment is granted when it is
 //!   empty, or already travelled the same way and nobody waits to go the other way (openTCS's
 //!   SAME_DIRECTION_ONLY, but the direction follows demand). Otherwise the robot's goal becomes

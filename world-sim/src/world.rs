@@ -1,5 +1,5 @@
 //! The world: people walking in groups (PySocialForce's model) and robots; what each robot
-//! perceives is in [`perception`], how a scenario becomes a world in `world/build.rs`. Fixed
+//! perceives is in `perception`, how a scenario becomes a world in `world/build.rs`. Fixed
 //! steps, one seed, no clock: the same scenario gives the same numbers.
 
 use crate::crowd::{Crowd, Walls};

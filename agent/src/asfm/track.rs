@@ -7,7 +7,7 @@ use super::model::{attraction, desired_toward, step, unit_repulsion};
 use crate::math::{Real, Vec2};
 use crate::model::Neighbour;
 
-/// What a body walks toward: a known goal (the paper assumes one, estimated by [12], [13]),
+/// What a body walks toward: a known goal (the paper assumes one, estimated by \[12\], \[13\]),
 /// or, when none is known, the velocity it intends, estimated as a slow average of its
 /// filtered velocity.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -32,7 +32,7 @@ struct Args {
     /// pgp+ (e.g. pgp+orca). The foIGP family does not see walls or shelves.
     #[arg(long, default_value = "pgp+orca")]
     planner: PlannerSpec,
-    /// Site name (key prefix gapfleet/<site>).
+    /// Site name (key prefix `gapfleet/<site>`).
     #[arg(long, default_value = "demo")]
     site: schemas::Keys,
     /// Safe-stop after this many milliseconds without observations, in [10, 3600000] (0 would
@@ -43,7 +43,7 @@ struct Args {
         value_parser = clap::value_parser!(u64).range(10..=3_600_000)
     )]
     obs_timeout_ms: u64,
-    /// Publish PGP's candidate fan with every plan, for dashboards (…/robot/<id>/fan).
+    /// Publish PGP's candidate fan with every plan, for dashboards (`…/robot/<id>/fan`).
     #[arg(long)]
     share_fan: bool,
     /// Run the planner's commands without the safety layer (its protective and warning

@@ -22,7 +22,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-/// Runs one agent on `session` until `shutdown` completes: [`Agent`]'s phases, each on the
+/// Runs one agent on `session` until `shutdown` completes: `Agent`'s phases, each on the
 /// event that calls for it.
 pub async fn run_agent(
     session: &zenoh::Session,

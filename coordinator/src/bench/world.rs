@@ -34,7 +34,7 @@ pub struct WorldBench {
 }
 
 /// Times `steps` world steps of `scenario` (an open space sized for its density, or a
-/// warehouse) after [`WARM_UP_STEPS`].
+/// warehouse) after `WARM_UP_STEPS`.
 pub fn bench_world(name: &str, scenario: &Scenario, steps: usize) -> WorldBench {
     let set_up = Instant::now();
     let mut world = if scenario.open_space.is_some() {

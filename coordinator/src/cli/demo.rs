@@ -60,7 +60,7 @@ pub struct DemoArgs {
     /// planners run (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
     no_safety: bool,
-    /// Play every robot as a ROS 2 robot over rmw_zenoh (namespace /robot<i>: odom, scan,
+    /// Play every robot as a ROS 2 robot over rmw_zenoh (namespace `/robot<i>`: odom, scan,
     /// people out, cmd_vel in) and run every agent in ROS mode, driving it through those
     /// topics (schemas/ros2/README.md).
     #[arg(long)]

@@ -27,7 +27,7 @@ pub struct CoordinatorConfig {
     pub stagger: usize,
     /// Hold the coordinator's liveliness token `…/coordinator` while running (agents stop
     /// their robots the moment it goes). Off when the caller holds it instead, through
-    /// [`declare_presence`], to outlive the run: the demo keeps it until its agents have
+    /// [`declare_presence`](super::declare_presence), to outlive the run: the demo keeps it until its agents have
     /// shut down, so that a planned end is not a lost coordinator to them.
     pub announce_presence: bool,
     /// Where each tick's inputs and the events go (`--state DIR`), when kept.
@@ -161,7 +161,7 @@ pub struct Status {
     pub stale_per_robot: Vec<u64>,
     /// Messages rejected by the decoder or for naming the wrong robot.
     pub rejected: u64,
-    /// The newest events (at most [`EVENTS_KEPT`]; older ones are let go in halves and
+    /// The newest events (at most `EVENTS_KEPT`; older ones are let go in halves and
     /// counted in `events_dropped`). Read them with [`Status::events_since`].
     pub events: Vec<Event>,
     /// Events let go from the front of `events`.

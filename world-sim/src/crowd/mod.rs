@@ -4,7 +4,7 @@
 //!
 //! The force law is `agent::social_force`'s (the Social Force planner uses the same one); what
 //! lives here is the crowd's machinery: its positions and velocities as columns with each
-//! pair evaluated once ([`columns`]), a grid for neighbour look-ups with an interaction range
+//! pair evaluated once (`columns`), a grid for neighbour look-ups with an interaction range
 //! ([`grid`]), the walls indexed or tabulated ([`walls`], [`wall_field`]), and the
 //! thread-local scratch that keeps a step free of allocations. The whole force pass is one
 //! operation that `pulp` compiles once per instruction set; every sum keeps `LANES` partial

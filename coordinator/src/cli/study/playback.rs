@@ -35,7 +35,7 @@ pub struct PlaybackArgs {
     robot_speed: Option<f64>,
     #[command(flatten)]
     run: super::RunArgs,
-    /// Output folder (default: results/eth/<sequence>-<runs>).
+    /// Output folder (default: `results/eth/<sequence>-<runs>`).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
