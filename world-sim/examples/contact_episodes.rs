@@ -5,7 +5,7 @@
 //!     cargo run --release -p world-sim --example contact_episodes -- <seed> [on|off] [--no-safety]
 //!
 //! `on|off` switches intent sharing; the safety layer runs under every planner, as in the
-//! study, unless `--no-safety` (how the study ran before it, session 10). Written to look at
+//! study, unless `--no-safety` (how the study first ran). Written to look at
 //! the contact episodes that decide the study's contact test (see
 //! results/intent-sharing/REPORT.md); ends with the number of pair-steps in contact.
 use agent::model::Command;

@@ -3,7 +3,7 @@
 //! minimisation over the H desired velocities with argmin's L-BFGS and a Moré–Thuente line
 //! search. The gradient is the rollout's adjoint (one backward sweep, checked against central
 //! differences in the tests): forward differences cost 2·H partial rollouts. (A backtracking Armijo search needs half the rollouts, but in the paper's experiment
-//! its solutions reach the goal in 61–77 % of runs instead of 93–99 %: measured in session 14.)
+//! its solutions reach the goal in 61–77 % of runs instead of 93–99 %, measured.)
 
 use super::model::{attraction, desired_toward, repulsion, step};
 use super::{AsfmParams, TimeToGo};
