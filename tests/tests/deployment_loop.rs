@@ -8,7 +8,7 @@
 //! manages the same robots. The journal then replays bit for bit, reports of real robots
 //! included.
 
-use gapfleet_tests::{Killed, Zenohd, binary, free_endpoint};
+use gapfleet_tests::{Killed, Zenohd, binary, free_endpoint, wait_until};
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
@@ -72,18 +72,8 @@ impl Logged {
         limit: Duration,
         pick: impl Fn(&str) -> Option<T>,
     ) -> (Instant, T) {
-        let started = Instant::now();
-        loop {
-            if let Some(found) = self.find(after, &pick) {
-                return found;
-            }
-            assert!(
-                started.elapsed() < limit,
-                "no {what} within {limit:?}; the log:\n{}",
-                self.text()
-            );
-            std::thread::sleep(Duration::from_millis(50));
-        }
+        wait_until(limit, || self.find(after, &pick))
+            .unwrap_or_else(|| panic!("no {what} within {limit:?}; the log:\n{}", self.text()))
     }
 }
 
