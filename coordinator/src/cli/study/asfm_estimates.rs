@@ -26,9 +26,8 @@ pub struct AsfmEstimatesArgs {
     /// Open-space seeds per crowd (reacting to robots, and not).
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
-    /// The first open-space seed (tuning seeds are 1–100, held-out ones 101 on).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
-    first_seed: u64,
+    #[command(flatten)]
+    first: super::FirstSeed,
     /// Open-space density (people per m²).
     #[arg(long, default_value_t = 0.1, value_parser = density)]
     density: f64,
@@ -91,7 +90,7 @@ pub(super) fn run(args: AsfmEstimatesArgs) -> Result<()> {
             (SimCrowd::Ignoring, args.density),
             (SimCrowd::Mixed(0.5), args.mixed_density),
         ],
-        seeds: args.first_seed..=args.first_seed + args.seeds - 1,
+        seeds: args.first.first_seed..=args.first.first_seed + args.seeds - 1,
         params: AsfmParams {
             process_noise: args.process_noise.unwrap_or(variant.process_noise),
             ..variant

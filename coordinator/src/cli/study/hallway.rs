@@ -35,10 +35,8 @@ pub struct HallwayArgs {
     /// Seeds per (planner, length, speed), the same for every planner.
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
-    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
-    /// seeds held out from the tuning seeds 1–100).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
-    first_seed: u64,
+    #[command(flatten)]
+    first: super::FirstSeed,
     /// The robot's top speed (m/s; the paper's: 3).
     #[arg(long, default_value_t = 3.0, value_parser = positive)]
     robot_speed: f64,
@@ -47,25 +45,23 @@ pub struct HallwayArgs {
     /// Output folder.
     #[arg(long, default_value = "results/hallway")]
     out: PathBuf,
-    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
-    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
-    #[arg(long)]
-    no_safety: bool,
+    #[command(flatten)]
+    layer: super::LayerArg,
 }
 
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: HallwayArgs) -> Result<()> {
-    let scenario = hallway_scenario(args.robot_speed, !args.no_safety)?;
+    let scenario = hallway_scenario(args.robot_speed, !args.layer.no_safety)?;
     let study = HallwayStudy {
         scenario,
         planners: args.planners,
         lengths: args.lengths,
         width_m: args.width,
         speeds: args.speeds,
-        first_seed: args.first_seed,
+        first_seed: args.first.first_seed,
         seeds: args.seeds,
     };
-    if args.first_seed.checked_add(args.seeds).is_none() {
+    if args.first.first_seed.checked_add(args.seeds).is_none() {
         anyhow::bail!("--first-seed plus --seeds overflows");
     }
     // Every run's scenario must be valid before hours of work start.

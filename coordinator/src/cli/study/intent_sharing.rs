@@ -34,10 +34,8 @@ pub struct IntentSharingArgs {
     out: Option<PathBuf>,
     #[command(flatten)]
     run: super::RunArgs,
-    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
-    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
-    #[arg(long)]
-    no_safety: bool,
+    #[command(flatten)]
+    layer: super::LayerArg,
 }
 
 /// Runs the study and writes its outputs.
@@ -46,7 +44,7 @@ pub(super) fn run(args: IntentSharingArgs) -> Result<()> {
         robots: args.robots,
         humans: args.humans,
         seed: None,
-        no_safety: args.no_safety,
+        no_safety: args.layer.no_safety,
     })?;
     let (robots, humans) = scenario.fleet_size().unwrap_or((0, 0));
     let study = IntentSharingStudy {

@@ -74,6 +74,24 @@ pub struct RunArgs {
     resume: bool,
 }
 
+/// The safety-layer switch common to the studies that can run without it.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct LayerArg {
+    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
+    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
+    #[arg(long)]
+    no_safety: bool,
+}
+
+/// The first seed of a study that takes `--seeds` consecutive seeds.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct FirstSeed {
+    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
+    /// seeds held out from the tuning seeds 1–100).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..1 << 62))]
+    first_seed: u64,
+}
+
 impl RunArgs {
     /// Runs `study` into `out` with a progress bar, saving each run as it ends; reports how
     /// it went on stderr. Call [`Runner::finish`] once the outputs are written.

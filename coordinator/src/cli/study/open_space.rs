@@ -29,10 +29,8 @@ pub struct OpenSpaceArgs {
     /// Seeds per (algorithm, density), the same for every algorithm.
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
-    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
-    /// seeds held out from the tuning seeds 1–100).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
-    first_seed: u64,
+    #[command(flatten)]
+    first: super::FirstSeed,
     #[command(flatten)]
     run: super::RunArgs,
     /// Output folder for runs.csv and summary.json.
@@ -41,23 +39,21 @@ pub struct OpenSpaceArgs {
     /// A built-in scenario name or a scenario file to start from.
     #[arg(long, default_value = "open-space")]
     scenario: ScenarioRef,
-    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
-    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
-    #[arg(long)]
-    no_safety: bool,
+    #[command(flatten)]
+    layer: super::LayerArg,
 }
 
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: OpenSpaceArgs) -> Result<()> {
     let mut scenario = *args.scenario.scenario;
-    if args.no_safety {
+    if args.layer.no_safety {
         scenario.robot.safety = false;
     }
     let plan = StudyPlan {
         scenario,
         algorithms: args.algorithms,
         densities: args.densities,
-        first_seed: args.first_seed,
+        first_seed: args.first.first_seed,
         seeds: args.seeds,
     };
     let (runner, done) = args.run.run(&args.out, &plan)?;

@@ -38,10 +38,8 @@ pub struct PlaybackArgs {
     /// Output folder (default: `results/eth/<sequence>-<runs>`).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
-    /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
-    #[arg(long)]
-    no_safety: bool,
+    #[command(flatten)]
+    layer: super::LayerArg,
     /// Where the foIGP planners' Newton seeds lie: per-body (the robot and the people shifted
     /// apart across the robot's path) or common (every body +kσ in x and y). Applies to the
     /// foIGP planners on their own (not behind pgp+).
@@ -78,7 +76,7 @@ pub(super) fn run(args: PlaybackArgs) -> Result<()> {
     }
     let mut options = PlaybackOptions::default();
     options.robot.max_speed = speed;
-    options.robot.safety = !args.no_safety;
+    options.robot.safety = !args.layer.no_safety;
     let study = PlaybackStudy {
         recording,
         map,

@@ -14,10 +14,8 @@ pub struct TrafficArgs {
     /// Seeds per (site, fleet size, policy).
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
-    /// The first seed: runs take seeds `first-seed` to `first-seed + seeds - 1` (e.g. 101 for
-    /// seeds held out from the default study's 1–100).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..1 << 62))]
-    first_seed: u64,
+    #[command(flatten)]
+    first: super::FirstSeed,
     /// Simulated seconds per run.
     #[arg(long, default_value_t = 300.0, value_parser = positive)]
     seconds: f64,
@@ -153,10 +151,10 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
     if sites.is_empty() {
         bail!("no fleet sizes given: --narrow-fleets, --hallway-fleets and --site are all empty");
     }
-    if args.first_seed.checked_add(args.seeds).is_none() {
+    if args.first.first_seed.checked_add(args.seeds).is_none() {
         bail!(
             "--first-seed {} with --seeds {} runs past the last seed",
-            args.first_seed,
+            args.first.first_seed,
             args.seeds
         );
     }
@@ -172,7 +170,7 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
     let study = TrafficStudy {
         sites,
         planner: args.planner,
-        first_seed: args.first_seed,
+        first_seed: args.first.first_seed,
         seeds: args.seeds,
         policies,
         layers,
