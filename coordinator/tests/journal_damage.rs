@@ -218,7 +218,7 @@ fn exercise(dir: &Path, header: &Header, print: u64, outcomes: &mut Outcomes) {
 
 #[test]
 fn damaged_journals_give_clear_errors_and_never_panic() {
-    let header = Header::new("damage-test", source(), true, true);
+    let header = Header::new("damage-test", source(), true, Some(Default::default()));
     let (_original_tmp, original) = temp_dir("original");
     let print = write_journal(&original, &header, 700);
     let bytes = std::fs::read(journal::database(&original)).expect("the journal");
@@ -273,7 +273,7 @@ fn damaged_journals_give_clear_errors_and_never_panic() {
 
 #[test]
 fn an_empty_file_a_text_file_and_an_older_format_are_named_as_such() {
-    let header = Header::new("damage-test", source(), true, true);
+    let header = Header::new("damage-test", source(), true, Some(Default::default()));
     let (_tmp, dir) = temp_dir("kinds");
     let file = journal::database(&dir);
     let error = |dir: &Path| read(dir).expect_err("not a journal").to_string();
@@ -349,7 +349,7 @@ fn damaged_after_a_clean_close(
 /// then, and the new journal replays bit for bit from its start.
 #[test]
 fn a_damaged_journal_goes_on_from_the_newest_intact_snapshot_file() {
-    let header = Header::new("damage-test", source(), true, true);
+    let header = Header::new("damage-test", source(), true, Some(Default::default()));
     let (_tmp, dir, intact, damaged) = damaged_after_a_clean_close("snapshot", &header);
     // Snapshots every 300 ticks: the files of 300 and 600 are beside the journal.
     let newest = journal::snapshot_files::newest_intact(&dir).expect("snapshot files");
@@ -400,7 +400,7 @@ fn a_damaged_journal_goes_on_from_the_newest_intact_snapshot_file() {
 /// When the newest snapshot file is damaged too, the one before it is taken.
 #[test]
 fn a_damaged_snapshot_file_is_passed_over_for_the_one_before() {
-    let header = Header::new("damage-test", source(), true, true);
+    let header = Header::new("damage-test", source(), true, Some(Default::default()));
     let (_tmp, dir, intact, _) = damaged_after_a_clean_close("snapshot-older", &header);
     let newest = journal::snapshot_files::newest_intact(&dir).expect("snapshot files");
     let mut bytes = std::fs::read(&newest.path).expect("the file");
@@ -426,7 +426,7 @@ fn a_damaged_snapshot_file_is_passed_over_for_the_one_before() {
 /// the run begins anew.
 #[test]
 fn a_damaged_journal_without_snapshot_files_is_kept_and_a_new_one_begun_beside_it() {
-    let header = Header::new("damage-test", source(), true, true);
+    let header = Header::new("damage-test", source(), true, Some(Default::default()));
     let (_tmp, dir, _, damaged) = damaged_after_a_clean_close("recover", &header);
     std::fs::remove_dir_all(journal::snapshot_files::folder(&dir)).expect("removed");
     let recovery = journal::recover(&dir).expect("recovered");

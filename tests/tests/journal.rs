@@ -4,8 +4,9 @@
 //! fingerprint, the snapshot the coordinator took at 30 s (byte for byte: every robot, person,
 //! random stream, metrics accumulator, intent and the traffic policy's state) and the final
 //! fingerprint; a restart's `journal::resume` restores that snapshot and re-runs only the 100
-//! ticks after it, to the same end state. A journal with one command or one intent changed
-//! leaves the recorded run, and the replay says at which tick.
+//! ticks after it, to the same end state. The run's traffic policy is not the default one: the
+//! journal's header carries its parameters to the replay. A journal with one command or one
+//! intent changed leaves the recorded run, and the replay says at which tick.
 
 use coordinator::serve::demo::{DemoOptions, Transport, run_demo};
 use coordinator::serve::journal::{Header, Journal, ScenarioSource, read, replay, resume};
@@ -17,8 +18,14 @@ fn a_recorded_demo_replays_bit_for_bit() {
     let scenario = source.scenario().expect("a fleet site");
     let tmp = tempfile::tempdir().expect("a temporary folder");
     let dir = tmp.path().join("demo");
-    let journal =
-        Journal::create(&dir, &Header::new("journal-test", source, true, true)).expect("a journal");
+    let policy = world_sim::traffic_policy::PolicyParams::default()
+        .with_overrides("people_route_weight_m=3,retreat_after_s=6")
+        .expect("known parameters");
+    let journal = Journal::create(
+        &dir,
+        &Header::new("journal-test", source, true, Some(policy)),
+    )
+    .expect("a journal");
     let options = DemoOptions {
         scenario,
         planner: "pgp+orca".parse().expect("a planner"),
@@ -29,7 +36,7 @@ fn a_recorded_demo_replays_bit_for_bit() {
         transport: Transport::Tcp,
         journal: Some(journal.sink()),
         share_intents: true,
-        traffic_policy: true,
+        traffic_policy: Some(policy),
         sinks: dashboards::Sinks::default(),
         round_trips: None,
         ros: false,
@@ -40,6 +47,7 @@ fn a_recorded_demo_replays_bit_for_bit() {
         .expect("the demo runs");
     let written = journal.finish().expect("the journal is written");
     let recorded = read(&dir).expect("the journal reads back");
+    assert_eq!(recorded.header.policy(), Some(policy));
     let end = recorded.end.clone().expect("a clean end");
     println!(
         "demo: {} ticks, {} tasks, {} events; journal: {written} ticks",

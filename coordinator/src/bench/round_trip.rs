@@ -92,7 +92,7 @@ pub async fn bench_fleet(
         transport,
         journal: None,
         share_intents: true,
-        traffic_policy: true,
+        traffic_policy: Some(Default::default()),
         sinks: dashboards::Sinks::default(),
         round_trips: Some(round_trips_tx),
         ros: false,

@@ -273,7 +273,7 @@ pub async fn bench_soak(
         transport: Transport::Tcp,
         journal: None,
         share_intents: true,
-        traffic_policy: true,
+        traffic_policy: Some(Default::default()),
         sinks: dashboards::Sinks::default(),
         round_trips: Some(round_trips_tx),
         ros: false,

@@ -26,10 +26,8 @@ pub struct CoordinatorArgs {
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
-    /// Leave the robots' goals to their routes: no one-way aisles, keep-right lanes or
-    /// retreats (`world_sim::traffic_policy`).
-    #[arg(long)]
-    no_traffic_policy: bool,
+    #[command(flatten)]
+    policy: super::PolicyArgs,
     /// Keep the run's inputs and events in DIR, so that `gapfleet replay DIR` re-runs it bit
     /// for bit; on a DIR that holds a run of the same site and scenario, go on with that run
     /// where its journal ends (after a crash, say). See coordinator/README.md, Journal.
@@ -102,7 +100,7 @@ impl CoordinatorArgs {
                     self.site.site(),
                     self.site_args.scenario.source(overrides),
                     !self.no_intent_sharing,
-                    !self.no_traffic_policy,
+                    self.policy.policy(),
                 )
                 .with_live(live.clone());
                 let (journal, recorded) = Journal::open(dir, &header)?;
@@ -138,8 +136,8 @@ impl CoordinatorArgs {
             None => Fleet::new(&scenario)?,
         };
         fleet.share_intents = !self.no_intent_sharing;
-        if !self.no_traffic_policy && fleet.traffic_policy().is_none() {
-            fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
+        if recorded.is_none() {
+            fleet.set_traffic_policy(self.policy.policy());
         }
         let mut config_ = CoordinatorConfig::new(self.site.clone());
         config_.speed = self.speed;
@@ -154,7 +152,7 @@ impl CoordinatorArgs {
             let (scenario, share, policy) = (
                 scenario.clone(),
                 fleet.share_intents,
-                fleet.traffic_policy().is_some(),
+                fleet.traffic_policy().map(|p| p.params),
             );
             std::thread::Builder::new()
                 .name("free-flow".to_owned())

@@ -52,10 +52,8 @@ pub struct DemoArgs {
     /// Do not put other robots' intents into observations.
     #[arg(long)]
     no_intent_sharing: bool,
-    /// Leave the robots' goals to their routes: no one-way aisles, keep-right lanes or
-    /// retreats (`world_sim::traffic_policy`).
-    #[arg(long)]
-    no_traffic_policy: bool,
+    #[command(flatten)]
+    policy: super::PolicyArgs,
     /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
     /// planners run (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
@@ -120,7 +118,7 @@ impl DemoArgs {
                     self.site.site(),
                     self.scenario.source(self.overrides()),
                     !self.no_intent_sharing,
-                    !self.no_traffic_policy,
+                    self.policy.policy(),
                 ),
             )?),
             None => None,
@@ -135,7 +133,7 @@ impl DemoArgs {
             transport,
             journal: journal.as_ref().map(Journal::sink),
             share_intents: !self.no_intent_sharing,
-            traffic_policy: !self.no_traffic_policy,
+            traffic_policy: self.policy.policy(),
             sinks: self.rerun.sinks(),
             round_trips: None,
             ros: self.ros,

@@ -157,6 +157,32 @@ impl ScenarioRef {
     }
 }
 
+/// The traffic policy of a served fleet: on with the default parameters unless changed.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PolicyArgs {
+    /// Leave the robots' goals to their routes: no one-way aisles, keep-right lanes or
+    /// retreats (`world_sim::traffic_policy`).
+    #[arg(long, conflicts_with = "policy_params")]
+    no_traffic_policy: bool,
+    /// Changes to the traffic policy's parameters (`world_sim::traffic_policy::PolicyParams`),
+    /// as `key=value,…`: e.g. `people_route_weight_m=3`. The journal (`--state`) records
+    /// them, so that `gapfleet replay` re-runs the same policy.
+    #[arg(long, value_name = "KEY=VALUE,…", value_parser = policy_params)]
+    policy_params: Option<world_sim::traffic_policy::PolicyParams>,
+}
+
+impl PolicyArgs {
+    /// The policy's parameters, or `None` with `--no-traffic-policy`.
+    pub fn policy(&self) -> Option<world_sim::traffic_policy::PolicyParams> {
+        (!self.no_traffic_policy).then(|| self.policy_params.unwrap_or_default())
+    }
+}
+
+/// The default traffic policy with the changes `text` names (`key=value,…`).
+fn policy_params(text: &str) -> Result<world_sim::traffic_policy::PolicyParams, String> {
+    world_sim::traffic_policy::PolicyParams::default().with_overrides(text)
+}
+
 /// A finite number above zero.
 pub fn positive(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {

@@ -38,8 +38,9 @@ pub struct DemoOptions {
     pub journal: Option<super::journal::JournalSink>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
-    /// Whether the traffic policy (`world_sim::traffic_policy`) constrains the robots' goals.
-    pub traffic_policy: bool,
+    /// The traffic policy (`world_sim::traffic_policy`) that constrains the robots' goals;
+    /// `None`: off.
+    pub traffic_policy: Option<PolicyParams>,
     /// Rerun sinks (none: no dashboard).
     pub sinks: dashboards::Sinks,
     /// Receives every timed round trip (benchmarks).
@@ -123,7 +124,7 @@ pub async fn run_demo(
 ) -> Result<DemoReport, DemoError> {
     let mut fleet = Fleet::new(&options.scenario)?;
     fleet.share_intents = options.share_intents;
-    fleet.set_traffic_policy(options.traffic_policy.then(PolicyParams::default));
+    fleet.set_traffic_policy(options.traffic_policy);
     let dashboard = if options.sinks.any() {
         fleet.measure_human_impact(HUMAN_IMPACT_WINDOW_S);
         let d = DashboardObserver::start(&fleet, &options.sinks, &options.planner.to_string())?;

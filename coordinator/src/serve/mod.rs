@@ -45,18 +45,18 @@ use zenoh::sample::Sample;
 
 /// The free flow to measure a served fleet's efficiency against (`world_sim::efficiency`):
 /// one robot alone on `scenario`'s site, planning with `planner` under the scenario's safety
-/// layer, with the run's intent sharing and traffic policy, over [`FREE_FLOW_S`] whatever
+/// layer, with the run's intent sharing and traffic policy (`None`: off), over [`FREE_FLOW_S`] whatever
 /// the run's length (efficiency compares rates, and a short run's own length may leave the
 /// robot alone no task to finish). Runs in-process, about a second on an idle machine.
 pub fn free_flow(
     scenario: &world_sim::scenario::Scenario,
     planner: agent::planner::PlannerSpec,
     share_intents: bool,
-    traffic_policy: bool,
+    policy: Option<world_sim::traffic_policy::PolicyParams>,
 ) -> Result<world_sim::efficiency::FreeFlow, world_sim::fleet::NotAWarehouse> {
     let options = world_sim::fleet::FleetOptions {
         share_intents,
-        policy: traffic_policy.then(world_sim::traffic_policy::PolicyParams::default),
+        policy,
         human_impact_window_s: None,
     };
     world_sim::efficiency::free_flow(scenario, planner, FREE_FLOW_S, options)

@@ -41,6 +41,7 @@ use std::sync::mpsc::{Receiver, SyncSender, TrySendError, sync_channel};
 use std::time::Duration;
 use world_sim::fleet::{Fleet, FleetEvent};
 use world_sim::scenario::Scenario;
+use world_sim::traffic_policy::PolicyParams;
 
 mod ledger;
 mod read;
@@ -171,6 +172,10 @@ pub struct Header {
     pub share_intents: bool,
     /// Whether the traffic policy ran.
     pub traffic_policy: bool,
+    /// Its parameters, where it ran; journals older than this field ran the defaults
+    /// ([`Header::policy`]).
+    #[serde(default)]
+    pub policy_params: Option<PolicyParams>,
     /// The real robots the coordinator did not simulate: their bodies moved only where their
     /// agents reported them ([`TickInput::placed`]).
     #[serde(default)]
@@ -178,21 +183,38 @@ pub struct Header {
 }
 
 impl Header {
-    /// A run of `scenario` on `site`.
+    /// A run of `scenario` on `site`, with the traffic policy `policy` (`None`: off).
     pub fn new(
         site: &str,
         scenario: ScenarioSource,
         share_intents: bool,
-        traffic_policy: bool,
+        policy: Option<PolicyParams>,
     ) -> Self {
         Self {
             format: FORMAT,
             site: site.to_owned(),
             scenario,
             share_intents,
-            traffic_policy,
+            traffic_policy: policy.is_some(),
+            policy_params: policy,
             live: Vec::new(),
         }
+    }
+
+    /// The traffic policy the run ran: its parameters, or `None` where it was off.
+    pub fn policy(&self) -> Option<PolicyParams> {
+        self.traffic_policy
+            .then(|| self.policy_params.unwrap_or_default())
+    }
+
+    /// Whether `other` records the same run: the same fields, a journal without policy
+    /// parameters counting as one with the defaults.
+    pub fn same_run(&self, other: &Self) -> bool {
+        let plain = |h: &Self| Self {
+            policy_params: h.policy(),
+            ..h.clone()
+        };
+        plain(self) == plain(other)
     }
 
     /// The same run with `live` as its real robots.
@@ -433,7 +455,7 @@ pub fn recover(dir: &Path) -> Result<Recovery, JournalError> {
             let ticks = recorded.ticks_run();
             drop(db);
             match snapshot {
-                Some(file) if file.ticks > ticks && file.header == recorded.header => {
+                Some(file) if file.ticks > ticks && file.header.same_run(&recorded.header) => {
                     let what = format!(
                         "its newest commit does not verify; the one before does, with {ticks} ticks"
                     );
@@ -614,10 +636,11 @@ impl Journal {
         }
         let db = redb::Database::create(&path).map_err(db_err(&path, "create"))?;
         let recorded = if let Some(recorded) = recorded {
-            if recorded.header != *header {
+            if !recorded.header.same_run(header) {
                 return Err(JournalError::State(format!(
                     "{} holds a run of site {:?}, scenario {} ({:?} robots, {:?} people, seed \
-                     {:?}, real robots {:?}); this one differs: give a new folder",
+                     {:?}, real robots {:?}, traffic policy {:?}); this one differs: give a new \
+                     folder",
                     path.display(),
                     recorded.header.site,
                     recorded.header.scenario.name,
@@ -625,6 +648,7 @@ impl Journal {
                     recorded.header.scenario.humans,
                     recorded.header.scenario.seed,
                     recorded.header.live,
+                    recorded.header.policy(),
                 )));
             }
             Some(recorded)
@@ -782,4 +806,57 @@ fn write_loop(
         txn.commit().map_err(db_err(path, "commit"))?;
     }
     Ok(ticks)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header(policy: Option<PolicyParams>) -> Header {
+        let source =
+            ScenarioSource::builtin("warehouse", Some(2), Some(3), Some(1)).expect("built in");
+        Header::new("site", source, true, policy)
+    }
+
+    #[test]
+    fn the_policy_parameters_travel_in_the_header() {
+        let tuned = PolicyParams::default()
+            .with_overrides("people_route_weight_m=3")
+            .expect("a known parameter");
+        let h: Header = unpack(&pack(&header(Some(tuned)))).expect("reads back");
+        assert_eq!(h.policy(), Some(tuned));
+        assert!(!h.same_run(&header(Some(PolicyParams::default()))));
+        assert!(!h.same_run(&header(None)));
+        assert_eq!(header(None).policy(), None);
+    }
+
+    #[test]
+    fn a_header_from_before_the_parameters_ran_the_defaults() {
+        /// The header as journals wrote it before `policy_params`.
+        #[derive(Serialize)]
+        struct Older {
+            format: u32,
+            site: String,
+            scenario: ScenarioSource,
+            share_intents: bool,
+            traffic_policy: bool,
+            live: Vec<u32>,
+        }
+        let now = header(Some(PolicyParams::default()));
+        let older = Older {
+            format: now.format,
+            site: now.site.clone(),
+            scenario: now.scenario.clone(),
+            share_intents: now.share_intents,
+            traffic_policy: true,
+            live: Vec::new(),
+        };
+        let h: Header = unpack(&pack(&older)).expect("an older header reads");
+        assert_eq!(h.policy_params, None);
+        assert_eq!(h.policy(), Some(PolicyParams::default()));
+        assert!(
+            h.same_run(&now),
+            "an older journal of the default policy goes on"
+        );
+    }
 }

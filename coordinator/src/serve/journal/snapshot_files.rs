@@ -162,7 +162,7 @@ mod tests {
     fn header() -> Header {
         let source =
             ScenarioSource::builtin("warehouse", Some(2), Some(3), Some(1)).expect("built in");
-        Header::new("site", source, true, true)
+        Header::new("site", source, true, Some(Default::default()))
     }
 
     #[test]
