@@ -200,6 +200,33 @@ impl Default for PolicyParams {
 }
 
 impl PolicyParams {
+    /// Every parameter by its name (the field's).
+    fn fields_mut(&mut self) -> [(&'static str, &mut Real); 18] {
+        [
+            ("passing_margin_m", &mut self.passing_margin_m),
+            ("request_distance_m", &mut self.request_distance_m),
+            ("hold_back_m", &mut self.hold_back_m),
+            ("lane_offset_fraction", &mut self.lane_offset_fraction),
+            (
+                "cross_aisle_lane_offset_fraction",
+                &mut self.cross_aisle_lane_offset_fraction,
+            ),
+            ("lane_lookahead_m", &mut self.lane_lookahead_m),
+            ("lane_change_lookahead_m", &mut self.lane_change_lookahead_m),
+            ("retreat_after_s", &mut self.retreat_after_s),
+            ("retreat_s", &mut self.retreat_s),
+            ("retreat_m", &mut self.retreat_m),
+            ("detour_after_s", &mut self.detour_after_s),
+            ("detour_max_extra_m", &mut self.detour_max_extra_m),
+            ("give_way_s", &mut self.give_way_s),
+            ("station_request_m", &mut self.station_request_m),
+            ("queue_back_m", &mut self.queue_back_m),
+            ("queue_gap_m", &mut self.queue_gap_m),
+            ("station_clear_m", &mut self.station_clear_m),
+            ("people_route_weight_m", &mut self.people_route_weight_m),
+        ]
+    }
+
     /// These parameters with some changed, as `key=value,key=value` (the field names), each
     /// finite and not negative; an empty text changes nothing.
     pub fn with_overrides(mut self, text: &str) -> Result<Self, String> {
@@ -207,27 +234,11 @@ impl PolicyParams {
             let (key, value) = pair
                 .split_once('=')
                 .ok_or_else(|| format!("`{pair}`: expected key=value"))?;
-            let field = match key {
-                "passing_margin_m" => &mut self.passing_margin_m,
-                "request_distance_m" => &mut self.request_distance_m,
-                "hold_back_m" => &mut self.hold_back_m,
-                "lane_offset_fraction" => &mut self.lane_offset_fraction,
-                "cross_aisle_lane_offset_fraction" => &mut self.cross_aisle_lane_offset_fraction,
-                "lane_lookahead_m" => &mut self.lane_lookahead_m,
-                "lane_change_lookahead_m" => &mut self.lane_change_lookahead_m,
-                "retreat_after_s" => &mut self.retreat_after_s,
-                "retreat_s" => &mut self.retreat_s,
-                "retreat_m" => &mut self.retreat_m,
-                "detour_after_s" => &mut self.detour_after_s,
-                "detour_max_extra_m" => &mut self.detour_max_extra_m,
-                "give_way_s" => &mut self.give_way_s,
-                "station_request_m" => &mut self.station_request_m,
-                "queue_back_m" => &mut self.queue_back_m,
-                "queue_gap_m" => &mut self.queue_gap_m,
-                "station_clear_m" => &mut self.station_clear_m,
-                "people_route_weight_m" => &mut self.people_route_weight_m,
-                _ => return Err(format!("`{key}` is not a traffic-policy parameter")),
-            };
+            let (_, field) = self
+                .fields_mut()
+                .into_iter()
+                .find(|(name, _)| *name == key)
+                .ok_or_else(|| format!("`{key}` is not a traffic-policy parameter"))?;
             let v: Real = value.parse().map_err(|e| format!("`{pair}`: {e}"))?;
             if !v.is_finite() || !(0.0..=1e4).contains(&v) {
                 return Err(format!("`{pair}`: {key} must be in [0, 10000]"));
@@ -235,6 +246,19 @@ impl PolicyParams {
             *field = v;
         }
         Ok(self)
+    }
+
+    /// The parameters that differ from the defaults, as `key=value,…` ([`Self::with_overrides`]
+    /// of the defaults reads it back); empty for the defaults.
+    pub fn changes(&self) -> String {
+        let (mut this, mut base) = (*self, Self::default());
+        this.fields_mut()
+            .into_iter()
+            .zip(base.fields_mut())
+            .filter(|((_, v), (_, d))| v.to_bits() != d.to_bits())
+            .map(|((name, v), _)| format!("{name}={v}"))
+            .collect::<Vec<_>>()
+            .join(",")
     }
 }
 

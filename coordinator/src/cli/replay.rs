@@ -50,13 +50,7 @@ impl ReplayArgs {
                 None => ", no clean end (the coordinator stopped without one)".to_owned(),
             }
         );
-        match h.policy() {
-            None => println!("traffic policy off"),
-            Some(p) if p == world_sim::traffic_policy::PolicyParams::default() => {
-                println!("traffic policy on, default parameters");
-            }
-            Some(p) => println!("traffic policy on, parameters {p:?}"),
-        }
+        println!("traffic policy {}", h.policy_text());
         if !h.live.is_empty() {
             let placed: usize = recorded.ticks.iter().map(|t| t.placed.len()).sum();
             println!(

@@ -751,6 +751,9 @@ fn policy_parameters_change_by_name_and_bad_ones_are_named() {
         .with_overrides("people_route_weight_m=3, retreat_m=2")
         .expect("valid");
     assert_eq!((p.people_route_weight_m, p.retreat_m), (3.0, 2.0));
+    assert_eq!(p.changes(), "retreat_m=2,people_route_weight_m=3");
+    assert_eq!(PolicyParams::default().with_overrides(&p.changes()), Ok(p));
+    assert_eq!(PolicyParams::default().changes(), "");
     assert_eq!(
         PolicyParams::default().with_overrides(""),
         Ok(PolicyParams::default())

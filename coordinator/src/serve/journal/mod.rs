@@ -207,6 +207,16 @@ impl Header {
             .then(|| self.policy_params.unwrap_or_default())
     }
 
+    /// The traffic policy in words: off, on with the defaults, or on with the parameters
+    /// that differ from them.
+    pub fn policy_text(&self) -> String {
+        match self.policy() {
+            None => "off".to_owned(),
+            Some(p) if p.changes().is_empty() => "on, default parameters".to_owned(),
+            Some(p) => format!("on, parameters changed: {}", p.changes()),
+        }
+    }
+
     /// Whether `other` records the same run: the same fields, a journal without policy
     /// parameters counting as one with the defaults.
     pub fn same_run(&self, other: &Self) -> bool {
@@ -639,7 +649,7 @@ impl Journal {
             if !recorded.header.same_run(header) {
                 return Err(JournalError::State(format!(
                     "{} holds a run of site {:?}, scenario {} ({:?} robots, {:?} people, seed \
-                     {:?}, real robots {:?}, traffic policy {:?}); this one differs: give a new \
+                     {:?}, real robots {:?}, traffic policy {}); this one differs: give a new \
                      folder",
                     path.display(),
                     recorded.header.site,
@@ -648,7 +658,7 @@ impl Journal {
                     recorded.header.scenario.humans,
                     recorded.header.scenario.seed,
                     recorded.header.live,
-                    recorded.header.policy(),
+                    recorded.header.policy_text(),
                 )));
             }
             Some(recorded)
@@ -828,6 +838,15 @@ mod tests {
         assert!(!h.same_run(&header(Some(PolicyParams::default()))));
         assert!(!h.same_run(&header(None)));
         assert_eq!(header(None).policy(), None);
+        assert_eq!(header(None).policy_text(), "off");
+        assert_eq!(
+            header(Some(PolicyParams::default())).policy_text(),
+            "on, default parameters"
+        );
+        assert_eq!(
+            h.policy_text(),
+            "on, parameters changed: people_route_weight_m=3"
+        );
     }
 
     #[test]

@@ -134,9 +134,7 @@ fn new_fleet(recorded: &Recorded) -> Result<Fleet, JournalError> {
         }
         fleet.set_external(robot as usize, true);
     }
-    if recorded.header.traffic_policy {
-        fleet.set_traffic_policy(Some(world_sim::traffic_policy::PolicyParams::default()));
-    }
+    fleet.set_traffic_policy(recorded.header.policy());
     Ok(fleet)
 }
 
