@@ -38,6 +38,13 @@ pub(crate) fn log_map(
         &rerun::LineStrips2D::new(map.walls.iter().map(|w| w.to_vec()))
             .with_colors([rerun::Color::from_rgb(90, 90, 90)]),
     )?;
+    if !map.keepout.is_empty() {
+        rec.log_static(
+            "map/keepout",
+            &rerun::LineStrips2D::new(map.keepout.iter().map(|w| w.to_vec()))
+                .with_colors([rerun::Color::from_rgb(220, 60, 60)]),
+        )?;
+    }
     rec.log_static(
         "map/stations",
         &rerun::Points2D::new(map.stations.iter().map(|s| s.0))

@@ -11,6 +11,8 @@ pub struct MapFrame {
     pub walls: Vec<[P; 2]>,
     /// Stations with labels.
     pub stations: Vec<(P, String)>,
+    /// The edges of keep-out zones: walls to robots, open to people.
+    pub keepout: Vec<[P; 2]>,
 }
 
 /// One robot as drawn.

@@ -8,7 +8,8 @@
 //!
 //! Entities (timelines `tick` and `sim_time`), drawn y up as in the world frame (a static
 //! y-flip on `map` and `world`: Rerun's 2D views put y down):
-//! - `map/shelves`, `map/walls`, `map/stations` (static)
+//! - `map/shelves`, `map/walls`, `map/stations`, and `map/keepout` on a site with keep-out
+//!   zones (static)
 //! - `map/heat/window/<kind>` and `map/heat/run/<kind>` (heatmaps under the map, once per
 //!   simulated second: where robots came within 1 m of people, contacts, stuck robots, where
 //!   people lost time to robots; see

@@ -40,6 +40,7 @@ fn a_burst_of_frames_is_logged_or_counted_never_lost() {
         shelves: vec![vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]],
         walls: vec![[[0.0, 0.0], [0.0, 5.0]]],
         stations: vec![([2.0, 2.0], "dock 0".into())],
+        keepout: vec![[[3.0, 3.0], [4.0, 3.0]]],
     };
     let dashboard = Dashboard::start("gapfleet-test", &sinks, map).expect("rrd sink opens");
     let sent = 2_000;

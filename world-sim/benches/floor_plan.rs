@@ -1,5 +1,6 @@
 //! Floor plans (issue 47): loading a Nav2 map of 1,000 × 1,700 pixels (50 × 85 m at 5 cm)
 //! and building its site (walls, clearance, routing grid, a cost-to-go field per station),
+//! target ≤ 1 s, and the same with a keep-out mask (the robots' and the people's routers),
 //! target ≤ 1 s; and one route between stations on it, which every task and every person's
 //! new goal asks for.
 //!
@@ -12,7 +13,7 @@ use agent::math::{Vec2, vec2};
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use world_sim::floor_plan::FloorPlan;
-use world_sim::floor_plan::nav2::MapYaml;
+use world_sim::floor_plan::nav2::{Cell, MapYaml, OccupancyGrid};
 use world_sim::floor_plan::router::Router;
 
 const W: usize = 1000;
@@ -66,6 +67,28 @@ fn warehouse_png() -> (Vec<u8>, Vec<Vec2>) {
     (png, stations)
 }
 
+/// A keep-out mask over the map at 0.1 m: free, with a 3 × 2 m zone in the cross-aisle after
+/// each of the first three blocks, between the second and third rack rows.
+fn keepout_mask() -> OccupancyGrid {
+    let (w, h) = (W / 2, H / 2);
+    let mut cells = vec![Cell::Free; w * h];
+    for b in 0..3 {
+        let x0 = 60 + b * 120 + 90; // the block's end (0.1 m cells)
+        for y in 175..195 {
+            for x in x0..x0 + 30 {
+                cells[y * w + x] = Cell::Occupied;
+            }
+        }
+    }
+    OccupancyGrid {
+        width: w,
+        height: h,
+        resolution: 0.1,
+        origin: vec2(0.0, 0.0),
+        cells,
+    }
+}
+
 fn floor_plan(c: &mut Criterion) {
     let (png, stations) = warehouse_png();
     let yaml = "image: map.png\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
@@ -77,6 +100,24 @@ fn floor_plan(c: &mut Criterion) {
             let grid = meta.grid(&png, "map.png").expect("decodes");
             let plan = FloorPlan::from_grid("bench".to_owned(), grid, 0);
             black_box(Router::new(&plan.grid, &plan.floor, 0.3, &stations))
+        });
+    });
+    // The same with a keep-out mask at 0.1 m (500 × 850 cells) closing a 3 × 2 m packing area
+    // in each block's cross-aisle: the robots' walls and router, and the people's router.
+    let mask = keepout_mask();
+    group.bench_function("load_and_build_with_keepout/1000x1700", |b| {
+        b.iter(|| {
+            let meta = MapYaml::parse(yaml, "map.yaml").expect("valid");
+            let grid = meta.grid(&png, "map.png").expect("decodes");
+            let plan = FloorPlan::from_grid("bench".to_owned(), grid, 0).with_keepout(
+                &mask,
+                1,
+                "mask.yaml",
+            );
+            black_box((
+                plan.router(0.3, &stations),
+                plan.people_router(0.3, &stations),
+            ))
         });
     });
     let meta = MapYaml::parse(yaml, "map.yaml").expect("valid");

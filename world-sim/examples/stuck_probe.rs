@@ -2,10 +2,11 @@
 //! every 5 s, prints each stuck robot's cause, place, speed, distance to the point it drives
 //! to, the nearest person and robot, and its traffic constraint; then the totals by cause.
 //!
-//!     cargo run --release -p world-sim --example stuck_probe -- warehouse-narrow 20 1 [300 [ROBOT]]
+//!     cargo run --release -p world-sim --example stuck_probe -- warehouse-narrow 20 1 \
+//!         [300 [ROBOT [PLANNER [PEOPLE]]]]
 //!
-//! With ROBOT, also that robot's position, velocity, goal, waypoint and route left every
-//! second.
+//! The scenario is a built-in's name or a scenario file (`….toml`). With ROBOT, also that robot's position, velocity, goal, waypoint and route left every
+//! second (`-` for none). PLANNER defaults to `pgp+orca`, PEOPLE to the scenario's.
 
 use agent::model::Command;
 use agent::planner::PlannerSpec;
@@ -21,10 +22,20 @@ fn main() {
     let seconds: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(300.0);
     // A robot to follow every second (the fifth argument).
     let watch: Option<usize> = args.get(4).and_then(|a| a.parse().ok());
-    let mut scenario = Scenario::builtin(name).expect("a built-in scenario");
+    let planner: PlannerSpec = args
+        .get(5)
+        .map_or("pgp+orca", String::as_str)
+        .parse()
+        .expect("a known planner");
+    let people: Option<usize> = args.get(6).and_then(|a| a.parse().ok());
+    let mut scenario = if name.ends_with(".toml") {
+        let text = std::fs::read_to_string(name).expect("a scenario file");
+        Scenario::from_toml(&text, name).expect("a valid scenario")
+    } else {
+        Scenario::builtin(name).expect("a built-in scenario")
+    };
     scenario.seed = seed;
-    scenario.set_fleet_size(Some(robots), None);
-    let planner: PlannerSpec = "pgp+orca".parse().expect("known");
+    scenario.set_fleet_size(Some(robots), people);
     let mut fleet = Fleet::new(&scenario).expect("a fleet site");
     fleet.set_traffic_policy(Some(PolicyParams::default()));
     let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);

@@ -19,6 +19,7 @@ use crate::traffic_policy::{
 };
 use crate::warehouse::{Site, StationKind};
 use crate::world::{ROBOT_ID_BIT, World};
+use agent::map::StaticMap;
 use agent::math::{Real, Vec2, dist_sq_point_segment};
 use agent::model::{AgentKind, Command, EgoState, Neighbour, SharedIntent, TrajectorySample};
 use rand::{Rng, SeedableRng};
@@ -143,6 +144,10 @@ pub struct Fleet {
     layer_held: Vec<bool>,
     /// Whether observations carry other robots' intents.
     pub share_intents: bool,
+    /// The map robots plan on when a keep-out mask makes it differ from the world's
+    /// ([`Fleet::robot_map`]). Not in snapshots: it follows from the site.
+    #[serde(skip)]
+    robot_map: Option<StaticMap>,
 }
 
 /// Why a fleet could not be built.
@@ -165,6 +170,7 @@ impl Fleet {
         let mut task_rng = ChaCha8Rng::seed_from_u64(scenario.seed);
         task_rng.set_stream(TASK_STREAM);
         let places = Places::new(&site);
+        let robot_map = site.robot_map();
         Ok(Self {
             world,
             site,
@@ -188,7 +194,14 @@ impl Fleet {
             stuck_causes: StuckCauses::default(),
             layer_held: vec![false; n],
             share_intents: true,
+            robot_map,
         })
+    }
+
+    /// The map robots plan, guard and are served: the world's walls and shelves, and a
+    /// floor plan's keep-out zones as walls (people walk there, sensors see through them).
+    pub fn robot_map(&self) -> &StaticMap {
+        self.robot_map.as_ref().unwrap_or(&self.world.map)
     }
 
     /// The warehouse layout.

@@ -391,6 +391,25 @@ impl Scenario {
                     reason: e.to_string(),
                 }
             })?;
+            let loaded = match &plan.keepout {
+                None => loaded,
+                Some(mask) => {
+                    let invalid = |reason: String| ScenarioError::Invalid {
+                        source_name: source_name.to_string(),
+                        field: "floor_plan.keepout".to_owned(),
+                        reason,
+                    };
+                    if !(mask.ends_with(".yaml") || mask.ends_with(".yml")) {
+                        return Err(invalid(format!(
+                            "{mask:?} is no path to a Nav2 mask's .yaml file"
+                        )));
+                    }
+                    let path = folder.join(mask);
+                    let mask =
+                        crate::floor_plan::nav2::load(&path).map_err(|e| invalid(e.to_string()))?;
+                    loaded.with_keepout(&mask.grid, mask.fingerprint, &path.display().to_string())
+                }
+            };
             plan.plan = Some(std::sync::Arc::new(loaded));
         }
         scenario.validate(source_name)?;

@@ -85,10 +85,19 @@ pub struct Site {
     /// The lower-left corner: (0, 0) for generated sites, a floor plan's map origin.
     #[serde(default)]
     pub origin: Vec2,
+    /// The walls robots keep to, when a floor plan's keep-out mask takes floor from them
+    /// that people may use ([`crate::floor_plan::FloorPlan::with_keepout`]); `None`: the
+    /// same as `obstacles`.
+    #[serde(default)]
+    pub robot_obstacles: Option<Vec<Obstacle>>,
     /// A floor plan's routes (none on a generated site). Not in snapshots: a restored fleet
     /// takes it from the scenario's ([`Site::adopt_router`]).
     #[serde(skip)]
     router: Option<std::sync::Arc<crate::floor_plan::router::Router>>,
+    /// The routes people walk by, when a keep-out mask gives them floor the robots do not
+    /// have (`None`: people walk by `router`). Not in snapshots, as `router`.
+    #[serde(skip)]
+    people_router: Option<std::sync::Arc<crate::floor_plan::router::Router>>,
 }
 
 impl Site {
@@ -153,7 +162,9 @@ impl Site {
             corridors,
             cross_aisles,
             origin: Vec2::zeros(),
+            robot_obstacles: None,
             router: None,
+            people_router: None,
         }
     }
 
@@ -176,22 +187,35 @@ impl Site {
             corridors: Vec::new(),
             cross_aisles: Vec::new(),
             origin: g.origin,
+            robot_obstacles: plan.robot_obstacles.clone(),
             router: spec.router(radius),
+            people_router: spec.people_router(radius),
         })
     }
 
     /// Takes `built`'s floor-plan router (a snapshot leaves it out).
     pub fn adopt_router(&mut self, built: &Site) {
         self.router.clone_from(&built.router);
+        self.people_router.clone_from(&built.people_router);
     }
 
     /// Whether a body of `radius` at `p` can walk to the site's stations: everywhere on a
     /// generated site; on a floor plan, where the router reaches the first station from a
     /// point in sight of `p`.
     pub fn walkable(&self, p: Vec2, radius: Real) -> bool {
-        self.router
+        self.people_router
             .as_ref()
+            .or(self.router.as_ref())
             .is_none_or(|r| r.clearance(p) >= radius && r.reaches(0, p))
+    }
+
+    /// Waypoints people walk from `from` to `to`: [`Site::route`], except on a floor plan
+    /// whose keep-out zones close floor to robots only, where people route across them.
+    pub fn people_route(&self, from: Vec2, to: Vec2) -> Vec<Vec2> {
+        match &self.people_router {
+            Some(router) => router.route(from, to),
+            None => self.route(from, to),
+        }
     }
 
     /// A fleet hallway (`[hallway]` with robots): one corridor `length` by `width` with closed
@@ -222,7 +246,9 @@ impl Site {
             corridors: vec![(width / 2.0, width / 2.0)],
             cross_aisles: Vec::new(),
             origin: Vec2::zeros(),
+            robot_obstacles: None,
             router: None,
+            people_router: None,
         }
     }
 
@@ -230,6 +256,13 @@ impl Site {
     pub fn map(&self) -> StaticMap {
         StaticMap::new(self.obstacles.clone())
             .expect("generated rectangles and perimeter walls are valid obstacles")
+    }
+
+    /// The map robots plan, guard and route on, when it differs from [`Site::map`]: a keep-out
+    /// mask's zones are walls in it.
+    pub fn robot_map(&self) -> Option<StaticMap> {
+        let walls = self.robot_obstacles.as_ref()?;
+        Some(StaticMap::new(walls.clone()).expect("a floor plan's walls are valid obstacles"))
     }
 
     /// Stations of one kind.

@@ -239,8 +239,9 @@ impl World {
                     (_, Some(waypoint)) => waypoint,
                     (Some(site), None) => {
                         let station = self.goal_rng.random_range(0..site.stations.len());
-                        let mut route: VecDeque<Vec2> =
-                            site.route(here, site.stations[station].position).into();
+                        let mut route: VecDeque<Vec2> = site
+                            .people_route(here, site.stations[station].position)
+                            .into();
                         let first = route.pop_front().unwrap_or(here);
                         self.routes[g] = route;
                         first

@@ -20,6 +20,11 @@ fn p(v: agent::math::Vec2) -> P {
     [v.x as f32, v.y as f32]
 }
 
+/// A wall of the robots' map this far (m) from every wall of the world's is a keep-out zone's
+/// edge: farther than the one cell (5 cm on the sample map) the two simplifications of the
+/// floor's edge may differ by.
+const KEEPOUT_APART_M: agent::math::Real = 0.1;
+
 /// The static map of a fleet's site.
 pub fn map_frame(fleet: &Fleet) -> MapFrame {
     use agent::map::Obstacle;
@@ -28,6 +33,16 @@ pub fn map_frame(fleet: &Fleet) -> MapFrame {
         match o {
             Obstacle::Polygon(points) => map.shelves.push(points.iter().map(|&v| p(v)).collect()),
             Obstacle::Wall(a, b) => map.walls.push([p(*a), p(*b)]),
+        }
+    }
+    // The robots' map's walls that are not the world's: the edges of keep-out zones.
+    if fleet.site().robot_obstacles.is_some() {
+        for o in fleet.robot_map().obstacles() {
+            if let Obstacle::Wall(a, b) = o
+                && fleet.world.map.distance(&((a + b) / 2.0)) > KEEPOUT_APART_M
+            {
+                map.keepout.push([p(*a), p(*b)]);
+            }
         }
     }
     for s in &fleet.site().stations {

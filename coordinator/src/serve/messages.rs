@@ -112,7 +112,7 @@ fn unversioned_map(fleet: &Fleet) -> schemas::MapMsg {
             p: wire::p2(s.position),
         })
         .collect();
-    let map: &StaticMap = &fleet.world.map;
+    let map: &StaticMap = fleet.robot_map();
     wire::map_to_wire(map, 0, stations, [site.origin, site.origin + site.size])
 }
 
@@ -206,5 +206,43 @@ mod tests {
         let mut moved = msg.clone();
         moved.bounds[1].0 += 0.01;
         assert_ne!(map_version(&moved), msg.map_version);
+    }
+
+    /// On a floor plan with a keep-out mask, agents are served the robots' map: the zone is
+    /// walled in it (no line of sight across it), not in the world's; and the dashboard
+    /// draws the zone's edges apart from the walls.
+    #[test]
+    fn agents_are_served_the_keep_out_zones() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../world-sim/scenarios/aws-small-warehouse-keepout.toml"
+        );
+        let text = std::fs::read_to_string(path).expect("the sample scenario");
+        let scenario = Scenario::from_toml(&text, path).expect("valid");
+        let fleet = Fleet::new(&scenario).expect("a fleet site");
+        let served = agent::runtime::wire::map_from_wire(&map_message(&fleet)).expect("decodes");
+        let (west, east) = (agent::math::vec2(-2.5, -4.0), agent::math::vec2(2.0, -4.0));
+        assert!(!served.line_of_sight(west, east));
+        assert!(fleet.world.map.line_of_sight(west, east));
+        let bare = Scenario::builtin("aws-small-warehouse").expect("built in");
+        assert_ne!(
+            map_message(&fleet).map_version,
+            map_message(&Fleet::new(&bare).expect("a fleet site")).map_version
+        );
+        let drawn = crate::serve::dashboard::map_frame(&fleet).keepout;
+        assert!(!drawn.is_empty());
+        // Every edge drawn lies on the zone's outline (x -1.5 to 1.5, y -5 to -3), within the
+        // one-cell simplification.
+        for [a, b] in drawn {
+            for q in [a, b] {
+                let (x, y) = (f64::from(q[0]), f64::from(q[1]));
+                let off_x = (x.abs() - 1.5).abs();
+                let off_y = ((y + 4.0).abs() - 1.0).abs();
+                assert!(
+                    off_x.min(off_y) < 0.06 && x.abs() < 1.56 && (y + 4.0).abs() < 1.06,
+                    "{q:?}"
+                );
+            }
+        }
     }
 }

@@ -151,7 +151,7 @@ pub fn plan_all(
             &PlanningInput {
                 ego: &ego,
                 neighbours: &seen,
-                map: &fleet.world.map,
+                map: fleet.robot_map(),
                 goal,
                 dt: fleet.world.dt,
                 visibility: profile.as_ref(),

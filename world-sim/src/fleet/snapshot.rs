@@ -91,6 +91,7 @@ impl Fleet {
             return Err(mismatch("another site layout".to_owned()));
         }
         restored.site.adopt_router(&built.site);
+        restored.robot_map.clone_from(&built.robot_map);
         restored.world.adopt_static(&built.world);
         if let Some(impact) = &mut restored.impact {
             impact.adopt_static(&built.world);

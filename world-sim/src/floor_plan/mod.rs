@@ -7,6 +7,10 @@
 //! faces the free space, straight runs joined, so a planner near a shelf sees its outline
 //! rather than its cells. Routes come from [`router::Router`]. Coordinates are the map
 //! frame's: a site from a floor plan does not start at (0, 0).
+//!
+//! A Nav2 keep-out filter mask ([`FloorPlan::with_keepout`]) takes floor away from robots
+//! only: its occupied cells are walls to the robots' planners, safety layers and routes, while
+//! people walk there and sensors see through them.
 
 pub mod nav2;
 pub mod router;
@@ -41,12 +45,19 @@ pub struct FloorPlan {
     pub floor: Vec<bool>,
     /// The boundary of the free space as walls ([`boundary_walls`]).
     pub obstacles: Vec<Obstacle>,
-    /// FNV-1a of the YAML text and the image bytes: two runs on the same fingerprint ran on
-    /// the same map.
+    /// Per cell, whether robots may drive there: the main floor less the keep-out mask's
+    /// cells ([`FloorPlan::with_keepout`]); the main floor without a mask.
+    pub robot_floor: Vec<bool>,
+    /// The boundary of the robots' floor as walls, when a keep-out mask took floor away.
+    pub robot_obstacles: Option<Vec<Obstacle>>,
+    /// FNV-1a of the YAML text and the image bytes (and of the keep-out mask's, with one):
+    /// two runs on the same fingerprint ran on the same map.
     pub fingerprint: u64,
     /// The last router built, for the robot radius and stations it was built for: validating
     /// a scenario and building its world need the same one.
     router: Arc<Mutex<Option<CachedRouter>>>,
+    /// The same for the people's router on a plan with a keep-out mask.
+    people_router: Arc<Mutex<Option<CachedRouter>>>,
 }
 
 /// A router and the robot radius and stations it was built for.
@@ -112,26 +123,118 @@ impl FloorPlan {
         Self {
             source,
             grid,
+            robot_floor: floor.clone(),
             floor,
             obstacles,
+            robot_obstacles: None,
             fingerprint,
             router: Arc::default(),
+            people_router: Arc::default(),
         }
+    }
+
+    /// This floor plan with a Nav2 keep-out filter mask (nav2_map_server's `filter_mask`
+    /// of a keep-out zone filter, trinary): a map cell whose centre falls on an occupied
+    /// mask cell is taken from the robots' floor. The mask may have its own resolution and
+    /// origin; cells it does not cover stay as they were. `mask_fingerprint` is folded into
+    /// the plan's, and `mask_source` (the mask's path) into its source.
+    pub fn with_keepout(
+        mut self,
+        mask: &OccupancyGrid,
+        mask_fingerprint: u64,
+        mask_source: &str,
+    ) -> Self {
+        let g = &self.grid;
+        let mut robot_floor = self.floor.clone();
+        for y in 0..g.height {
+            for x in 0..g.width {
+                let kept_out = mask
+                    .cell_of(g.centre(x, y))
+                    .is_some_and(|(mx, my)| mask.at(mx, my) == Cell::Occupied);
+                if kept_out {
+                    robot_floor[y * g.width + x] = false;
+                }
+            }
+        }
+        if robot_floor != self.floor {
+            self.robot_obstacles = Some(boundary_walls(g, &robot_floor));
+        }
+        self.robot_floor = robot_floor;
+        self.fingerprint = (self.fingerprint ^ mask_fingerprint).wrapping_mul(0x0100_0000_01b3);
+        self.source = format!("{} with the keep-out mask {mask_source}", self.source);
+        // A fresh cache: clones of the plan without the mask share the old one.
+        self.router = Arc::default();
+        self.people_router = Arc::default();
+        self
+    }
+
+    /// The router people walk by when a keep-out mask took floor from the robots: the whole
+    /// main floor's, for bodies of `radius`, with fields to `stations`; `None` without a mask
+    /// (people walk by the robots' router, [`FloorPlan::router`]).
+    pub fn people_router(&self, radius: Real, stations: &[Vec2]) -> Option<Arc<Router>> {
+        self.routers(radius, stations).1
+    }
+
+    /// Map cells taken from the robots' floor by the keep-out mask.
+    pub fn kept_out_cells(&self) -> usize {
+        self.floor
+            .iter()
+            .zip(&self.robot_floor)
+            .filter(|(f, r)| **f && !**r)
+            .count()
+    }
+
+    /// Whether robots may drive at `p`: on the main floor and outside every keep-out zone.
+    pub fn robots_may_drive(&self, p: Vec2) -> bool {
+        self.grid
+            .cell_of(p)
+            .is_some_and(|(x, y)| self.robot_floor[y * self.grid.width + x])
     }
 
     /// The router for robots of `radius` with fields to `stations` (built once per radius
     /// and stations).
     pub fn router(&self, radius: Real, stations: &[Vec2]) -> Arc<Router> {
-        let mut cached = self.router.lock().unwrap_or_else(PoisonError::into_inner);
-        if let Some((r, s, router)) = cached.as_ref()
-            && *r == radius
-            && s == stations
-        {
-            return router.clone();
+        self.routers(radius, stations).0
+    }
+
+    /// The robots' router ([`FloorPlan::router`]) and the people's
+    /// ([`FloorPlan::people_router`]), each built once per radius and stations; when both
+    /// are to be built, on two threads.
+    pub fn routers(&self, radius: Real, stations: &[Vec2]) -> (Arc<Router>, Option<Arc<Router>>) {
+        let cached = |cache: &Mutex<Option<CachedRouter>>| {
+            let cache = cache.lock().unwrap_or_else(PoisonError::into_inner);
+            cache
+                .as_ref()
+                .filter(|(r, s, _)| *r == radius && s == stations)
+                .map(|(_, _, router)| router.clone())
+        };
+        let build = |floor: &[bool]| Arc::new(Router::new(&self.grid, floor, radius, stations));
+        let masked = self.robot_obstacles.is_some();
+        let (robots, people) = (cached(&self.router), cached(&self.people_router));
+        let build_people = masked && people.is_none();
+        let (robots, people) = match (robots, build_people) {
+            (Some(r), false) => (r, people),
+            (Some(r), true) => (r, Some(build(&self.floor))),
+            (None, false) => (build(&self.robot_floor), people),
+            (None, true) => std::thread::scope(|scope| {
+                let people = scope.spawn(|| build(&self.floor));
+                let robots = build(&self.robot_floor);
+                // A panic building the people's router is the same panic on this thread.
+                let people = people
+                    .join()
+                    .unwrap_or_else(|e| std::panic::resume_unwind(e));
+                (robots, Some(people))
+            }),
+        };
+        let keep = |cache: &Mutex<Option<CachedRouter>>, router: &Arc<Router>| {
+            *cache.lock().unwrap_or_else(PoisonError::into_inner) =
+                Some((radius, stations.to_vec(), router.clone()));
+        };
+        keep(&self.router, &robots);
+        if let Some(people) = &people {
+            keep(&self.people_router, people);
         }
-        let router = Arc::new(Router::new(&self.grid, &self.floor, radius, stations));
-        *cached = Some((radius, stations.to_vec(), router.clone()));
-        router
+        (robots, people)
     }
 }
 
@@ -152,6 +255,11 @@ pub struct FloorPlanSpec {
     pub max_group_size: usize,
     /// Where goods are picked and dropped, in the map's frame.
     pub stations: Vec<StationSpec>,
+    /// A Nav2 keep-out filter mask (its map.yaml, relative to the scenario file's folder):
+    /// its occupied cells are out of bounds for robots, not for people
+    /// ([`FloorPlan::with_keepout`]). None by default.
+    #[serde(default)]
+    pub keepout: Option<String>,
     /// The map, loaded when the scenario is read.
     #[serde(skip)]
     pub plan: Option<Arc<FloorPlan>>,
@@ -185,6 +293,12 @@ impl FloorPlanSpec {
     pub fn router(&self, radius: Real) -> Option<Arc<Router>> {
         let positions: Vec<Vec2> = self.stations().iter().map(|s| s.0).collect();
         Some(self.plan.as_ref()?.router(radius, &positions))
+    }
+
+    /// The people's router on a plan with a keep-out mask ([`FloorPlan::people_router`]).
+    pub fn people_router(&self, radius: Real) -> Option<Arc<Router>> {
+        let positions: Vec<Vec2> = self.stations().iter().map(|s| s.0).collect();
+        self.plan.as_ref()?.people_router(radius, &positions)
     }
 
     /// Where `robots` robots of `radius` start: the roomiest places nearest the docks.
@@ -266,6 +380,15 @@ impl FloorPlanSpec {
                     return bad(&field, format!("{:?} stands in unmapped space", s.name));
                 }
                 Cell::Free => {}
+            }
+            if plan.floor[y * g.width + x] && !plan.robot_floor[y * g.width + x] {
+                return bad(
+                    &field,
+                    format!(
+                        "{:?} stands in a keep-out zone of the keep-out mask",
+                        s.name
+                    ),
+                );
             }
             if router.clearance(p) == 0.0 {
                 return bad(

@@ -142,8 +142,9 @@ impl World {
             let (group_goal, route) = match stations {
                 Some(site) => {
                     let station = goal_rng.random_range(0..site.stations.len());
-                    let mut route: VecDeque<Vec2> =
-                        site.route(centre, site.stations[station].position).into();
+                    let mut route: VecDeque<Vec2> = site
+                        .people_route(centre, site.stations[station].position)
+                        .into();
                     let first = route.pop_front().unwrap_or(centre);
                     (first, route)
                 }
