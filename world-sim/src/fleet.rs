@@ -403,12 +403,22 @@ impl Fleet {
     }
 
     /// Advances one step with one command per robot (held robots are stopped whatever their
-    /// command), then moves robots along their routes and completes tasks.
+    /// command; a robot in a speed zone is held to its limit, `Site::speed_limit`), then moves
+    /// robots along their routes and completes tasks.
     pub fn step(&mut self, commands: &[Command]) -> Vec<FleetEvent> {
         let commands: Vec<Command> = commands
             .iter()
             .zip(&self.held)
-            .map(|(&c, &held)| if held { Command::STOP } else { c })
+            .zip(&self.world.robots)
+            .map(|((&c, &held), robot)| {
+                if held {
+                    return Command::STOP;
+                }
+                match self.site.speed_limit(robot.state.position) {
+                    Some(limit) => crate::floor_plan::speed::limit_speed(c, limit),
+                    None => c,
+                }
+            })
             .collect();
         self.world.step(&commands);
         for r in &mut self.recorders {

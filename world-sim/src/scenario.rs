@@ -391,25 +391,43 @@ impl Scenario {
                     reason: e.to_string(),
                 }
             })?;
-            let loaded = match &plan.keepout {
-                None => loaded,
-                Some(mask) => {
-                    let invalid = |reason: String| ScenarioError::Invalid {
-                        source_name: source_name.to_string(),
-                        field: "floor_plan.keepout".to_owned(),
-                        reason,
-                    };
-                    if !(mask.ends_with(".yaml") || mask.ends_with(".yml")) {
-                        return Err(invalid(format!(
-                            "{mask:?} is no path to a Nav2 mask's .yaml file"
-                        )));
-                    }
-                    let path = folder.join(mask);
-                    let mask =
-                        crate::floor_plan::nav2::load(&path).map_err(|e| invalid(e.to_string()))?;
-                    loaded.with_keepout(&mask.grid, mask.fingerprint, &path.display().to_string())
+            // A mask's path too; each error names the mask's field.
+            let mask = |path: &str, field: &str| {
+                let invalid = |reason: String| ScenarioError::Invalid {
+                    source_name: source_name.to_string(),
+                    field: format!("floor_plan.{field}"),
+                    reason,
+                };
+                if !(path.ends_with(".yaml") || path.ends_with(".yml")) {
+                    return Err(invalid(format!(
+                        "{path:?} is no path to a Nav2 mask's .yaml file"
+                    )));
                 }
+                let path = folder.join(path);
+                let mask =
+                    crate::floor_plan::nav2::load(&path).map_err(|e| invalid(e.to_string()))?;
+                Ok((mask, path.display().to_string()))
             };
+            let mut loaded = loaded;
+            if let Some(keepout) = &plan.keepout {
+                let (m, path) = mask(keepout, "keepout")?;
+                loaded = loaded.with_keepout(&m.grid, m.fingerprint, &path);
+            }
+            if let Some(speed) = &plan.speed_mask {
+                let limit = speed.limit_m_s;
+                if !(limit > 0.0 && limit <= crate::floor_plan::speed::MAX_LIMIT_M_S) {
+                    return Err(ScenarioError::Invalid {
+                        source_name: source_name.to_string(),
+                        field: "floor_plan.speed_mask.limit_m_s".to_owned(),
+                        reason: format!(
+                            "is {limit}; must be in (0, {}] m/s",
+                            crate::floor_plan::speed::MAX_LIMIT_M_S
+                        ),
+                    });
+                }
+                let (m, path) = mask(&speed.mask, "speed_mask.mask")?;
+                loaded = loaded.with_speed_mask(&m.grid, limit, m.fingerprint, &path);
+            }
             plan.plan = Some(std::sync::Arc::new(loaded));
         }
         scenario.validate(source_name)?;

@@ -98,6 +98,10 @@ pub struct Site {
     /// have (`None`: people walk by `router`). Not in snapshots, as `router`.
     #[serde(skip)]
     people_router: Option<std::sync::Arc<crate::floor_plan::router::Router>>,
+    /// A floor plan's speed zones ([`crate::floor_plan::speed`]). Not in snapshots, as
+    /// `router`.
+    #[serde(skip)]
+    speed_zones: Option<std::sync::Arc<crate::floor_plan::speed::SpeedZones>>,
 }
 
 impl Site {
@@ -165,6 +169,7 @@ impl Site {
             robot_obstacles: None,
             router: None,
             people_router: None,
+            speed_zones: None,
         }
     }
 
@@ -190,13 +195,20 @@ impl Site {
             robot_obstacles: plan.robot_obstacles.clone(),
             router: spec.router(radius),
             people_router: spec.people_router(radius),
+            speed_zones: plan.speed_zones.clone(),
         })
     }
 
-    /// Takes `built`'s floor-plan router (a snapshot leaves it out).
+    /// Takes `built`'s floor-plan routers and speed zones (a snapshot leaves them out).
     pub fn adopt_router(&mut self, built: &Site) {
         self.router.clone_from(&built.router);
         self.people_router.clone_from(&built.people_router);
+        self.speed_zones.clone_from(&built.speed_zones);
+    }
+
+    /// The speed limit (m/s) a floor plan's speed mask sets at `p`, if any.
+    pub fn speed_limit(&self, p: Vec2) -> Option<Real> {
+        self.speed_zones.as_ref()?.limit_at(p)
     }
 
     /// Whether a body of `radius` at `p` can walk to the site's stations: everywhere on a
@@ -249,6 +261,7 @@ impl Site {
             robot_obstacles: None,
             router: None,
             people_router: None,
+            speed_zones: None,
         }
     }
 

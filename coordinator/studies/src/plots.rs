@@ -392,7 +392,7 @@ pub fn write_boxes(
 }
 
 /// A plan of a fleet site: its floor (a floor plan's cells: free white, occupied black,
-/// unknown grey, kept out of by robots light red), walls and shelves, stations (docks blue, picks red, named), where the robots
+/// unknown grey, kept out of by robots light red, speed-limited light blue), walls and shelves, stations (docks blue, picks red, named), where the robots
 /// start (orange) and the route from every dock to every pick and back (green).
 pub fn write_site(path: &Path, scenario: &world_sim::scenario::Scenario) -> Result<(), PlotError> {
     use agent::map::Obstacle;
@@ -455,25 +455,35 @@ pub fn write_site(path: &Path, scenario: &world_sim::scenario::Scenario) -> Resu
                     }),
             )
             .map_err(e)?;
-        // Keep-out zones: the cells the mask took from the robots, hatched red.
-        let zone = RGBColor(220, 60, 60);
-        chart
-            .draw_series(
-                (0..g.height)
-                    .flat_map(|y| (0..g.width).map(move |x| (x, y)))
-                    .filter(|&(x, y)| {
-                        let i = y * g.width + x;
-                        plan.floor[i] && !plan.robot_floor[i]
-                    })
-                    .map(|(x, y)| {
-                        let a = g.origin + agent::math::vec2(x as f64, y as f64) * g.resolution;
-                        Rectangle::new(
-                            [(a.x, a.y), (a.x + g.resolution, a.y + g.resolution)],
-                            zone.mix(0.35).filled(),
-                        )
-                    }),
-            )
+        // Keep-out zones light red, speed zones light blue: tinted floor cells.
+        let tint = |chart: &mut ChartContext<'_, _, _>,
+                    colour: RGBAColor,
+                    zone: &dyn Fn(usize, usize) -> bool| {
+            chart
+                .draw_series(
+                    (0..g.height)
+                        .flat_map(|y| (0..g.width).map(move |x| (x, y)))
+                        .filter(|&(x, y)| plan.floor[y * g.width + x] && zone(x, y))
+                        .map(|(x, y)| {
+                            let a = g.origin + agent::math::vec2(x as f64, y as f64) * g.resolution;
+                            Rectangle::new(
+                                [(a.x, a.y), (a.x + g.resolution, a.y + g.resolution)],
+                                colour.filled(),
+                            )
+                        }),
+                )
+                .map(|_| ())
+        };
+        tint(&mut chart, RGBColor(220, 60, 60).mix(0.35), &|x, y| {
+            !plan.robot_floor[y * g.width + x]
+        })
+        .map_err(e)?;
+        if let Some(zones) = &plan.speed_zones {
+            tint(&mut chart, RGBColor(60, 120, 230).mix(0.2), &|x, y| {
+                zones.limit_at(g.centre(x, y)).is_some()
+            })
             .map_err(e)?;
+        }
     }
     let walls = RGBColor(120, 60, 20);
     for o in &site.obstacles {

@@ -10,10 +10,12 @@
 //!
 //! A Nav2 keep-out filter mask ([`FloorPlan::with_keepout`]) takes floor away from robots
 //! only: its occupied cells are walls to the robots' planners, safety layers and routes, while
-//! people walk there and sensors see through them.
+//! people walk there and sensors see through them. A Nav2 speed filter mask
+//! ([`speed`]) limits the robots' speed in its zones.
 
 pub mod nav2;
 pub mod router;
+pub mod speed;
 
 use crate::warehouse::StationKind;
 use agent::map::Obstacle;
@@ -50,6 +52,8 @@ pub struct FloorPlan {
     pub robot_floor: Vec<bool>,
     /// The boundary of the robots' floor as walls, when a keep-out mask took floor away.
     pub robot_obstacles: Option<Vec<Obstacle>>,
+    /// Where a speed mask limits the robots' speed ([`FloorPlan::with_speed_mask`]).
+    pub speed_zones: Option<Arc<speed::SpeedZones>>,
     /// FNV-1a of the YAML text and the image bytes (and of the keep-out mask's, with one):
     /// two runs on the same fingerprint ran on the same map.
     pub fingerprint: u64,
@@ -127,6 +131,7 @@ impl FloorPlan {
             floor,
             obstacles,
             robot_obstacles: None,
+            speed_zones: None,
             fingerprint,
             router: Arc::default(),
             people_router: Arc::default(),
@@ -173,6 +178,23 @@ impl FloorPlan {
     /// (people walk by the robots' router, [`FloorPlan::router`]).
     pub fn people_router(&self, radius: Real, stations: &[Vec2]) -> Option<Arc<Router>> {
         self.routers(radius, stations).1
+    }
+
+    /// This floor plan with a Nav2 speed filter mask: robots drive no faster than `limit_m_s`
+    /// on the map cells whose centres fall on the mask's occupied cells
+    /// ([`speed::SpeedZones`]). `mask_fingerprint` and `mask_source` are folded into the
+    /// plan's as with a keep-out mask.
+    pub fn with_speed_mask(
+        mut self,
+        mask: &OccupancyGrid,
+        limit_m_s: Real,
+        mask_fingerprint: u64,
+        mask_source: &str,
+    ) -> Self {
+        self.speed_zones = speed::SpeedZones::new(&self.grid, mask, limit_m_s).map(Arc::new);
+        self.fingerprint = (self.fingerprint ^ mask_fingerprint).wrapping_mul(0x0100_0000_01b3);
+        self.source = format!("{} with the speed mask {mask_source}", self.source);
+        self
     }
 
     /// Map cells taken from the robots' floor by the keep-out mask.
@@ -260,6 +282,10 @@ pub struct FloorPlanSpec {
     /// ([`FloorPlan::with_keepout`]). None by default.
     #[serde(default)]
     pub keepout: Option<String>,
+    /// A Nav2 speed filter mask and the limit on its zones ([`speed::SpeedMaskSpec`]). None
+    /// by default.
+    #[serde(default)]
+    pub speed_mask: Option<speed::SpeedMaskSpec>,
     /// The map, loaded when the scenario is read.
     #[serde(skip)]
     pub plan: Option<Arc<FloorPlan>>,
