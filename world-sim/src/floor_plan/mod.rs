@@ -54,8 +54,8 @@ pub struct FloorPlan {
     pub robot_obstacles: Option<Vec<Obstacle>>,
     /// Where a speed mask limits the robots' speed ([`FloorPlan::with_speed_mask`]).
     pub speed_zones: Option<Arc<speed::SpeedZones>>,
-    /// FNV-1a of the YAML text and the image bytes (and of the keep-out mask's, with one):
-    /// two runs on the same fingerprint ran on the same map.
+    /// FNV-1a of the YAML text and the image bytes, mixed with each mask's: two runs on the
+    /// same fingerprint ran on the same map and masks.
     pub fingerprint: u64,
     /// The last router built, for the robot radius and stations it was built for: validating
     /// a scenario and building its world need the same one.
