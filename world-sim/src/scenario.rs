@@ -380,55 +380,16 @@ impl Scenario {
             message: e.to_string(),
         })?;
         if let Some(plan) = &mut scenario.floor_plan {
-            // A map's path is relative to the scenario file's folder.
+            // A map's and its masks' paths are relative to the scenario file's folder.
             let folder = std::path::Path::new(source_name)
                 .parent()
                 .unwrap_or(std::path::Path::new("."));
-            let loaded = crate::floor_plan::FloorPlan::load(&plan.map, folder).map_err(|e| {
-                ScenarioError::Invalid {
+            plan.load(folder)
+                .map_err(|(field, reason)| ScenarioError::Invalid {
                     source_name: source_name.to_string(),
-                    field: "floor_plan.map".to_owned(),
-                    reason: e.to_string(),
-                }
-            })?;
-            // A mask's path too; each error names the mask's field.
-            let mask = |path: &str, field: &str| {
-                let invalid = |reason: String| ScenarioError::Invalid {
-                    source_name: source_name.to_string(),
-                    field: format!("floor_plan.{field}"),
+                    field,
                     reason,
-                };
-                if !(path.ends_with(".yaml") || path.ends_with(".yml")) {
-                    return Err(invalid(format!(
-                        "{path:?} is no path to a Nav2 mask's .yaml file"
-                    )));
-                }
-                let path = folder.join(path);
-                let mask =
-                    crate::floor_plan::nav2::load(&path).map_err(|e| invalid(e.to_string()))?;
-                Ok((mask, path.display().to_string()))
-            };
-            let mut loaded = loaded;
-            if let Some(keepout) = &plan.keepout {
-                let (m, path) = mask(keepout, "keepout")?;
-                loaded = loaded.with_keepout(&m.grid, m.fingerprint, &path);
-            }
-            if let Some(speed) = &plan.speed_mask {
-                let limit = speed.limit_m_s;
-                if !(limit > 0.0 && limit <= crate::floor_plan::speed::MAX_LIMIT_M_S) {
-                    return Err(ScenarioError::Invalid {
-                        source_name: source_name.to_string(),
-                        field: "floor_plan.speed_mask.limit_m_s".to_owned(),
-                        reason: format!(
-                            "is {limit}; must be in (0, {}] m/s",
-                            crate::floor_plan::speed::MAX_LIMIT_M_S
-                        ),
-                    });
-                }
-                let (m, path) = mask(&speed.mask, "speed_mask.mask")?;
-                loaded = loaded.with_speed_mask(&m.grid, limit, m.fingerprint, &path);
-            }
-            plan.plan = Some(std::sync::Arc::new(loaded));
+                })?;
         }
         scenario.validate(source_name)?;
         Ok(scenario)
