@@ -200,11 +200,15 @@ async fn main() -> anyhow::Result<()> {
         .close()
         .await
         .map_err(|e| anyhow::anyhow!("closing the session: {e}"))?;
+    let count = |c: &std::sync::atomic::AtomicU64| c.load(std::sync::atomic::Ordering::Relaxed);
     eprintln!(
-        "gapfleet-agent {}: {} plans, {} rejected messages",
+        "gapfleet-agent {}: {} plans, {} rejected messages; safety layer: {} slowed, {} protective, {} yields",
         robot_id,
-        counters.plans.load(std::sync::atomic::Ordering::Relaxed),
-        counters.rejected.load(std::sync::atomic::Ordering::Relaxed)
+        count(&counters.plans),
+        count(&counters.rejected),
+        count(&counters.warned),
+        count(&counters.protective),
+        count(&counters.yielded)
     );
     Ok(())
 }

@@ -35,10 +35,12 @@ pub struct HardwareArgs {
 /// One line of the hardware's status.
 fn status_line(r: &HardwareReport) -> String {
     format!(
-        "t {:6.1} s | driven {} starved {} robot-ticks | {:.0} m | closest person {:.2} m, SVR {:.3} | contacts: robot-caused {} person-caused {} robot-robot {} | cmd_vel refused {}",
+        "t {:6.1} s | driven {} starved {} robot-ticks, {} on the tick before's cmd_vel, {} cmd_vel overtaken | {:.0} m | closest person {:.2} m, SVR {:.3} | contacts: robot-caused {} person-caused {} robot-robot {} | cmd_vel refused {}",
         r.sim_time,
         r.driven,
         r.starved,
+        r.repeated,
+        r.overtaken,
         r.played.path_length_m,
         r.played.min_human_distance_m,
         r.played.svr,

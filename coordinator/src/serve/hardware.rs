@@ -48,6 +48,12 @@ pub struct HardwareReport {
     pub driven: u64,
     /// Robot-ticks stood still for want of one (none yet, or older than the watchdog's).
     pub starved: u64,
+    /// Robot-ticks driven on the same `cmd_vel` as the tick before, none newer having come:
+    /// the command planned on the newest state came too late for this tick (one tick of
+    /// actuation latency).
+    pub repeated: u64,
+    /// `cmd_vel` messages a newer one replaced before any tick drove on them.
+    pub overtaken: u64,
     /// The played robots' figures (`world_sim::fleet::FleetSummary`): contacts, metres
     /// driven, the closest any came to a person, their mean SVR.
     pub played: FleetSummary,
@@ -93,6 +99,7 @@ pub async fn run_hardware(
     let mut report = HardwareReport::default();
     let mut last_status = std::time::Instant::now();
     let mut commands = vec![Command::STOP; n];
+    let mut received = vec![0_u64; n];
     tokio::pin!(shutdown);
     loop {
         tokio::select! {
@@ -105,9 +112,16 @@ pub async fn run_hardware(
         }
         for i in (0..n).filter(|&i| played[i]) {
             let heading = fleet.world.robots[i].state.heading;
+            let count = ros.commands_received(i);
+            let new = count - received[i];
+            received[i] = count;
             commands[i] = match ros.command(i, heading) {
                 Some(command) => {
                     report.driven += 1;
+                    match new {
+                        0 => report.repeated += 1,
+                        k => report.overtaken += k - 1,
+                    }
                     command
                 }
                 None => {

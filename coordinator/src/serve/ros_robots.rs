@@ -86,6 +86,8 @@ struct Robot {
     people: Publisher,
     /// The newest `cmd_vel` and when it came.
     cmd: Arc<Mutex<Option<(Twist, std::time::Instant)>>>,
+    /// `cmd_vel` messages accepted so far.
+    cmd_count: Arc<AtomicU64>,
     _subscriber: zenoh::pubsub::Subscriber<()>,
     _tokens: Vec<zenoh::liveliness::LivelinessToken>,
 }
@@ -278,6 +280,16 @@ impl RosRobots {
             .clone()?;
         (at.elapsed() <= CMD_VEL_TIMEOUT).then(|| command_of(&twist, heading))
     }
+
+    /// How many `cmd_vel` messages robot `i` has accepted so far (0 for a robot this process
+    /// does not play): between two ticks, none means the tick drives on the command the tick
+    /// before drove on, and more than one means all but the newest never drove.
+    pub fn commands_received(&self, i: usize) -> u64 {
+        self.robots
+            .get(i)
+            .and_then(Option::as_ref)
+            .map_or(0, |r| r.cmd_count.load(Ordering::Relaxed))
+    }
 }
 
 /// A base-frame twist as a simulator command.
@@ -359,6 +371,8 @@ async fn declare_robot(
     );
     let cmd = Arc::new(Mutex::new(None));
     let slot = cmd.clone();
+    let cmd_count = Arc::new(AtomicU64::new(0));
+    let counted = cmd_count.clone();
     let subscriber = session
         .declare_subscriber(graph::topic_key::<Twist>(config.domain_id, &cmd_fq, d))
         .callback(
@@ -366,6 +380,7 @@ async fn declare_robot(
                 Ok(twist) => {
                     let now = std::time::Instant::now();
                     *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some((twist, now));
+                    counted.fetch_add(1, Ordering::Relaxed);
                 }
                 Err(e) => {
                     let n = rejected.fetch_add(1, Ordering::Relaxed) + 1;
@@ -382,6 +397,7 @@ async fn declare_robot(
         scan,
         people,
         cmd,
+        cmd_count,
         _subscriber: subscriber,
         _tokens: tokens,
     })
