@@ -48,9 +48,10 @@ pub struct HardwareReport {
     pub driven: u64,
     /// Robot-ticks stood still for want of one (none yet, or older than the watchdog's).
     pub starved: u64,
-    /// Robot-ticks driven on the same `cmd_vel` as the tick before, none newer having come:
-    /// the command planned on the newest state came too late for this tick (one tick of
-    /// actuation latency).
+    /// Robot-ticks driven on the same `cmd_vel` as the tick before, none newer having come in
+    /// time: the command planned on the newest state came too late, or none was planned for
+    /// this tick (an agent plans at its coordinator's rate, not the hardware's). Either way,
+    /// one tick of actuation latency.
     pub repeated: u64,
     /// `cmd_vel` messages a newer one replaced before any tick drove on them.
     pub overtaken: u64,
