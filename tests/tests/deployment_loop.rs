@@ -138,6 +138,8 @@ fn the_deployment_loop_loses_robots_whose_hardware_dies_and_survives_a_coordinat
                 Command::new(binary("gapfleet-agent"))
                     .args(["--robot-id", &i.to_string(), "--ros", "--namespace"])
                     .arg(format!("/robot{i}"))
+                    // The default warehouse's people (people_msgs carries no size).
+                    .args(["--person-radius", "0.35"])
                     .args(["--connect", &endpoint])
                     .env("RUST_LOG", "warn")
                     .stdin(Stdio::null())

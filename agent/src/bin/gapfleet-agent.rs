@@ -98,8 +98,12 @@ struct RosArgs {
     #[arg(long = "goal", value_parser = parse_goal, requires = "ros", allow_hyphen_values = true)]
     goals: Vec<agent::math::Vec2>,
     /// The robot's body radius (m).
-    #[arg(long, default_value_t = 0.3, requires = "ros")]
+    #[arg(long, default_value_t = 0.3, requires = "ros", value_parser = parse_radius)]
     robot_radius: f64,
+    /// A person's body radius (m) for the planners and the safety layer: people_msgs/Person
+    /// carries no size. Give the site's (a simulated site's `humans.radius_m`).
+    #[arg(long, default_value_t = 0.3, requires = "ros", value_parser = parse_radius)]
+    person_radius: f64,
     /// Exit once the last goal is reached (else hold the robot stopped until SIGINT/SIGTERM).
     #[arg(long, requires = "ros")]
     exit_at_last_goal: bool,
@@ -109,6 +113,15 @@ struct RosArgs {
 enum BaseArg {
     Holonomic,
     Differential,
+}
+
+/// A body radius: finite, above 0 and at most 2 m.
+fn parse_radius(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|r| r.is_finite() && *r > 0.0 && *r <= 2.0)
+        .ok_or(format!("`{s}` is not a radius in (0, 2] m"))
 }
 
 fn parse_mount(s: &str) -> Result<(agent::math::Vec2, f64), String> {
@@ -234,6 +247,7 @@ fn ros_config(ros: &RosArgs) -> agent::runtime::ros::RosConfig {
         pose_topic: ros.pose_topic.clone(),
         scan_mount: ros.scan_mount,
         robot_radius: ros.robot_radius,
+        person_radius: ros.person_radius,
         ..Default::default()
     }
 }
@@ -328,5 +342,25 @@ mod tests {
         assert!(parse(&["--ros", "--goal", "1"]).is_err());
         assert!(parse(&["--ros", "--goal", "1,nan"]).is_err());
         assert!(parse(&["--ros", "--distro", "iron", "--goal", "1,1"]).is_err());
+    }
+
+    /// People's radius reaches the ROS link (people_msgs has none); a radius must be physical.
+    #[test]
+    fn person_radius_reaches_the_ros_link() {
+        let parse = |args: &[&str]| Args::try_parse_from([&["gapfleet-agent"], args].concat());
+        let given = parse(&["--ros", "--robot-id", "0", "--person-radius", "0.35"]).expect("valid");
+        assert_eq!(ros_config(&given.ros).person_radius, 0.35);
+        let default = parse(&["--ros", "--robot-id", "0"]).expect("valid");
+        assert_eq!(ros_config(&default.ros).person_radius, 0.3);
+        for bad in ["0", "-0.3", "nan", "inf", "2.5", "wide"] {
+            assert!(
+                parse(&["--ros", "--robot-id", "0", "--person-radius", bad]).is_err(),
+                "{bad}"
+            );
+        }
+        assert!(
+            parse(&["--robot-id", "0", "--person-radius", "0.35"]).is_err(),
+            "needs --ros"
+        );
     }
 }

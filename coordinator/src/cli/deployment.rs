@@ -155,6 +155,7 @@ impl LoopArgs {
             site.extend(["--seed".into(), seed.to_string()]);
         }
         let speed = self.speed.to_string();
+        let person_radius = scenario.humans.radius_m.to_string();
         let mut hardware_cmd = Command::new(&me);
         hardware_cmd
             .arg("hardware")
@@ -170,6 +171,8 @@ impl LoopArgs {
             let mut cmd = Command::new(&agent_exe);
             cmd.args(["--robot-id", &i.to_string(), "--ros", "--namespace"])
                 .arg(format!("/robot{i}"))
+                // people_msgs carries no size: the agents take the site's.
+                .args(["--person-radius", &person_radius])
                 .args([
                     "--planner",
                     &self.planner.to_string(),
