@@ -321,3 +321,75 @@ fn a_mixed_site_runs_simulated_people_and_robots_around_a_real_one() {
     assert!(text.contains("real robots [0]: placed from"), "{text}");
     assert!(text.contains("match the recorded run"), "{text}");
 }
+
+/// `gapfleet loop`, the documented command, end to end: its own `zenohd`, hardware, one agent
+/// per robot and a coordinator of real robots, run to its end; every agent joined and planned,
+/// the robots drove, none caused a contact, and the journal replays bit for bit.
+#[test]
+fn gapfleet_loop_runs_the_deployment_to_its_end_and_its_journal_replays() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let (state, logs) = (dir.path().join("state"), dir.path().join("logs"));
+    let robots = 3;
+    let output = dir.path().join("loop.txt");
+    let file = std::fs::File::create(&output).expect("the loop's output file");
+    let mut child = Command::new(binary("gapfleet"))
+        .arg("loop")
+        .args([
+            "--robots",
+            &robots.to_string(),
+            "--humans",
+            "10",
+            "--seed",
+            "2",
+        ])
+        .args([
+            "--seconds",
+            "15",
+            "--speed",
+            "2",
+            "--zenohd",
+            &gapfleet_tests::zenohd(),
+        ])
+        .arg("--state")
+        .arg(&state)
+        .arg("--logs")
+        .arg(&logs)
+        .stdin(Stdio::null())
+        .stdout(file.try_clone().expect("a second handle"))
+        .stderr(file)
+        .spawn()
+        .expect("gapfleet loop starts");
+    let status = wait_until(Duration::from_secs(300), || child.try_wait().ok().flatten());
+    let Some(status) = status else {
+        let _ = child.kill();
+        panic!(
+            "gapfleet loop did not end within 300 s; its logs are in {}",
+            logs.display()
+        );
+    };
+    let out = std::fs::read_to_string(&output).expect("the loop's output");
+    println!("{out}");
+    assert!(status.success(), "gapfleet loop failed: {out}");
+    assert!(
+        out.contains("stopped after 15.0 simulated seconds"),
+        "the coordinator ran its time: {out}"
+    );
+    assert!(
+        out.contains("robot-caused 0"),
+        "no robot caused a contact: {out}"
+    );
+    for i in 0..robots {
+        let log = std::fs::read_to_string(logs.join(format!("agent{i}.log"))).expect("agent log");
+        let plans: u64 = log
+            .lines()
+            .find_map(|l| {
+                let rest = l.strip_prefix(&format!("gapfleet-agent {i}: "))?;
+                rest.split(' ').next()?.parse().ok()
+            })
+            .unwrap_or_else(|| panic!("agent {i} printed no exit line: {log}"));
+        assert!(plans > 0, "agent {i} planned: {log}");
+    }
+    let replay = replayed(&state);
+    assert!(replay.contains("match the recorded run"), "{replay}");
+}

@@ -88,6 +88,24 @@ impl Drop for Process {
     }
 }
 
+/// Robot `robot`'s agent: in ROS mode in the robot's namespace, with the site's people's
+/// radius (people_msgs carries no size, and a thinner person is yielded to less).
+fn agent_command(
+    agent_exe: &Path,
+    robot: usize,
+    planner: &str,
+    endpoint: &str,
+    person_radius: f64,
+) -> Command {
+    let mut cmd = Command::new(agent_exe);
+    cmd.args(["--robot-id", &robot.to_string(), "--ros", "--namespace"])
+        .arg(format!("/robot{robot}"))
+        .args(["--person-radius", &person_radius.to_string()])
+        .args(["--planner", planner, "--connect", endpoint])
+        .env("RUST_LOG", "warn");
+    cmd
+}
+
 /// The lines of `log` from the last that starts with `prefix` on.
 fn last_lines(log: &Path, prefix: &str) -> String {
     let text = std::fs::read_to_string(log).unwrap_or_default();
@@ -155,7 +173,6 @@ impl LoopArgs {
             site.extend(["--seed".into(), seed.to_string()]);
         }
         let speed = self.speed.to_string();
-        let person_radius = scenario.humans.radius_m.to_string();
         let mut hardware_cmd = Command::new(&me);
         hardware_cmd
             .arg("hardware")
@@ -168,18 +185,13 @@ impl LoopArgs {
             Process::spawn("hardware", &mut hardware_cmd, &logs.join("hardware.log"))?;
         let mut agents = Vec::with_capacity(robots);
         for i in 0..robots {
-            let mut cmd = Command::new(&agent_exe);
-            cmd.args(["--robot-id", &i.to_string(), "--ros", "--namespace"])
-                .arg(format!("/robot{i}"))
-                // people_msgs carries no size: the agents take the site's.
-                .args(["--person-radius", &person_radius])
-                .args([
-                    "--planner",
-                    &self.planner.to_string(),
-                    "--connect",
-                    &endpoint,
-                ])
-                .env("RUST_LOG", "warn");
+            let mut cmd = agent_command(
+                &agent_exe,
+                i,
+                &self.planner.to_string(),
+                &endpoint,
+                scenario.humans.radius_m,
+            );
             agents.push(Process::spawn(
                 format!("agent {i}"),
                 &mut cmd,
@@ -243,5 +255,39 @@ impl LoopArgs {
             );
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each agent drives its own robot's namespace and takes people at the site's size.
+    #[test]
+    fn agents_drive_their_robot_and_take_the_site_s_people() {
+        let people = world_sim::scenario::Scenario::builtin("warehouse")
+            .expect("the default warehouse")
+            .humans
+            .radius_m;
+        let cmd = agent_command(
+            Path::new("gapfleet-agent"),
+            3,
+            "pgp+orca",
+            "tcp/x:1",
+            people,
+        );
+        let args: Vec<String> = cmd
+            .get_args()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect();
+        let after = |flag: &str| {
+            let at = args.iter().position(|a| a == flag).expect(flag);
+            args[at + 1].clone()
+        };
+        assert_eq!(after("--robot-id"), "3");
+        assert_eq!(after("--namespace"), "/robot3");
+        assert_eq!(after("--person-radius").parse::<f64>(), Ok(0.35));
+        assert_eq!(after("--planner"), "pgp+orca");
+        assert!(args.contains(&"--ros".to_owned()));
     }
 }
