@@ -1,7 +1,8 @@
 //! One call of the safety layer on a robot driving at full speed among 50 perceived people
 //! (the planners' benchmark scene, 0.5 persons/m²), in open space and between two walls; and
 //! on a robot standing among them, which people walking on would walk into (a yield), and
-//! one `admits` call, the predicate planners ask.
+//! one `admits` call, the predicate planners ask; and the open-ground call with the opt-in
+//! across-the-way bound on people's strays (`person_accel_across = 2.4`).
 //!
 //! Target (issue 43): one call with 50 perceived bodies ≤ 20 µs median, yields included
 //! (met: results/safety/REPORT.md, "Speed").
@@ -60,6 +61,16 @@ fn safety(c: &mut Criterion) {
             b.iter(|| black_box(set.admits(black_box(command))))
         });
     }
+    // The opt-in across-the-way bound (`person_accel_across`) on the open-ground scene.
+    let mut across = SafetyLayer::new(SafetyParams {
+        person_accel_across: 2.4,
+        ..SafetyParams::default()
+    });
+    let command = Command::Velocity(vec2(1.0, 0.0));
+    let open = StaticMap::empty();
+    group.bench_function(BenchmarkId::new("open-across", 50), |b| {
+        b.iter(|| black_box(across.guard(command, &e, &limits, black_box(&people), &open)))
+    });
     group.finish();
 }
 

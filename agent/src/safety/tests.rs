@@ -437,6 +437,102 @@ proptest::proptest! {
     }
 }
 
+proptest::proptest! {
+    /// The across-the-way bound (`person_accel_across`) never calls a point outside that is
+    /// within `within` of the ellipse a walking person may stray in: points on the ellipse
+    /// pushed out by less than `within`, in any direction, are all inside.
+    #[test]
+    fn the_stray_ellipse_test_misses_no_point_within_reach(
+        heading in -3.2..3.2f64,
+        across in 0.0..3.0f64,
+        t in 0.05..2.0f64,
+        on in -3.2..3.2f64,
+        out in -3.2..3.2f64,
+        fraction in 0.0..0.999f64,
+    ) {
+        let (a, within) = (3.0, 0.7);
+        let along = vec2(heading.cos(), heading.sin());
+        let body = Body {
+            position: vec2(0.0, 0.0),
+            velocity: along,
+            within,
+            accel: a,
+            along,
+            accel_across: across,
+            relevant: [[true; 2]; 2],
+        };
+        let half_tt = 0.5 * t * t;
+        let side = vec2(-along.y, along.x);
+        let on_ellipse = along * (a * half_tt * on.cos()) + side * (across * half_tt * on.sin());
+        let point = on_ellipse + vec2(out.cos(), out.sin()) * (within * fraction);
+        // `d` runs from the robot to the body: the robot stands at `point`.
+        proptest::prop_assert!(body.within_ellipse(-point, half_tt));
+    }
+
+    /// Passive safety holds with the candidate bound too: every command out of the layer is
+    /// admissible under it, or a stop.
+    #[test]
+    fn every_command_out_is_admissible_with_the_across_bound(
+        v in (-1.5..1.5f64, -1.5..1.5f64),
+        own in (-1.0..1.0f64, -1.0..1.0f64),
+        across in 0.0..3.0f64,
+        others in proptest::collection::vec(
+            (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
+    ) {
+        let mut layer = SafetyLayer::new(SafetyParams {
+            person_accel_across: across,
+            ..SafetyParams::default()
+        });
+        let bodies = crowd(&others);
+        let at = ego(vec2(0.0, 0.0), vec2(own.0, own.1));
+        let map = StaticMap::empty();
+        let set = layer.prepare(&at, &limits(), &bodies, &map);
+        let g = set.guard(Command::Velocity(vec2(v.0, v.1)));
+        let stop = g.zone == Zone::Protective && g.scale == 0.0;
+        proptest::prop_assert!(stop || set.admits(g.command), "{:?}", g);
+    }
+}
+
+/// Beside a person walking past, the across bound lets the robot drive on where the round one
+/// stops it; ahead of the person both stop it.
+#[test]
+fn a_person_walking_past_strays_less_across_than_along() {
+    let robot = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
+    // A person 1.3 m to the robot's left, walking the other way.
+    let beside = vec![Neighbour::new(
+        1,
+        vec2(1.0, 1.3),
+        vec2(-1.0, 0.0),
+        0.3,
+        AgentKind::Human,
+    )];
+    let map = StaticMap::empty();
+    let drive_on = Command::Velocity(vec2(1.0, 0.0));
+    let admits = |across: Real, bodies: &[Neighbour]| {
+        let mut layer = SafetyLayer::new(SafetyParams {
+            person_accel_across: across,
+            ..SafetyParams::default()
+        });
+        layer
+            .prepare(&robot, &limits(), bodies, &map)
+            .admits(drive_on)
+    };
+    assert!(
+        !admits(3.0, &beside),
+        "round: a 3 m/s² swerve reaches the robot"
+    );
+    assert!(admits(1.0, &beside), "across at 1 m/s²: it does not");
+    // The same person straight ahead, coming at the robot: along their way, a_h as before.
+    let ahead = vec![Neighbour::new(
+        1,
+        vec2(2.2, 0.0),
+        vec2(-1.0, 0.0),
+        0.3,
+        AgentKind::Human,
+    )];
+    assert!(!admits(3.0, &ahead) && !admits(1.0, &ahead));
+}
+
 /// A person overtakes the robot close beside it (`gap` between bodies) and, `ahead` of it,
 /// turns across its path at `accel` (at walking speed) down to 60° off its line:
 /// the residual robot-caused contact of the demo's warehouse before `person_accel`
