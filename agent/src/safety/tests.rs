@@ -531,6 +531,16 @@ fn a_person_walking_past_strays_less_across_than_along() {
         AgentKind::Human,
     )];
     assert!(!admits(3.0, &ahead) && !admits(1.0, &ahead));
+    // A smaller a_h alone keeps the check round (a_⊥ above a_h counts as a_h).
+    let p = SafetyParams::default()
+        .with_overrides("person_accel=2")
+        .expect("a_h may go below the default a_⊥");
+    assert_eq!(p.person_accel_across, 3.0);
+    assert!(
+        SafetyParams::default()
+            .with_overrides("person_accel_across=nan")
+            .is_err()
+    );
 }
 
 /// A person overtakes the robot close beside it (`gap` between bodies) and, `ahead` of it,
