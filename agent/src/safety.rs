@@ -131,8 +131,9 @@ pub struct SafetyParams {
     /// `person_accel` (the default equals it), the check is round, as shipped. People stray across
     /// their way about half as far as along it: at the stop's horizon (0.9 s) at most
     /// 2.2 m/s² in the simulated crowds and 2.4 m/s² in ETH and UCY
-    /// (results/fleet-one-robot/layer-sensitivity). A candidate, not the default: what it
-    /// does to the robots' work and contacts is measured there.
+    /// (results/fleet-one-robot/layer-sensitivity). Opt-in, and not safe enough as it stands:
+    /// over shorter times people stray across harder (4.9 m/s² at 0.4 s on seq_eth), and
+    /// under a_⊥ = 2.4 foIGP causes a contact in the seq_eth replay (measured there).
     pub person_accel_across: Real,
     /// The rollout's time step, at most (s): the check's time resolution; each control
     /// period is cut into as many equal sub-steps as it takes. 50 ms (two per period at
