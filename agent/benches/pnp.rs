@@ -1,8 +1,9 @@
 //! Peek-and-pass in a hallway (issue 20): one plan with 20 tracked people and 64 Ψ samples,
 //! and the visibility scan behind it.
 //!
-//! Target: one plan ≤ 1 ms median, with constant-velocity predictions (`pnp`) and with
-//! predictions that react to each candidate (`pnp-react`).
+//! Target: one plan ≤ 1 ms median, with constant-velocity predictions (`pnp`), with
+//! predictions that react to each candidate (`pnp-react`) and with the first segment's speed
+//! in sixths (`pnp-fine`).
 //!
 //!     cargo bench -p agent --bench pnp
 
@@ -56,34 +57,35 @@ fn pnp(c: &mut Criterion) {
     let mut local = LocalMap::default();
     let bodies = || people.iter().map(|b| (b.position, b.radius));
     let seen = Visibility::scan(ego.position, 12.0, DEFAULT_RAYS, &map, bodies(), &mut local);
-    let mut planner = Pnp::new(PnpParams {
-        v_max: 3.0,
-        a_max: 2.0,
-        psi_samples: 64,
-        ..PnpParams::default()
-    });
     let goal = vec2(25.0, 0.0);
-    let d = planner.plan(&ego, &people, &map, goal, Some(&seen));
-    assert!(d.edges > 0, "the people cast shadows");
     let mut g = c.benchmark_group("pnp");
-    g.bench_function(
-        format!("plan-20-people-64-psi-{}-candidates", planner.candidates()),
-        |b| b.iter(|| black_box(planner.plan(&ego, black_box(&people), &map, goal, Some(&seen)))),
-    );
-    // The same plan with predictions that react to each candidate (`pnp-react`).
-    let mut reactive = Pnp::new(PnpParams {
-        v_max: 3.0,
-        a_max: 2.0,
-        psi_samples: 64,
-        ..PnpParams::reactive(true)
-    });
-    g.bench_function(
-        format!(
-            "plan-reactive-20-people-64-psi-{}-candidates",
-            reactive.candidates()
-        ),
-        |b| b.iter(|| black_box(reactive.plan(&ego, black_box(&people), &map, goal, Some(&seen)))),
-    );
+    // `pnp`; the same plan with predictions that react to each candidate (`pnp-react`); and
+    // with the first segment's speed in sixths (`pnp-fine`).
+    for (name, params) in [
+        ("plan", PnpParams::default()),
+        ("plan-reactive", PnpParams::reactive(true)),
+        ("plan-fine", PnpParams::fine(true)),
+    ] {
+        let mut planner = Pnp::new(PnpParams {
+            v_max: 3.0,
+            a_max: 2.0,
+            psi_samples: 64,
+            ..params
+        });
+        let d = planner.plan(&ego, &people, &map, goal, Some(&seen));
+        assert!(d.edges > 0, "the people cast shadows");
+        g.bench_function(
+            format!(
+                "{name}-20-people-64-psi-{}-candidates",
+                planner.candidates()
+            ),
+            |b| {
+                b.iter(|| {
+                    black_box(planner.plan(&ego, black_box(&people), &map, goal, Some(&seen)))
+                })
+            },
+        );
+    }
     g.bench_function("visibility-scan-360-rays-20-people", |b| {
         b.iter(|| {
             black_box(Visibility::scan(

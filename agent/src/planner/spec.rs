@@ -47,6 +47,9 @@ pub enum PnpVariant {
     /// Predictions that react to each candidate, with the same departures (`pnp-react`):
     /// [`PnpParams::reactive`].
     Reactive,
+    /// `pnp` with the first segment's speed in sixths of v_max (`pnp-fine`):
+    /// [`PnpParams::fine`].
+    Fine,
 }
 
 impl PnpVariant {
@@ -56,6 +59,7 @@ impl PnpVariant {
             PnpVariant::Paper => PnpParams::paper(peek),
             PnpVariant::Tuned => PnpParams::peeking(peek),
             PnpVariant::Reactive => PnpParams::reactive(peek),
+            PnpVariant::Fine => PnpParams::fine(peek),
         }
     }
 }
@@ -111,7 +115,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -146,6 +150,8 @@ impl FromStr for PlannerSpec {
             "pnp-paper-nopeek" => pnp(PnpVariant::Paper, false),
             "pnp-react" => pnp(PnpVariant::Reactive, true),
             "pnp-react-nopeek" => pnp(PnpVariant::Reactive, false),
+            "pnp-fine" => pnp(PnpVariant::Fine, true),
+            "pnp-fine-nopeek" => pnp(PnpVariant::Fine, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -190,6 +196,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Paper, false) => "pnp-paper-nopeek",
                 (PnpVariant::Reactive, true) => "pnp-react",
                 (PnpVariant::Reactive, false) => "pnp-react-nopeek",
+                (PnpVariant::Fine, true) => "pnp-fine",
+                (PnpVariant::Fine, false) => "pnp-fine-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -227,6 +235,8 @@ mod tests {
             "pnp-paper-nopeek",
             "pnp-react",
             "pnp-react-nopeek",
+            "pnp-fine",
+            "pnp-fine-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

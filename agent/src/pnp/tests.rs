@@ -393,3 +393,37 @@ fn the_layer_is_asked_about_the_speeds_the_robot_would_drive() {
         "{d:?}"
     );
 }
+
+#[test]
+fn the_fine_variant_takes_the_speed_the_layer_leaves_between_the_coarse_ones() {
+    // A judge that lets through 1.5 m/s at most: the coarse speeds of a 3 m/s robot (0, 1,
+    // 2, 3 m/s) leave it 1 m/s; sixths (0, 0.5, …, 3 m/s) the 1.5 m/s let through.
+    let judge = |c: Command| match c {
+        Command::Unicycle { speed, .. } if speed <= 1.5 + 1e-9 => Admission::Passes,
+        _ => Admission::Refused,
+    };
+    let e = ego(vec2(0.0, 0.0), 0.0, 1.0);
+    let speed = |mut pnp: Pnp| {
+        let d = pnp.plan_within(
+            &e,
+            &[],
+            &StaticMap::empty(),
+            vec2(50.0, 0.0),
+            None,
+            Some(&judge),
+        );
+        match d.command {
+            Command::Unicycle { speed, .. } => speed,
+            c => panic!("a unicycle command, not {c:?}"),
+        }
+    };
+    let fine = Pnp::new(PnpParams {
+        v_max: 3.0,
+        a_max: 2.0,
+        ..PnpParams::fine(true)
+    });
+    // 7 × 5 first segments, each followed by the 4 × 5 second ones.
+    assert_eq!(fine.candidates(), 700);
+    assert!((speed(fine) - 1.5).abs() < 1e-9);
+    assert!((speed(fast(true)) - 1.0).abs() < 1e-9);
+}
