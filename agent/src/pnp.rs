@@ -236,7 +236,7 @@ impl PnpParams {
     /// drives at a speed that carries it into people or one that holds it back, and under
     /// the safety layer, whose separation grows with speed, the speed it may keep is often
     /// between them. On hallway tuning seeds 1–6 (50 m, people at 0.5–3 m/s, the layer on),
-    /// sixths gave a median 79 s against 94 s, and half the person-caused contacts;
+    /// sixths gave a median 79 s against 94 s and 40 % fewer person-caused contacts;
     /// ninths for both segments (2,500 candidates) 72.5 s (results/hallway-layer-heldout).
     pub fn fine(peek: bool) -> Self {
         Self {
