@@ -19,14 +19,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
 fn safety(c: &mut Criterion) {
-    let limits = SafetyLimits {
-        max_speed: 1.0,
-        max_accel: 1.5,
-        max_braking: 1.5,
-        max_yaw_rate: 1.0,
-        max_yaw_accel: 1.5,
-        control_period: 0.1,
-    };
+    let limits = SafetyLimits::SIMULATED_ROBOT;
     let e = scene::ego();
     let people = scene::crowd(50, 7);
     let corridor = StaticMap::new(vec![

@@ -43,7 +43,7 @@ fn main() {
     let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
     stack.set_record_fan(false);
     let mut guard = guards(&scenario, 1).pop().flatten();
-    let others = world.robots.len();
+    let robots = world.robots.len();
     let mut local = LocalMap::default();
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let per_second = (1.0 / scenario.dt_s).round() as u64;
@@ -74,7 +74,7 @@ fn main() {
             }
             None => stack.plan(&input).command,
         };
-        let mut commands = vec![Command::STOP; others];
+        let mut commands = vec![Command::STOP; robots];
         commands[0] = command;
         if step % per_second == 0 {
             let mut near: Vec<(Real, Real, Real)> = seen

@@ -4,14 +4,7 @@ use crate::model::AgentKind;
 
 /// The simulator's default robot: 1 m/s, 1.5 m/s², commanded at 10 Hz.
 fn limits() -> SafetyLimits {
-    SafetyLimits {
-        max_speed: 1.0,
-        max_accel: 1.5,
-        max_braking: 1.5,
-        max_yaw_rate: 1.0,
-        max_yaw_accel: 1.5,
-        control_period: 0.1,
-    }
+    SafetyLimits::SIMULATED_ROBOT
 }
 
 fn ego(position: Vec2, velocity: Vec2) -> EgoState {

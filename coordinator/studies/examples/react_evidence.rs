@@ -1,7 +1,7 @@
 //! How much a person's motion says about whether they react to a robot: the ceiling for any
 //! estimate of "reacts" read from motion, such as asfm's Â_o (issue 48's AUC).
 //!
-//!     cargo run --release -p world-sim --example react_evidence -- DENSITY SEEDS [SPEED]
+//!     cargo run --release -p studies --example react_evidence -- DENSITY SEEDS [SPEED]
 //!
 //! The open-space stage at DENSITY people/m² with half of the people reacting to robots
 //! (`humans.react_share = 0.5`) and one robot crossing it at SPEED m/s in a straight line
@@ -48,20 +48,9 @@ struct Fit {
 /// PySocialForce's relaxation time τ (s).
 const TAU: Real = 0.5;
 
+/// [`studies::estimates::auc`], NaN without both kinds.
 fn auc(pos: &[Real], neg: &[Real]) -> Real {
-    let mut wins = 0.0;
-    for &p in pos {
-        for &n in neg {
-            wins += if p > n {
-                1.0
-            } else if p == n {
-                0.5
-            } else {
-                0.0
-            };
-        }
-    }
-    wins / (pos.len() * neg.len()).max(1) as Real
+    studies::estimates::auc(pos, neg).unwrap_or(Real::NAN)
 }
 
 fn main() {
