@@ -2,8 +2,8 @@
 //! and the visibility scan behind it.
 //!
 //! Target: one plan ≤ 1 ms median, with constant-velocity predictions (`pnp`), with
-//! predictions that react to each candidate (`pnp-react`) and with the first segment's speed
-//! in sixths (`pnp-fine`).
+//! predictions that react to each candidate (`pnp-react`), with the first segment's speed
+//! in sixths (`pnp-fine`) and with a 1.5 s horizon and twelfths (`pnp-agile`).
 //!
 //!     cargo bench -p agent --bench pnp
 
@@ -60,11 +60,13 @@ fn pnp(c: &mut Criterion) {
     let goal = vec2(25.0, 0.0);
     let mut g = c.benchmark_group("pnp");
     // `pnp`; the same plan with predictions that react to each candidate (`pnp-react`); and
-    // with the first segment's speed in sixths (`pnp-fine`).
+    // with the first segment's speed in sixths (`pnp-fine`); and with a 1.5 s horizon and the
+    // first segment's speed in twelfths (`pnp-agile`).
     for (name, params) in [
         ("plan", PnpParams::default()),
         ("plan-reactive", PnpParams::reactive(true)),
         ("plan-fine", PnpParams::fine(true)),
+        ("plan-agile", PnpParams::agile(true)),
     ] {
         let mut planner = Pnp::new(PnpParams {
             v_max: 3.0,

@@ -1,19 +1,24 @@
 #!/usr/bin/env python3
-"""The tables of results/hallway/REPORT.md, from runs.csv (standard library only).
+"""The tables of results/hallway/REPORT.md, from runs.csv (standard library only), with the
+runs of any sub-folders named on the command line added (e.g. `pnp-agile`).
 
-    python3 results/hallway/tables.py
+    python3 results/hallway/tables.py [FOLDER ...]
 """
 import csv
 import os
 import statistics
+import sys
 from collections import defaultdict
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def load():
-    with open(os.path.join(HERE, "runs.csv"), newline="") as f:
-        return list(csv.DictReader(f))
+    rows = []
+    for folder in ["."] + sys.argv[1:]:
+        with open(os.path.join(HERE, folder, "runs.csv"), newline="") as f:
+            rows += list(csv.DictReader(f))
+    return rows
 
 
 def mean(xs):

@@ -50,6 +50,9 @@ pub enum PnpVariant {
     /// `pnp` with the first segment's speed in sixths of v_max (`pnp-fine`):
     /// [`PnpParams::fine`].
     Fine,
+    /// `pnp` with a 1.5 s horizon and the first segment's speed in twelfths of v_max
+    /// (`pnp-agile`): [`PnpParams::agile`].
+    Agile,
 }
 
 impl PnpVariant {
@@ -60,6 +63,7 @@ impl PnpVariant {
             PnpVariant::Tuned => PnpParams::peeking(peek),
             PnpVariant::Reactive => PnpParams::reactive(peek),
             PnpVariant::Fine => PnpParams::fine(peek),
+            PnpVariant::Agile => PnpParams::agile(peek),
         }
     }
 }
@@ -115,7 +119,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -152,6 +156,8 @@ impl FromStr for PlannerSpec {
             "pnp-react-nopeek" => pnp(PnpVariant::Reactive, false),
             "pnp-fine" => pnp(PnpVariant::Fine, true),
             "pnp-fine-nopeek" => pnp(PnpVariant::Fine, false),
+            "pnp-agile" => pnp(PnpVariant::Agile, true),
+            "pnp-agile-nopeek" => pnp(PnpVariant::Agile, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -198,6 +204,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Reactive, false) => "pnp-react-nopeek",
                 (PnpVariant::Fine, true) => "pnp-fine",
                 (PnpVariant::Fine, false) => "pnp-fine-nopeek",
+                (PnpVariant::Agile, true) => "pnp-agile",
+                (PnpVariant::Agile, false) => "pnp-agile-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -237,6 +245,8 @@ mod tests {
             "pnp-react-nopeek",
             "pnp-fine",
             "pnp-fine-nopeek",
+            "pnp-agile",
+            "pnp-agile-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

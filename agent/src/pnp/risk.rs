@@ -100,10 +100,18 @@ pub fn cvar(losses: &mut [Real], alpha: Real) -> Real {
     if losses.iter().all(|&l| l == 0.0) {
         return 0.0;
     }
-    losses.sort_unstable_by(|a, b| b.total_cmp(a));
+    // The tail takes whole losses until less than one is left, then that part of the next:
+    // ⌈tail⌉ of them, the largest. Only those are put in order (subtracting 1 from the mass
+    // is exact, so the count is too).
+    let worst = (tail.ceil() as usize).clamp(1, n);
+    if worst < n {
+        losses.select_nth_unstable_by(worst - 1, |a, b| b.total_cmp(a));
+    }
+    let worst = &mut losses[..worst];
+    worst.sort_unstable_by(|a, b| b.total_cmp(a));
     let mut mass = tail;
     let mut sum = 0.0;
-    for &l in losses.iter() {
+    for &l in worst.iter() {
         if mass <= 0.0 || l == 0.0 {
             break;
         }

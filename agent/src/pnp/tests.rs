@@ -3,6 +3,40 @@ use super::*;
 use crate::map::Obstacle;
 use crate::model::AgentKind;
 
+proptest::proptest! {
+    /// Ordering only the worst ⌈tail⌉ losses gives CVaR bit for bit as ordering them all.
+    #[test]
+    fn cvar_orders_only_the_tail_it_takes(
+        losses in proptest::collection::vec(
+            proptest::prop_oneof![proptest::strategy::Just(0.0), 0.0..2.0f64],
+            1..80,
+        ),
+        alpha in proptest::prop_oneof![
+            proptest::strategy::Just(0.0),
+            proptest::strategy::Just(0.9),
+            proptest::strategy::Just(1.0 - 1.5 / 8.0),
+            0.0..1.0f64,
+        ],
+    ) {
+        let mut all = losses.clone();
+        let n = all.len();
+        let tail = ((1.0 - alpha) * n as Real).max(1e-12);
+        all.sort_unstable_by(|a, b| b.total_cmp(a));
+        let (mut mass, mut sum) = (tail, 0.0);
+        for &l in &all {
+            if mass <= 0.0 || l == 0.0 {
+                break;
+            }
+            let w = mass.min(1.0);
+            sum += w * l;
+            mass -= w;
+        }
+        let want = if all.iter().all(|&l| l == 0.0) { 0.0 } else { sum / tail };
+        let mut ours = losses;
+        proptest::prop_assert_eq!(cvar(&mut ours, alpha).to_bits(), want.to_bits());
+    }
+}
+
 fn ego(position: Vec2, heading: Real, speed: Real) -> EgoState {
     EgoState {
         position,
@@ -394,36 +428,54 @@ fn the_layer_is_asked_about_the_speeds_the_robot_would_drive() {
     );
 }
 
-#[test]
-fn the_fine_variant_takes_the_speed_the_layer_leaves_between_the_coarse_ones() {
-    // A judge that lets through 1.5 m/s at most: the coarse speeds of a 3 m/s robot (0, 1,
-    // 2, 3 m/s) leave it 1 m/s; sixths (0, 0.5, …, 3 m/s) the 1.5 m/s let through.
+/// A 3 m/s robot's plan toward a goal 50 m ahead in the open, under a judge that lets
+/// through `most` m/s at most: its speed and where its path ends (t).
+fn plan_under_a_speed_bound(params: PnpParams, most: Real) -> (Real, Real) {
     let judge = |c: Command| match c {
-        Command::Unicycle { speed, .. } if speed <= 1.5 + 1e-9 => Admission::Passes,
+        Command::Unicycle { speed, .. } if speed <= most + 1e-9 => Admission::Passes,
         _ => Admission::Refused,
     };
-    let e = ego(vec2(0.0, 0.0), 0.0, 1.0);
-    let speed = |mut pnp: Pnp| {
-        let d = pnp.plan_within(
-            &e,
-            &[],
-            &StaticMap::empty(),
-            vec2(50.0, 0.0),
-            None,
-            Some(&judge),
-        );
-        match d.command {
-            Command::Unicycle { speed, .. } => speed,
-            c => panic!("a unicycle command, not {c:?}"),
-        }
-    };
-    let fine = Pnp::new(PnpParams {
+    let mut pnp = Pnp::new(PnpParams {
         v_max: 3.0,
         a_max: 2.0,
-        ..PnpParams::fine(true)
+        ..params
     });
+    let d = pnp.plan_within(
+        &ego(vec2(0.0, 0.0), 0.0, 1.0),
+        &[],
+        &StaticMap::empty(),
+        vec2(50.0, 0.0),
+        None,
+        Some(&judge),
+    );
+    let Command::Unicycle { speed, .. } = d.command else {
+        panic!("a unicycle command, not {:?}", d.command);
+    };
+    (speed, d.trajectory.last().expect("a path").t)
+}
+
+#[test]
+fn the_fine_variant_takes_the_speed_the_layer_leaves_between_the_coarse_ones() {
     // 7 × 5 first segments, each followed by the 4 × 5 second ones.
-    assert_eq!(fine.candidates(), 700);
-    assert!((speed(fine) - 1.5).abs() < 1e-9);
-    assert!((speed(fast(true)) - 1.0).abs() < 1e-9);
+    assert_eq!(Pnp::new(PnpParams::fine(true)).candidates(), 700);
+    // Under 1.5 m/s at most, the coarse speeds of a 3 m/s robot (0, 1, 2, 3 m/s) leave it
+    // 1 m/s; sixths (0, 0.5, …, 3 m/s) the 1.5 m/s let through.
+    let (fine, _) = plan_under_a_speed_bound(PnpParams::fine(true), 1.5);
+    assert!((fine - 1.5).abs() < 1e-9);
+    let (coarse, _) = plan_under_a_speed_bound(PnpParams::peeking(true), 1.5);
+    assert!((coarse - 1.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_agile_variant_looks_1_5_s_ahead_and_takes_speeds_in_twelfths() {
+    // 13 × 5 first segments, each followed by the 4 × 5 second ones.
+    assert_eq!(Pnp::new(PnpParams::agile(true)).candidates(), 1300);
+    // Under 1.25 m/s at most, sixths leave a 3 m/s robot 1 m/s; twelfths (0, 0.25, …,
+    // 3 m/s) the 1.25 m/s let through.
+    let (agile, end) = plan_under_a_speed_bound(PnpParams::agile(true), 1.25);
+    assert!((agile - 1.25).abs() < 1e-9);
+    assert!((end - 1.5).abs() < 1e-9, "the path ends at t_f = {end}");
+    let (fine, end) = plan_under_a_speed_bound(PnpParams::fine(true), 1.25);
+    assert!((fine - 1.0).abs() < 1e-9);
+    assert!((end - 3.0).abs() < 1e-9, "the path ends at t_f = {end}");
 }

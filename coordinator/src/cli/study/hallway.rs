@@ -51,7 +51,8 @@ pub struct HallwayArgs {
 
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: HallwayArgs) -> Result<()> {
-    let scenario = hallway_scenario(args.robot_speed, !args.layer.no_safety)?;
+    let mut scenario = hallway_scenario(args.robot_speed, !args.layer.no_safety)?;
+    scenario.robot.safety_layer = args.layer.apply(scenario.robot.safety_layer)?;
     let study = HallwayStudy {
         scenario,
         planners: args.planners,

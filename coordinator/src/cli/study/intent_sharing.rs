@@ -40,12 +40,13 @@ pub struct IntentSharingArgs {
 
 /// Runs the study and writes its outputs.
 pub(super) fn run(args: IntentSharingArgs) -> Result<()> {
-    let scenario = args.scenario.fleet_site(Overrides {
+    let mut scenario = args.scenario.fleet_site(Overrides {
         robots: args.robots,
         humans: args.humans,
         seed: None,
         no_safety: args.layer.no_safety,
     })?;
+    scenario.robot.safety_layer = args.layer.apply(scenario.robot.safety_layer)?;
     let (robots, humans) = scenario.fleet_size().unwrap_or((0, 0));
     let study = IntentSharingStudy {
         scenario,

@@ -74,13 +74,27 @@ pub struct RunArgs {
     resume: bool,
 }
 
-/// The safety-layer switch common to the studies that can run without it.
-#[derive(Debug, Clone, Copy, clap::Args)]
+/// The safety-layer switch common to the studies that can run without it, and changes to its
+/// parameters.
+#[derive(Debug, Clone, clap::Args)]
 pub struct LayerArg {
     /// Run the planners' commands without the safety layer (agent/README.md), as the papers'
     /// studies ran (as does a scenario whose `[robot]` says `safety = false`).
     #[arg(long)]
     no_safety: bool,
+    /// Changes to the safety layer's parameters (`agent::safety::SafetyParams`), as
+    /// `key=value,…`: e.g. `warning_scale=1` or `person_accel_across=2.4`.
+    #[arg(long, default_value = "")]
+    safety_layer: String,
+}
+
+impl LayerArg {
+    /// `params` with `--safety-layer`'s changes.
+    fn apply(&self, params: agent::safety::SafetyParams) -> Result<agent::safety::SafetyParams> {
+        params
+            .with_overrides(&self.safety_layer)
+            .map_err(|e| anyhow::anyhow!("--safety-layer: {e}"))
+    }
 }
 
 /// The first seed of a study that takes `--seeds` consecutive seeds.

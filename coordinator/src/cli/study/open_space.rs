@@ -49,6 +49,7 @@ pub(super) fn run(args: OpenSpaceArgs) -> Result<()> {
     if args.layer.no_safety {
         scenario.robot.safety = false;
     }
+    scenario.robot.safety_layer = args.layer.apply(scenario.robot.safety_layer)?;
     let plan = StudyPlan {
         scenario,
         algorithms: args.algorithms,

@@ -40,10 +40,6 @@ pub struct PlaybackArgs {
     out: Option<PathBuf>,
     #[command(flatten)]
     layer: super::LayerArg,
-    /// Changes to the safety layer's parameters (`agent::safety::SafetyParams`), as
-    /// `key=value,…`: e.g. `person_accel_across=2.4`.
-    #[arg(long, default_value = "")]
-    safety_layer: String,
     /// Where the foIGP planners' Newton seeds lie: per-body (the robot and the people shifted
     /// apart across the robot's path) or common (every body +kσ in x and y). Applies to the
     /// foIGP planners on their own (not behind pgp+).
@@ -81,11 +77,7 @@ pub(super) fn run(args: PlaybackArgs) -> Result<()> {
     let mut options = PlaybackOptions::default();
     options.robot.max_speed = speed;
     options.robot.safety = !args.layer.no_safety;
-    options.robot.safety_layer = options
-        .robot
-        .safety_layer
-        .with_overrides(&args.safety_layer)
-        .map_err(|e| anyhow::anyhow!("--safety-layer: {e}"))?;
+    options.robot.safety_layer = args.layer.apply(options.robot.safety_layer)?;
     let study = PlaybackStudy {
         recording,
         map,
