@@ -60,12 +60,17 @@ fn hallway() -> StaticMap {
     .expect("valid walls")
 }
 
-fn fast(peek: bool) -> Pnp {
+/// The hallway's 3 m/s robot planning with `params`.
+fn hallway_robot(params: PnpParams) -> Pnp {
     Pnp::new(PnpParams {
         v_max: 3.0,
         a_max: 2.0,
-        ..PnpParams::peeking(peek)
+        ..params
     })
+}
+
+fn fast(peek: bool) -> Pnp {
+    hallway_robot(PnpParams::peeking(peek))
 }
 
 #[test]
@@ -299,11 +304,7 @@ fn reactive_predictions_answer_each_candidate() {
     // A person walking head-on at the robot along its line, 5 m away.
     let e = ego(vec2(0.0, 0.0), 0.0, 2.0);
     let walker = [person(1, vec2(5.0, 0.05), vec2(-1.0, 0.0))];
-    let mut pnp = Pnp::new(PnpParams {
-        v_max: 3.0,
-        a_max: 2.0,
-        ..PnpParams::reactive(true)
-    });
+    let mut pnp = hallway_robot(PnpParams::reactive(true));
     pnp.plan(&e, &walker, &StaticMap::empty(), vec2(50.0, 0.0), None);
     let n = 12;
     // The shared rollout, without the robot: a lone person walks straight on.
@@ -435,12 +436,7 @@ fn plan_under_a_speed_bound(params: PnpParams, most: Real) -> (Real, Real) {
         Command::Unicycle { speed, .. } if speed <= most + 1e-9 => Admission::Passes,
         _ => Admission::Refused,
     };
-    let mut pnp = Pnp::new(PnpParams {
-        v_max: 3.0,
-        a_max: 2.0,
-        ..params
-    });
-    let d = pnp.plan_within(
+    let d = hallway_robot(params).plan_within(
         &ego(vec2(0.0, 0.0), 0.0, 1.0),
         &[],
         &StaticMap::empty(),
