@@ -38,7 +38,7 @@ use hidden::{Hidden, halton, hidden_risk, sample_hidden};
 use predict::{Predicted, Scratch, body_risk, might_touch, social_force_rollout};
 use react::Reaction;
 pub use risk::cvar;
-use risk::{Scoring, bounds, near_any_segment};
+use risk::{Path, Scoring, bounds, near_any_segment};
 
 /// The planner's parameters. The paper gives the cost's form and its tunable names; it gives
 /// none of their values.
@@ -314,12 +314,19 @@ pub struct Pnp {
     params: PnpParams,
     /// (v, ω) fractions per segment, per candidate.
     primitives: Vec<Vec<(Real, Real)>>,
-    /// Standard normal offsets ε_j of the prediction samples.
-    offsets: Vec<Vec2>,
+    /// The distinct sequences of turn fractions among the candidates, and each candidate's.
+    /// A candidate's heading depends on its turns alone, so candidates that differ only in
+    /// speed share one heading track.
+    turn_sequences: Vec<Vec<Real>>,
+    turns_of: Vec<usize>,
+    /// Standard normal offsets ε_j of the prediction samples, and their lengths.
+    offsets: Vec<(Vec2, Real)>,
     /// Points of the unit cube for Ψ (edge position, heading, speed).
     psi_units: Vec<[Real; 3]>,
     // Scratch, reused between plans.
     paths: Vec<Vec2>,
+    /// Per turn sequence, the unit heading after each integration substep.
+    headings: Vec<Vec2>,
     predicted: Vec<Predicted>,
     /// The shared rollout of reactive predictions, and one body's reaction to a candidate.
     reaction: Reaction,
@@ -335,6 +342,16 @@ pub struct Pnp {
     first_segments: Vec<((Real, Real), Admission)>,
     local: LocalMap,
     own: Visibility,
+    /// The candidate the last plan chose, scored first in the next: usually still good, it
+    /// sets a low best total early and cuts most others short. Which candidate wins does not
+    /// depend on the order they are scored in.
+    warm: Option<usize>,
+    /// Score every candidate in full, without cutting any short (the tests' reference).
+    exhaustive: bool,
+    /// The perceived bodies in the order they are asked about a candidate's risk, and each
+    /// one's p_coll^i for the candidate being scored.
+    body_order: Vec<usize>,
+    risks: Vec<Real>,
 }
 
 impl Pnp {
@@ -366,13 +383,28 @@ impl Pnp {
                 })
                 .collect();
         }
+        let mut turn_sequences: Vec<Vec<Real>> = Vec::new();
+        let turns_of = primitives
+            .iter()
+            .map(|primitive| {
+                let turns: Vec<Real> = primitive.iter().map(|&(_, w)| w).collect();
+                turn_sequences
+                    .iter()
+                    .position(|seq| *seq == turns)
+                    .unwrap_or_else(|| {
+                        turn_sequences.push(turns);
+                        turn_sequences.len() - 1
+                    })
+            })
+            .collect();
         let offsets = (0..params.prediction_samples)
             .map(|j| {
                 // Box–Muller on a Halton (2, 3) point: fixed, evenly spread normals.
                 let (u1, u2) = (halton(j + 1, 2), halton(j + 1, 3));
                 let r = (-2.0 * u1.ln()).sqrt();
                 let a = std::f64::consts::TAU * u2;
-                vec2(r * a.cos(), r * a.sin())
+                let o = vec2(r * a.cos(), r * a.sin());
+                (o, o.norm())
             })
             .collect();
         let psi_units = (0..params.psi_samples)
@@ -381,9 +413,12 @@ impl Pnp {
         Self {
             params,
             primitives,
+            turn_sequences,
+            turns_of,
             offsets,
             psi_units,
             paths: Vec::new(),
+            headings: Vec::new(),
             predicted: Vec::new(),
             reaction: Reaction::default(),
             reacting: Predicted::default(),
@@ -394,6 +429,10 @@ impl Pnp {
             first_segments: Vec::new(),
             local: LocalMap::default(),
             own: Visibility::default(),
+            warm: None,
+            exhaustive: false,
+            body_order: Vec::new(),
+            risks: Vec::new(),
         }
     }
 
@@ -545,18 +584,37 @@ impl Pnp {
         }
         self.order
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        if let Some(warm) = self.warm.filter(|&c| self.allowed.get(c) == Some(&true))
+            && let Some(at) = self.order.iter().position(|&(_, c)| c == warm)
+        {
+            self.order[..=at].rotate_right(1);
+        }
+        let prune = !self.exhaustive;
+        self.body_order.clear();
+        self.body_order.extend(0..self.predicted.len());
         let mut best = (Real::INFINITY, usize::MAX, Cost::default());
         // Whether a candidate whose cost is at least `partial` cannot win.
         let loses = |partial: Real, c: usize, best: &(Real, usize, Cost)| {
             partial > best.0 || (partial == best.0 && c > best.1)
+        };
+        // The most of p_coll^i a candidate may still run and win, given its goal term and
+        // the risk counted so far: with a margin far above rounding (1e-9 of the best total),
+        // so that a candidate cut short for exceeding it would have lost scored in full.
+        let budget = |goal_term: Real, collision: Real, best: Real| {
+            if prune && best.is_finite() && p.c2 > 0.0 {
+                (best - p.c1 * goal_term + 1e-9 * best.abs() + 1e-12) / p.c2 - collision
+            } else {
+                Real::INFINITY
+            }
         };
         for &(goal_term, c) in &self.order {
             if !self.allowed[c] {
                 continue;
             }
             let path = &self.paths[c * (n + 1)..(c + 1) * (n + 1)];
-            // The rest cannot beat the best even without risk.
-            if loses(p.c1 * goal_term, c, &best) {
+            // The rest cannot beat the best even without risk (the warm candidate, scored
+            // first, is the only one out of order).
+            if prune && loses(p.c1 * goal_term, c, &best) {
                 if p.c1 * goal_term > best.0 {
                     break;
                 }
@@ -570,16 +628,23 @@ impl Pnp {
             {
                 continue;
             }
-            // Every term is ≥ 0: once the sum so far reaches the best total, the candidate
-            // cannot win (the choice, and its bits, are the same as scoring it in full).
-            let mut collision = 0.0;
-            let mut beaten = false;
+            // Every term is ≥ 0: once the risk so far, with a margin far above rounding (as
+            // in `budget`), takes the total past the best, the candidate cannot win. Bodies
+            // are asked in the order of which last ruled a candidate out (neighbouring
+            // candidates in goal order tend to meet the same person); p_coll is summed in
+            // their own order, so its bits do not depend on it.
+            let swept = Path::new(path);
+            let mut so_far = 0.0;
+            let mut beaten = None;
             let reactive = p.prediction == Prediction::Reactive;
-            for (i, body) in self.predicted.iter().enumerate() {
+            self.risks.clear();
+            self.risks.resize(self.predicted.len(), 0.0);
+            for (at, &i) in self.body_order.iter().enumerate() {
+                let body = &self.predicted[i];
                 let body = if reactive && self.reaction.reacts(i) {
                     // People the candidate does not come near without their reaction are
                     // left out: the robot's push is taken to move them away, not closer.
-                    if !might_touch(path, body, &mut self.scratch.gaps) {
+                    if !might_touch(swept, body, &mut self.scratch.gaps) {
                         continue;
                     }
                     self.reaction.respond(i, path, body, &mut self.reacting);
@@ -587,25 +652,36 @@ impl Pnp {
                 } else {
                     body
                 };
-                collision += body_risk(
-                    path,
+                let Some(risk) = body_risk(
+                    swept,
                     body,
                     &self.offsets,
                     p.alpha,
                     scoring,
+                    budget(goal_term, so_far, best.0),
                     &mut self.scratch,
-                );
-                if loses(p.c1 * goal_term + p.c2 * collision, c, &best) {
-                    beaten = true;
+                ) else {
+                    beaten = Some(at);
+                    break;
+                };
+                self.risks[i] = risk;
+                so_far += risk;
+                if risk > 0.0 && budget(goal_term, so_far, best.0) < 0.0 {
+                    beaten = Some(at);
                     break;
                 }
             }
-            if beaten {
+            if let Some(at) = beaten {
+                self.body_order[..=at].rotate_right(1);
+                continue;
+            }
+            let collision = self.risks.iter().fold(0.0, |sum, &r| sum + r);
+            if prune && loses(p.c1 * goal_term + p.c2 * collision, c, &best) {
                 continue;
             }
             let contact = ego.radius + p.hidden_radius + p.clearance;
             let psi = hidden_risk(
-                path,
+                swept,
                 &self.hidden,
                 dt,
                 contact,
@@ -629,6 +705,7 @@ impl Pnp {
             }
         }
         let (total, c, cost) = best;
+        self.warm = (total < Real::INFINITY).then_some(c);
         if total == Real::INFINITY {
             // Every candidate meets a wall or shelf: brake, holding the heading.
             return PnpDecision {
@@ -682,16 +759,27 @@ impl Pnp {
         // Integrated at 50 ms, at most (the simulator steps at 0.1 s).
         let substeps = (dt / 0.05 - 1e-9).ceil().max(1.0) as usize;
         let h = dt / substeps as Real;
+        // The turn rate and heading do not depend on the speed: one heading track per
+        // sequence of turns.
+        let track = n * substeps;
+        self.headings.clear();
+        self.headings.reserve(self.turn_sequences.len() * track);
+        for turns in &self.turn_sequences {
+            let (mut heading, mut w) = (ego.heading, ego.yaw_rate);
+            for k in 0..n {
+                let tw = turns[(k / per_segment).min(segments - 1)] * p.omega_max;
+                for _ in 0..substeps {
+                    w += (tw - w).clamp(-p.yaw_accel_max * h, p.yaw_accel_max * h);
+                    heading += w * h;
+                    self.headings.push(unit(heading));
+                }
+            }
+        }
         self.paths.clear();
         self.paths.reserve(self.primitives.len() * (n + 1));
         // Candidates come prefix-major: one that shares its first segments with the one before
         // starts from where that one stood at the end of them (same bits, half the work).
-        let start = (
-            ego.position,
-            ego.heading,
-            ego.velocity.dot(&unit(ego.heading)),
-            ego.yaw_rate,
-        );
+        let start = (ego.position, ego.velocity.dot(&unit(ego.heading)));
         let mut boundary = vec![start; segments + 1];
         for (c, primitive) in self.primitives.iter().enumerate() {
             let shared = if c == 0 {
@@ -713,19 +801,17 @@ impl Pnp {
                 let previous = base - (n + 1);
                 self.paths.extend_from_within(previous..previous + from + 1);
             }
-            let (mut position, mut heading, mut v, mut w) = boundary[shared.min(segments)];
+            let headings = &self.headings[self.turns_of[c] * track..][..track];
+            let (mut position, mut v) = boundary[shared.min(segments)];
             for k in from..n {
                 let segment = (k / per_segment).min(segments - 1);
                 if k % per_segment == 0 {
-                    boundary[segment] = (position, heading, v, w);
+                    boundary[segment] = (position, v);
                 }
-                let (fv, fw) = primitive[segment];
-                let (tv, tw) = (fv * p.v_max, fw * p.omega_max);
-                for _ in 0..substeps {
+                let tv = primitive[segment].0 * p.v_max;
+                for heading in &headings[k * substeps..(k + 1) * substeps] {
                     v += (tv - v).clamp(-p.a_max * h, p.a_max * h);
-                    w += (tw - w).clamp(-p.yaw_accel_max * h, p.yaw_accel_max * h);
-                    heading += w * h;
-                    position += unit(heading) * (v * h);
+                    position += heading * (v * h);
                 }
                 self.paths.push(position);
             }
@@ -755,7 +841,7 @@ impl Pnp {
                     .prepare(neighbours, n, dt, &self.params.sigma, &mut self.predicted)
             }
         }
-        let largest = self.offsets.iter().map(|o| o.norm()).fold(0.0, Real::max);
+        let largest = self.offsets.iter().map(|&(_, r)| r).fold(0.0, Real::max);
         for slot in &mut self.predicted {
             let sigma = &slot.track.sigma;
             slot.spread = largest * (sigma.iter().copied().fold(0.0, Real::max) - sigma[0]);

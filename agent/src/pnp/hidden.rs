@@ -2,7 +2,7 @@
 //! the unobserved space, how they walk, and the risk a path runs of meeting them.
 
 use super::PnpParams;
-use super::risk::{Scoring, bounds, cvar, first_contact, loss};
+use super::risk::{Path, Scoring, cvar, first_contact, loss};
 use crate::map::StaticMap;
 use crate::math::{Real, Vec2, vec2};
 use crate::model::{EgoState, Neighbour};
@@ -17,7 +17,7 @@ pub(super) struct Hidden {
 
 /// ρ before its threshold: CVaR_α of the collision loss over Ψ.
 pub(super) fn hidden_risk(
-    path: &[Vec2],
+    path: Path,
     hidden: &[Hidden],
     dt: Real,
     contact: Real,
@@ -25,11 +25,14 @@ pub(super) fn hidden_risk(
     scoring: Scoring,
     losses: &mut Vec<Real>,
 ) -> Real {
-    let n = path.len() - 1;
     // The box around the path, widened by the contact distance: hidden people whose whole
     // walk stays outside it cannot meet the robot.
-    let (lo, hi) = bounds(path);
-    let (lo, hi) = (lo - vec2(contact, contact), hi + vec2(contact, contact));
+    let (lo, hi) = (
+        path.lo - vec2(contact, contact),
+        path.hi + vec2(contact, contact),
+    );
+    let path = path.points;
+    let n = path.len() - 1;
     let horizon = n as Real * dt;
     losses.clear();
     losses.extend(hidden.iter().map(|h| {

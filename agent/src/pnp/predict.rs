@@ -1,7 +1,9 @@
 //! What the perceived bodies may do (their predicted tracks, sampled) and the collision risk
 //! p_coll^i a path runs with each (Eq. 5).
 
-use super::risk::{Scoring, bounds, cvar, first_contact_from, loss, step_gaps};
+use super::risk::{
+    Path, Scoring, cvar, first_contact_from, loss, step_gaps, tail_count, tail_mass, tail_mean,
+};
 use crate::math::{Real, Vec2, vec2};
 use crate::model::{AgentKind, EgoState, Neighbour};
 use crate::prediction::{SigmaModel, Track};
@@ -81,46 +83,55 @@ pub(super) fn social_force_rollout(
 /// Whether any of body's samples may come within contact of `path`: no sample comes closer
 /// than the mean minus the largest offset, checked first by boxes, then along the tracks
 /// (whose gap per grid step is left in `gaps`).
-pub(super) fn might_touch(path: &[Vec2], body: &Predicted, gaps: &mut Vec<Real>) -> bool {
-    let (lo, hi) = bounds(path);
-    let (rlo, rhi) = body.reach;
-    if hi.x < rlo.x || lo.x > rhi.x || hi.y < rlo.y || lo.y > rhi.y {
+pub(super) fn might_touch(path: Path, body: &Predicted, gaps: &mut Vec<Real>) -> bool {
+    if !path.box_meets(body.reach) {
         return false;
     }
-    let closest = step_gaps(path, |k| body.track.positions[k], gaps);
+    let closest = step_gaps(path.points, |k| body.track.positions[k], gaps);
     closest <= body.contact + body.spread
 }
 
-/// p_coll^i: CVaR_α of the collision loss over body i's prediction samples, for one path.
+/// p_coll^i: CVaR_α of the collision loss over body i's prediction samples (each offset
+/// with its length), for one path. `None` as soon as the samples traced so far put it above
+/// `budget` (a candidate that cannot win then needs no more of them); a finite budget only
+/// cuts the work short, never changes a value returned.
 pub(super) fn body_risk(
-    path: &[Vec2],
+    path: Path,
     body: &Predicted,
-    offsets: &[Vec2],
+    offsets: &[(Vec2, Real)],
     alpha: Real,
     scoring: Scoring,
+    budget: Real,
     scratch: &mut Scratch,
-) -> Real {
+) -> Option<Real> {
     let track = &body.track;
     if !might_touch(path, body, &mut scratch.gaps) {
-        return 0.0;
+        return Some(0.0);
     }
+    let path = path.points;
     let n = path.len() - 1;
-    let Scratch { gaps, losses } = scratch;
+    let tail = tail_mass(alpha, offsets.len());
+    let Scratch {
+        gaps,
+        losses,
+        worst,
+    } = scratch;
     losses.clear();
-    losses.extend(offsets.iter().map(|&o| {
+    worst.clear();
+    for &(o, r) in offsets {
         // During step k a sample is at least `gaps[k - 1] − |o|·growth[k - 1]` from the path
         // (the triangle inequality): the scan starts at the first step where that is within
         // contact, and a sample with none scores 0 untraced. The margin keeps steps whose
         // bound only rounding could bring within contact.
-        let r = o.norm();
         let from = gaps
             .iter()
             .zip(&body.growth)
             .position(|(g, s)| g - r * s <= body.contact * (1.0 + 1e-9) + 1e-9);
         let Some(from) = from else {
-            return 0.0;
+            losses.push(0.0);
+            continue;
         };
-        loss(
+        let l = loss(
             first_contact_from(
                 path,
                 body.contact,
@@ -129,9 +140,28 @@ pub(super) fn body_risk(
             ),
             n,
             scoring,
-        )
-    }));
-    cvar(losses, alpha)
+        );
+        losses.push(l);
+        if l > 0.0 && budget.is_finite() {
+            // The largest losses so far, largest first: the CVaR is at least their tail mean.
+            if worst.len() < tail_count(tail, offsets.len()) {
+                worst.push(l);
+            } else if let Some(last) = worst.last_mut().filter(|last| l > **last) {
+                *last = l;
+            } else {
+                continue;
+            }
+            let mut i = worst.len() - 1;
+            while i > 0 && worst[i - 1] < worst[i] {
+                worst.swap(i - 1, i);
+                i -= 1;
+            }
+            if tail_mean(worst, tail) > budget {
+                return None;
+            }
+        }
+    }
+    Some(cvar(losses, alpha))
 }
 
 /// Buffers [`body_risk`] reuses between calls.
@@ -139,4 +169,5 @@ pub(super) fn body_risk(
 pub(super) struct Scratch {
     pub(super) gaps: Vec<Real>,
     pub(super) losses: Vec<Real>,
+    pub(super) worst: Vec<Real>,
 }

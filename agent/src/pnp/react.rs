@@ -15,7 +15,7 @@ use super::risk::bounds;
 use crate::math::{Real, Vec2, vec2};
 use crate::model::{AgentKind, Neighbour};
 use crate::prediction::SigmaModel;
-use crate::social_force::{SfParams, capped_velocity, social_force_pair};
+use crate::social_force::{SfParams, capped_velocity, mutual_social_forces, social_force_pair};
 
 /// The shared rollout: per person, where they start, what they want and the others' push.
 #[derive(Debug, Clone, Default)]
@@ -68,15 +68,26 @@ impl Reaction {
             }
         }
         let social = &self.sf.social;
+        let mut push = vec![vec2(0.0, 0.0); people];
         for k in 1..=n {
+            // Each pair once: the push on a and its reaction on b, which is bit for bit the
+            // push on b by a unless they stand on one point. Each person's pushes still add up
+            // in the others' order.
+            push.fill(vec2(0.0, 0.0));
             for a in 0..people {
-                let mut push = vec2(0.0, 0.0);
-                for b in 0..people {
-                    if b != a {
-                        push += social_force_pair(pos[a], vel[a], pos[b], vel[b], social);
-                    }
+                for b in a + 1..people {
+                    let (on_a, on_b) = if (pos[a] - pos[b]).norm_squared() == 0.0 {
+                        (
+                            social_force_pair(pos[a], vel[a], pos[b], vel[b], social),
+                            social_force_pair(pos[b], vel[b], pos[a], vel[a], social),
+                        )
+                    } else {
+                        mutual_social_forces(pos[a], vel[a], pos[b], vel[b], social)
+                    };
+                    push[a] += on_a;
+                    push[b] += on_b;
                 }
-                self.others[a * n + k - 1] = push * social.factor;
+                self.others[a * n + k - 1] = push[a] * social.factor;
             }
             for a in 0..people {
                 let desired = self.start[a].1;

@@ -40,6 +40,26 @@ fn segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Real {
         .min(distance_to_segment(a, b, d))
 }
 
+/// A candidate's path on the time grid, with the smallest box holding it.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Path<'a> {
+    pub(super) points: &'a [Vec2],
+    pub(super) lo: Vec2,
+    pub(super) hi: Vec2,
+}
+
+impl<'a> Path<'a> {
+    pub(super) fn new(points: &'a [Vec2]) -> Self {
+        let (lo, hi) = bounds(points);
+        Self { points, lo, hi }
+    }
+
+    /// Whether the path's box and the box `lo`–`hi` share a point.
+    pub(super) fn box_meets(&self, (lo, hi): (Vec2, Vec2)) -> bool {
+        !(self.hi.x < lo.x || self.lo.x > hi.x || self.hi.y < lo.y || self.lo.y > hi.y)
+    }
+}
+
 /// The smallest box holding `points`.
 pub(super) fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
     points.iter().fold(
@@ -96,22 +116,39 @@ pub fn cvar(losses: &mut [Real], alpha: Real) -> Real {
     if n == 0 {
         return 0.0;
     }
-    let tail = ((1.0 - alpha) * n as Real).max(1e-12);
     if losses.iter().all(|&l| l == 0.0) {
         return 0.0;
     }
-    // The tail takes whole losses until less than one is left, then that part of the next:
-    // ⌈tail⌉ of them, the largest. Only those are put in order (subtracting 1 from the mass
-    // is exact, so the count is too).
-    let worst = (tail.ceil() as usize).clamp(1, n);
+    let tail = tail_mass(alpha, n);
+    // Only the ⌈tail⌉ largest count ([`tail_mean`]), and only they are put in order.
+    let worst = tail_count(tail, n);
     if worst < n {
         losses.select_nth_unstable_by(worst - 1, |a, b| b.total_cmp(a));
     }
     let worst = &mut losses[..worst];
     worst.sort_unstable_by(|a, b| b.total_cmp(a));
+    tail_mean(worst, tail)
+}
+
+/// The number of equally likely outcomes in CVaR_α's tail, (1 − α)·n (> 0).
+pub(super) fn tail_mass(alpha: Real, n: usize) -> Real {
+    ((1.0 - alpha) * n as Real).max(1e-12)
+}
+
+/// How many of n outcomes a tail of `tail` outcomes takes, whole or in part: ⌈tail⌉
+/// (subtracting 1 from the mass is exact, so the count is too).
+pub(super) fn tail_count(tail: Real, n: usize) -> usize {
+    (tail.ceil() as usize).clamp(1, n)
+}
+
+/// The mean over a tail of `tail` outcomes whose largest losses are `worst`, largest first,
+/// the rest 0: whole losses until less than one is left, then that part of the next. It
+/// never falls when a loss grows, so over some of the losses, the others taken as 0, it is
+/// a lower bound of the CVaR over all of them (bit for bit: each rounding is monotone).
+pub(super) fn tail_mean(worst: &[Real], tail: Real) -> Real {
     let mut mass = tail;
     let mut sum = 0.0;
-    for &l in worst.iter() {
+    for &l in worst {
         if mass <= 0.0 || l == 0.0 {
             break;
         }

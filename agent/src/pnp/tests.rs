@@ -37,6 +37,48 @@ proptest::proptest! {
     }
 }
 
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+    /// Cutting candidates short (by the best total so far, and by a risk budget inside a
+    /// body's samples) and scoring the last plan's choice first change no decision: a planner
+    /// that has just planned another crowd decides, bit for bit, as one scoring every
+    /// candidate in full.
+    #[test]
+    fn cutting_candidates_short_changes_no_decision(
+        crowd in proptest::collection::vec(
+            (-2.0..14.0f64, -1.1..1.1f64, -1.8..1.8f64, -0.3..0.3f64),
+            0..20,
+        ),
+        speed in 0.0..3.0f64,
+        variant in 0usize..5,
+    ) {
+        let params = [
+            PnpParams::peeking(true),
+            PnpParams::agile(true),
+            PnpParams::paper(true),
+            PnpParams::reactive(true),
+            PnpParams::fine(false),
+        ][variant]
+            .clone();
+        let people: Vec<Neighbour> = crowd
+            .iter()
+            .enumerate()
+            .filter(|(_, (x, y, ..))| x.hypot(*y) > 0.7)
+            .map(|(i, &(x, y, vx, vy))| person(i as u64, vec2(x, y), vec2(vx, vy)))
+            .collect();
+        let e = ego(vec2(0.0, 0.0), 0.0, speed);
+        let goal = vec2(50.0, 0.0);
+        let mut full = hallway_robot(params.clone());
+        full.exhaustive = true;
+        let want = full.plan(&e, &people, &hallway(), goal, None);
+        let mut warm = hallway_robot(params);
+        let before = ego(vec2(0.0, 0.5), 0.3, 3.0 - speed);
+        warm.plan(&before, &people[people.len() / 2..], &hallway(), goal, None);
+        let got = warm.plan(&e, &people, &hallway(), goal, None);
+        proptest::prop_assert_eq!(got, want);
+    }
+}
+
 fn ego(position: Vec2, heading: Real, speed: Real) -> EgoState {
     EgoState {
         position,
