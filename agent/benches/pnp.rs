@@ -3,7 +3,8 @@
 //!
 //! Target: one plan ≤ 1 ms median, with constant-velocity predictions (`pnp`), with
 //! predictions that react to each candidate (`pnp-react`), with the first segment's speed
-//! in sixths (`pnp-fine`) and with a 1.5 s horizon and twelfths (`pnp-agile`).
+//! in sixths (`pnp-fine`), with a 1.5 s horizon and twelfths (`pnp-agile`), and with a
+//! holonomic base's candidates (`pnp-omni`).
 //!
 //! The planner scores the last plan's choice first, so planning one scene over and over
 //! would time its best case. Each iteration plans the next of 10 moments of the scene,
@@ -87,12 +88,14 @@ fn pnp(c: &mut Criterion) {
     let mut g = c.benchmark_group("pnp");
     // `pnp`; the same plan with predictions that react to each candidate (`pnp-react`); and
     // with the first segment's speed in sixths (`pnp-fine`); and with a 1.5 s horizon and the
-    // first segment's speed in twelfths (`pnp-agile`).
+    // first segment's speed in twelfths (`pnp-agile`); and with velocities in ten directions
+    // (`pnp-omni`).
     for (name, params) in [
         ("plan", PnpParams::default()),
         ("plan-reactive", PnpParams::reactive(true)),
         ("plan-fine", PnpParams::fine(true)),
         ("plan-agile", PnpParams::agile(true)),
+        ("plan-omni", PnpParams::omni(true)),
     ] {
         let mut planner = Pnp::new(PnpParams {
             v_max: 3.0,

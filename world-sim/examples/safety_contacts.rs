@@ -3,7 +3,9 @@
 //! who caused it and what the robot knew, and the totals.
 //!
 //!     cargo run --release -p world-sim --example safety_contacts [seed] [seconds] [--no-safety]
-//!         [--person-accel A]
+//!         [--person-accel A] [--planner P]
+//!
+//! P is any planner name (default `pgp+orca`).
 
 use agent::guard::Guard;
 use agent::model::Command;
@@ -24,6 +26,11 @@ fn main() {
         .and_then(|k| args.get(k + 1))
         .and_then(|a| a.parse().ok())
         .unwrap_or(SafetyParams::default().person_accel);
+    let planner = args
+        .iter()
+        .position(|a| a == "--planner")
+        .and_then(|k| args.get(k + 1))
+        .map_or("pgp+orca", String::as_str);
     let mut scenario = Scenario::builtin("warehouse").expect("built-in");
     scenario.seed = seed;
     let mut fleet = Fleet::new(&scenario).expect("a warehouse");
@@ -31,7 +38,7 @@ fn main() {
     let robot = scenario.robot;
     let limits = robot.safety_limits(scenario.dt_s);
     let mut stacks: Vec<PlannerStack> = (0..n)
-        .map(|_| PlannerStack::new("pgp+orca".parse().expect("known")))
+        .map(|_| PlannerStack::new(planner.parse().expect("a known planner")))
         .collect();
     let params = SafetyParams {
         person_accel,
@@ -69,8 +76,9 @@ fn main() {
                     }
                     let line = (p - r.state.position).normalize();
                     println!(
-                        "t {:5.1} robot {i} person {h}: {cause:?}; robot toward {:+.2} m/s, person toward robot {:+.2} m/s; person seen at the last plan: {}; command {:?}",
+                        "t {:5.1} robot {i} person {h}: {cause:?}; robot speed {:.2}, toward {:+.2} m/s, person toward robot {:+.2} m/s; person seen at the last plan: {}; command {:?}",
                         w.time,
+                        r.state.velocity.norm(),
                         r.state.velocity.dot(&line),
                         -w.humans.crowd.velocities[h].dot(&line),
                         seen_last[i].contains(&(h as u64)),

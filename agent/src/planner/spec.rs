@@ -53,6 +53,9 @@ pub enum PnpVariant {
     /// `pnp` with a 1.5 s horizon and the first segment's speed in twelfths of v_max
     /// (`pnp-agile`): [`PnpParams::agile`].
     Agile,
+    /// `pnp-agile` with a holonomic base's candidates, velocities in ten directions
+    /// (`pnp-omni`): [`PnpParams::omni`].
+    Omni,
 }
 
 impl PnpVariant {
@@ -64,6 +67,7 @@ impl PnpVariant {
             PnpVariant::Reactive => PnpParams::reactive(peek),
             PnpVariant::Fine => PnpParams::fine(peek),
             PnpVariant::Agile => PnpParams::agile(peek),
+            PnpVariant::Omni => PnpParams::omni(peek),
         }
     }
 }
@@ -119,7 +123,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -158,6 +162,8 @@ impl FromStr for PlannerSpec {
             "pnp-fine-nopeek" => pnp(PnpVariant::Fine, false),
             "pnp-agile" => pnp(PnpVariant::Agile, true),
             "pnp-agile-nopeek" => pnp(PnpVariant::Agile, false),
+            "pnp-omni" => pnp(PnpVariant::Omni, true),
+            "pnp-omni-nopeek" => pnp(PnpVariant::Omni, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -206,6 +212,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Fine, false) => "pnp-fine-nopeek",
                 (PnpVariant::Agile, true) => "pnp-agile",
                 (PnpVariant::Agile, false) => "pnp-agile-nopeek",
+                (PnpVariant::Omni, true) => "pnp-omni",
+                (PnpVariant::Omni, false) => "pnp-omni-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -247,6 +255,8 @@ mod tests {
             "pnp-fine-nopeek",
             "pnp-agile",
             "pnp-agile-nopeek",
+            "pnp-omni",
+            "pnp-omni-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

@@ -50,7 +50,7 @@ proptest::proptest! {
             0..20,
         ),
         speed in 0.0..3.0f64,
-        variant in 0usize..5,
+        variant in 0usize..6,
     ) {
         let params = [
             PnpParams::peeking(true),
@@ -58,6 +58,7 @@ proptest::proptest! {
             PnpParams::paper(true),
             PnpParams::reactive(true),
             PnpParams::fine(false),
+            PnpParams::omni(true),
         ][variant]
             .clone();
         let people: Vec<Neighbour> = crowd
@@ -516,4 +517,56 @@ fn the_agile_variant_looks_1_5_s_ahead_and_takes_speeds_in_twelfths() {
     let (fine, end) = plan_under_a_speed_bound(PnpParams::fine(true), 1.25);
     assert!((fine - 1.0).abs() < 1e-9);
     assert!((end - 3.0).abs() < 1e-9, "the path ends at t_f = {end}");
+}
+
+#[test]
+fn the_omni_variant_steps_aside_where_the_agile_one_stops() {
+    // A person walks head-on at a standing robot, 2.5 m away, on its line.
+    let e = ego(vec2(0.0, 0.0), 0.0, 0.0);
+    let walker = [person(1, vec2(2.5, 0.0), vec2(-1.2, 0.0))];
+    let goal = vec2(50.0, 0.0);
+    let agile = hallway_robot(PnpParams::agile(true)).plan(&e, &walker, &hallway(), goal, None);
+    let omni = hallway_robot(PnpParams::omni(true)).plan(&e, &walker, &hallway(), goal, None);
+    eprintln!("agile {:?}\nomni {:?}", agile.command, omni.command);
+    let Command::Velocity(v) = omni.command else {
+        panic!("a holonomic command: {omni:?}");
+    };
+    assert!(v.y.abs() > 0.3, "it steps out of the person's line: {v:?}");
+    assert!(
+        matches!(agile.command, Command::Unicycle { .. }),
+        "{agile:?}"
+    );
+}
+
+#[test]
+fn holonomic_paths_are_the_velocity_commands_executed_within_the_acceleration_limit() {
+    let mut pnp = hallway_robot(PnpParams::omni(true));
+    let e = EgoState {
+        velocity: vec2(1.5, -0.4),
+        ..ego(vec2(1.0, -0.5), 0.3, 0.0)
+    };
+    let goal = vec2(20.0, 5.0);
+    pnp.plan(&e, &[], &StaticMap::empty(), goal, None);
+    let p = pnp.params().clone();
+    let toward = (goal - e.position).normalize();
+    let (n, substeps, h) = (6, 5, 0.05);
+    assert_eq!(pnp.candidates(), 121 * 31);
+    for (c, primitive) in pnp.primitives.iter().enumerate() {
+        let (mut position, mut v) = (e.position, e.velocity);
+        let mut path = vec![position];
+        for k in 0..n {
+            let (fv, a) = primitive[k / (n / primitive.len())];
+            let target = rotate(toward, a) * (fv * p.v_max);
+            for _ in 0..substeps {
+                v += clamp_norm(target - v, p.a_max * h);
+                position += v * h;
+            }
+            path.push(position);
+        }
+        assert_eq!(
+            &pnp.paths[c * (n + 1)..(c + 1) * (n + 1)],
+            &path[..],
+            "candidate {c}"
+        );
+    }
 }
