@@ -27,7 +27,9 @@
 //! speed in the tuned ones ([`cvar`] takes the mean of the worst (1 − α) of them). The tuned
 //! variants (`pnp`, `pnp-react`) also count 0.1 m of clearance as contact, score the path's way
 //! to the goal and not only its end, and let a candidate arrive; `pnp-react` scores each
-//! candidate against predictions that react to it ([`Prediction::Reactive`]).
+//! candidate against predictions that react to it ([`Prediction::Reactive`]). `pnp-omni`
+//! ([`PnpParams::omni`]) plans a holonomic base's velocities instead of a unicycle's
+//! (v, ω) segments ([`PnpParams::directions`]).
 
 use crate::map::{LocalMap, StaticMap};
 use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
