@@ -1,6 +1,7 @@
 use super::risk::{first_contact, loss};
 use super::*;
 use crate::map::Obstacle;
+use crate::math::unit;
 use crate::model::AgentKind;
 
 proptest::proptest! {
@@ -217,7 +218,7 @@ fn paths_keep_the_bases_limits() {
         v = Real::min(v + 2.0 * 0.05, 3.0);
         reach += v * 0.05;
     }
-    for path in pnp.paths.chunks(n + 1) {
+    for path in (0..pnp.candidates()).map(|c| pnp.candidates.path(c, n)) {
         let chords: Vec<Real> = path.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
         assert!(chords.iter().all(|&c| c <= 3.0 * dt + 1e-9));
         // The first 0.25 s: within 1 ± 0.5 m/s.
@@ -294,7 +295,7 @@ fn shared_first_segments_give_the_same_paths_as_rolling_each_candidate_out_alone
     pnp.plan(&e, &[], &StaticMap::empty(), vec2(50.0, 0.0), None);
     let p = pnp.params().clone();
     let (n, substeps, h) = (12, 5, 0.05);
-    for (c, primitive) in pnp.primitives.iter().enumerate() {
+    for (c, primitive) in pnp.candidates.primitives.iter().enumerate() {
         let (mut position, mut heading) = (e.position, e.heading);
         let (mut v, mut w) = (e.velocity.dot(&unit(e.heading)), e.yaw_rate);
         let mut path = vec![position];
@@ -308,11 +309,7 @@ fn shared_first_segments_give_the_same_paths_as_rolling_each_candidate_out_alone
             }
             path.push(position);
         }
-        assert_eq!(
-            &pnp.paths[c * (n + 1)..(c + 1) * (n + 1)],
-            &path[..],
-            "candidate {c}"
-        );
+        assert_eq!(pnp.candidates.path(c, n), &path[..], "candidate {c}");
     }
 }
 
@@ -370,16 +367,18 @@ fn reactive_predictions_answer_each_candidate() {
     // for the candidate driving straight at them at top speed they keep farther from the
     // robot than their track without it, and farther than from a robot that stops.
     let straight = pnp
+        .candidates
         .primitives
         .iter()
         .position(|c| c == &vec![(1.0, 0.0), (1.0, 0.0)])
         .expect("the straight candidate");
     let stop = pnp
+        .candidates
         .primitives
         .iter()
         .position(|c| c == &vec![(0.0, 0.0), (0.0, 0.0)])
         .expect("the stopping candidate");
-    let path_of = |c: usize| pnp.paths[c * (n + 1)..(c + 1) * (n + 1)].to_vec();
+    let path_of = |c: usize| pnp.candidates.path(c, n).to_vec();
     let mut reacting = Predicted::default();
     let mut sideways = |c: usize| {
         let path = path_of(c);
@@ -551,22 +550,18 @@ fn holonomic_paths_are_the_velocity_commands_executed_within_the_acceleration_li
     let toward = (goal - e.position).normalize();
     let (n, substeps, h) = (6, 5, 0.05);
     assert_eq!(pnp.candidates(), 121 * 31);
-    for (c, primitive) in pnp.primitives.iter().enumerate() {
+    for (c, primitive) in pnp.candidates.primitives.iter().enumerate() {
         let (mut position, mut v) = (e.position, e.velocity);
         let mut path = vec![position];
         for k in 0..n {
             let (fv, a) = primitive[k / (n / primitive.len())];
-            let target = rotate(toward, a) * (fv * p.v_max);
+            let target = candidates::rotate(toward, a) * (fv * p.v_max);
             for _ in 0..substeps {
                 v += clamp_norm(target - v, p.a_max * h);
                 position += v * h;
             }
             path.push(position);
         }
-        assert_eq!(
-            &pnp.paths[c * (n + 1)..(c + 1) * (n + 1)],
-            &path[..],
-            "candidate {c}"
-        );
+        assert_eq!(pnp.candidates.path(c, n), &path[..], "candidate {c}");
     }
 }
