@@ -40,7 +40,7 @@ use crate::visibility::Visibility;
 use candidates::Candidates;
 use hidden::{Hidden, halton, hidden_risk, sample_hidden};
 pub use params::{NO_PEEK_C3, PEEK_C3, PnpParams, Prediction, Severity};
-use predict::{Predicted, Scratch, body_risk, might_touch, social_force_rollout};
+use predict::{Predicted, Scratch, Shared, body_risk, might_touch, social_force_rollout};
 use react::Reaction;
 pub use risk::cvar;
 use risk::{Path, Scoring, bounds, near_any_segment};
@@ -99,8 +99,18 @@ pub struct Pnp {
     reacting: Predicted,
     hidden: Vec<Hidden>,
     scratch: Scratch,
-    /// (goal term, candidate), in scoring order.
-    order: Vec<(Real, usize)>,
+    /// Per candidate, its goal term in this plan.
+    goal_terms: Vec<Real>,
+    /// The candidates in scoring order, each as [`ordered`] of its goal term, then its index.
+    order: Vec<u128>,
+    /// Per prefix of siblings (candidates that differ only in their last segment): whether
+    /// its shared path meets a wall or shelf, once asked in this plan.
+    walled: Vec<Option<bool>>,
+    /// Per (run of siblings, perceived body): what their shared path meets of the body, and
+    /// the plan it was filled in (counted in `plans`).
+    shared: Vec<Shared>,
+    shared_plan: Vec<u64>,
+    plans: u64,
     /// Per candidate: whether the safety layer's judgement of its first segment is the best
     /// any candidate has (all true without a judge, or when it admits none).
     allowed: Vec<bool>,
@@ -112,7 +122,8 @@ pub struct Pnp {
     /// sets a low best total early and cuts most others short. Which candidate wins does not
     /// depend on the order they are scored in.
     warm: Option<usize>,
-    /// Score every candidate in full, without cutting any short (the tests' reference).
+    /// Score every candidate in full, without cutting any short or taking what siblings share
+    /// from the one scored before (the tests' reference).
     exhaustive: bool,
     /// The perceived bodies in the order they are asked about a candidate's risk, and each
     /// one's p_coll^i for the candidate being scored.
@@ -146,7 +157,12 @@ impl Pnp {
             reacting: Predicted::default(),
             hidden: Vec::new(),
             scratch: Scratch::default(),
+            goal_terms: Vec::new(),
             order: Vec::new(),
+            walled: Vec::new(),
+            shared: Vec::new(),
+            shared_plan: Vec::new(),
+            plans: 0,
             allowed: Vec::new(),
             first_segments: Vec::new(),
             local: LocalMap::default(),
@@ -277,7 +293,7 @@ impl Pnp {
         // Candidates are scored in order of their goal term, so that a good one is found
         // early and the rest are mostly cut short; ties in J go to the lower index, as they
         // would scoring them in index order.
-        self.order.clear();
+        self.goal_terms.clear();
         for c in 0..self.candidates.primitives.len() {
             let path = self.candidates.path(c, n);
             // A candidate that arrives (within the tolerance of the goal itself) is done there:
@@ -300,12 +316,21 @@ impl Pnp {
                 (path[n] - local_goal).norm_squared()
             };
             let goal_term = terminal + p.progress_weight * running;
-            self.order.push((goal_term, c));
+            self.goal_terms.push(goal_term);
         }
-        self.order
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        self.order.clear();
+        self.order.extend(
+            self.goal_terms
+                .iter()
+                .enumerate()
+                .map(|(c, &g)| u128::from(ordered(g)) << 64 | c as u128),
+        );
+        self.order.sort_unstable();
         if let Some(warm) = self.warm.filter(|&c| self.allowed.get(c) == Some(&true))
-            && let Some(at) = self.order.iter().position(|&(_, c)| c == warm)
+            && let Some(at) = self
+                .order
+                .iter()
+                .position(|&key| key as u64 as usize == warm)
         {
             self.order[..=at].rotate_right(1);
         }
@@ -327,7 +352,22 @@ impl Pnp {
                 Real::INFINITY
             }
         };
-        for &(goal_term, c) in &self.order {
+        let tail = if self.exhaustive {
+            0
+        } else {
+            self.candidates.shared_until(n)
+        };
+        self.walled.clear();
+        self.walled.resize(self.candidates.prefixes(), None);
+        self.plans += 1;
+        let entries = self.candidates.prefixes() * self.predicted.len();
+        if self.shared.len() < entries {
+            self.shared.resize_with(entries, Shared::default);
+            self.shared_plan.resize(entries, 0);
+        }
+        for &key in &self.order {
+            let c = key as u64 as usize;
+            let goal_term = self.goal_terms[c];
             if !self.allowed[c] {
                 continue;
             }
@@ -342,10 +382,16 @@ impl Pnp {
             }
             // Static obstacles are avoided deterministically (the paper's aim): p_coll⁰ = 1
             // rules a candidate out.
-            if path
-                .windows(2)
-                .any(|w| near_any_segment(w[0], w[1], self.local.segments(), ego.radius))
-            {
+            // Siblings share their path up to `tail`: its part of the check once for them all.
+            let walls = self.local.segments();
+            let hits = |points: &[Vec2]| {
+                points
+                    .windows(2)
+                    .any(|w| near_any_segment(w[0], w[1], walls, ego.radius))
+            };
+            let prefix = self.candidates.prefix_of(c);
+            let walled = *self.walled[prefix].get_or_insert_with(|| hits(&path[..=tail]));
+            if walled || hits(&path[tail..]) {
                 continue;
             }
             // Every term is ≥ 0: once the risk so far, with a margin far above rounding (as
@@ -359,8 +405,10 @@ impl Pnp {
             let reactive = p.prediction == Prediction::Reactive;
             self.risks.clear();
             self.risks.resize(self.predicted.len(), 0.0);
+            let prefix = self.candidates.prefix_of(c);
             for (at, &i) in self.body_order.iter().enumerate() {
                 let body = &self.predicted[i];
+                let mut shared = None;
                 let body = if reactive && self.reaction.reacts(i) {
                     // People the candidate does not come near without their reaction are
                     // left out: the robot's push is taken to move them away, not closer.
@@ -370,15 +418,25 @@ impl Pnp {
                     self.reaction.respond(i, path, body, &mut self.reacting);
                     &self.reacting
                 } else {
+                    // What the siblings' shared path meets of the body, once per plan.
+                    if tail > 0 && swept.box_meets(body.reach) {
+                        let e = prefix * self.predicted.len() + i;
+                        if self.shared_plan[e] != self.plans {
+                            let (points, offsets) = (&path[..=tail], &self.offsets);
+                            self.shared[e].fill(points, body, offsets, p.alpha, n, scoring);
+                            self.shared_plan[e] = self.plans;
+                        }
+                        shared = Some((&self.shared[e], tail));
+                    }
                     body
                 };
                 let Some(risk) = body_risk(
                     swept,
                     body,
                     &self.offsets,
-                    p.alpha,
-                    scoring,
+                    (p.alpha, scoring),
                     budget(goal_term, so_far, best.0),
+                    shared,
                     &mut self.scratch,
                 ) else {
                     beaten = Some(at);
@@ -504,6 +562,14 @@ impl Pnp {
             slot.reach = (lo - vec2(r, r), hi + vec2(r, r));
         }
     }
+}
+
+/// `x` as a key whose unsigned order is `Real::total_cmp`'s.
+fn ordered(x: Real) -> u64 {
+    let bits = x.to_bits() as i64;
+    // As `total_cmp` does: negative values' magnitude bits flipped, so that they order as
+    // signed integers; then the sign bit flipped, so that they order unsigned.
+    ((bits ^ ((((bits >> 63) as u64) >> 1) as i64)) as u64) ^ (1 << 63)
 }
 
 mod candidates;

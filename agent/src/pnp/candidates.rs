@@ -17,12 +17,17 @@ pub(super) struct Candidates {
     /// speed share one heading track.
     turn_sequences: Vec<Vec<Real>>,
     turns_of: Vec<usize>,
+    /// Per candidate, its prefix: which run of siblings (consecutive candidates that differ
+    /// only in their last segment) it belongs to.
+    prefix_of: Vec<usize>,
     /// Every candidate's path on the grid, n + 1 points each, from the last `roll_out`.
     paths: Vec<Vec2>,
     /// Per turn sequence, the unit heading after each integration substep.
     headings: Vec<Vec2>,
     /// (direction, its unit vector) for a holonomic base, in this plan.
     ways: Vec<(Real, Vec2)>,
+    /// Scratch for the holonomic roll-out's sibling tails.
+    lanes: Lanes,
     /// The way to the goal (unit), which holonomic candidates' directions are from.
     toward: Vec2,
 }
@@ -86,13 +91,26 @@ impl Candidates {
                     })
             })
             .collect();
+        let last = p.segments.max(1) - 1;
+        let mut prefix_of = Vec::with_capacity(primitives.len());
+        for (c, primitive) in primitives.iter().enumerate() {
+            let same = c > 0 && primitives[c - 1][..last] == primitive[..last];
+            let before = prefix_of.last().copied();
+            prefix_of.push(match before {
+                Some(g) if same => g,
+                Some(g) => g + 1,
+                None => 0,
+            });
+        }
         Self {
             primitives,
             turn_sequences,
             turns_of,
+            prefix_of,
             paths: Vec::new(),
             headings: Vec::new(),
             ways: Vec::new(),
+            lanes: Lanes::default(),
             toward: vec2(1.0, 0.0),
         }
     }
@@ -100,6 +118,23 @@ impl Candidates {
     /// Candidate `c`'s path in the last roll-out on an n-step grid.
     pub(super) fn path(&self, c: usize, n: usize) -> &[Vec2] {
         &self.paths[c * (n + 1)..(c + 1) * (n + 1)]
+    }
+
+    /// How many runs of siblings there are (see [`Candidates::prefix_of`]).
+    pub(super) fn prefixes(&self) -> usize {
+        self.prefix_of.last().map_or(0, |g| g + 1)
+    }
+
+    /// Candidate `c`'s run of siblings: candidates that differ only in their last segment,
+    /// whose paths are the same up to grid point [`Candidates::shared_until`].
+    pub(super) fn prefix_of(&self, c: usize) -> usize {
+        self.prefix_of[c]
+    }
+
+    /// The last grid point siblings' paths share on an n-step grid.
+    pub(super) fn shared_until(&self, n: usize) -> usize {
+        let segments = self.primitives.first().map_or(1, Vec::len);
+        ((segments - 1) * n.div_ceil(segments)).min(n)
     }
 
     /// Sets the way to `goal` from where the robot stands (its heading if there).
@@ -201,16 +236,27 @@ impl Candidates {
         };
         let mut boundary = vec![(ego.position, ego.velocity); segments + 1];
         let grid = (n, per_segment);
-        for (c, primitive) in self.primitives.iter().enumerate() {
+        let last = segments - 1;
+        // Grid points up to `tail` are the same for candidates that differ only in their
+        // last segment (siblings, consecutive in prefix-major order).
+        let tail = (last * per_segment).min(n);
+        let mut c = 0;
+        while c < self.primitives.len() {
+            let prefix = &self.primitives[c][..last];
+            let siblings = 1 + self.primitives[c + 1..]
+                .iter()
+                .take_while(|q| q[..last] == *prefix)
+                .count();
+            // The first sibling's path up to `tail`, stepped as the tail is below.
             let (shared, from) =
                 start_path(&mut self.paths, &self.primitives, c, grid, ego.position);
             let (mut position, mut v) = boundary[shared.min(segments)];
-            for k in from..n {
-                let segment = (k / per_segment).min(segments - 1);
+            for k in from.min(tail)..tail {
+                let segment = k / per_segment;
                 if k % per_segment == 0 {
                     boundary[segment] = (position, v);
                 }
-                let (fv, a) = primitive[segment];
+                let (fv, a) = self.primitives[c][segment];
                 let target = way(a) * (fv * p.v_max);
                 for _ in 0..substeps {
                     v += clamp_norm(target - v, p.a_max * h);
@@ -218,6 +264,87 @@ impl Candidates {
                 }
                 self.paths.push(position);
             }
+            if tail < n {
+                boundary[last] = (position, v);
+            }
+            // Every sibling starts as the first; their tails are stepped side by side, which
+            // keeps the processor busy while each one's square root and division are
+            // under way (each value as `clamp_norm` gives it, bit for bit).
+            let first = c * (n + 1);
+            self.paths.resize(first + n + 1, position);
+            for _ in 1..siblings {
+                self.paths.extend_from_within(first..first + n + 1);
+            }
+            let lanes = &mut self.lanes;
+            lanes.clear(siblings);
+            for (j, primitive) in self.primitives[c..c + siblings].iter().enumerate() {
+                let (fv, a) = primitive[last];
+                lanes.set(j, position, v, way(a) * (fv * p.v_max));
+            }
+            let m = p.a_max * h;
+            for k in tail..n {
+                for _ in 0..substeps {
+                    lanes.step(m, h);
+                }
+                for j in 0..siblings {
+                    self.paths[first + j * (n + 1) + k + 1] = vec2(lanes.px[j], lanes.py[j]);
+                }
+            }
+            c += siblings;
+        }
+    }
+}
+
+/// The siblings' states in [`Candidates::roll_out_holonomic`]'s side-by-side tails, one
+/// array per coordinate so that the processor steps several at once.
+#[derive(Debug, Clone, Default)]
+struct Lanes {
+    px: Vec<Real>,
+    py: Vec<Real>,
+    vx: Vec<Real>,
+    vy: Vec<Real>,
+    tx: Vec<Real>,
+    ty: Vec<Real>,
+}
+
+impl Lanes {
+    /// `count` lanes, all at 0.
+    fn clear(&mut self, count: usize) {
+        for a in [
+            &mut self.px,
+            &mut self.py,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.tx,
+            &mut self.ty,
+        ] {
+            a.clear();
+            a.resize(count, 0.0);
+        }
+    }
+
+    fn set(&mut self, j: usize, position: Vec2, v: Vec2, target: Vec2) {
+        (self.px[j], self.py[j]) = (position.x, position.y);
+        (self.vx[j], self.vy[j]) = (v.x, v.y);
+        (self.tx[j], self.ty[j]) = (target.x, target.y);
+    }
+
+    /// One substep of `h` s for every lane: `v += clamp_norm(target − v, m)`, then
+    /// `position += v·h`, each value bit for bit as those give it.
+    fn step(&mut self, m: Real, h: Real) {
+        let count = self.px.len();
+        let (px, py) = (&mut self.px[..count], &mut self.py[..count]);
+        let (vx, vy) = (&mut self.vx[..count], &mut self.vy[..count]);
+        let (tx, ty) = (&self.tx[..count], &self.ty[..count]);
+        for j in 0..count {
+            let (dx, dy) = (tx[j] - vx[j], ty[j] - vy[j]);
+            let n2 = dx * dx + dy * dy;
+            // × 1 leaves a value as it is.
+            let s = if n2 > m * m { m / n2.sqrt() } else { 1.0 };
+            vx[j] += dx * s;
+            vy[j] += dy * s;
+            px[j] += vx[j] * h;
+            py[j] += vy[j] * h;
         }
     }
 }

@@ -2,7 +2,8 @@
 //! p_coll^i a path runs with each (Eq. 5).
 
 use super::risk::{
-    Path, Scoring, cvar, first_contact_from, loss, step_gaps, tail_count, tail_mass, tail_mean,
+    Contact, Path, Scoring, cvar, first_contact_from, loss, step_gaps, step_gaps_from, tail_count,
+    tail_mass, tail_mean,
 };
 use crate::math::{Real, Vec2, vec2};
 use crate::model::{AgentKind, EgoState, Neighbour};
@@ -91,22 +92,103 @@ pub(super) fn might_touch(path: Path, body: &Predicted, gaps: &mut Vec<Real>) ->
     closest <= body.contact + body.spread
 }
 
+/// The first grid step (0-based, from k to k + 1) during which a sample offset by `r` (its
+/// offset's length) may be within contact: during step k it is at least
+/// `gaps[k] − r·growth[k]` from the path (the triangle inequality). The margin keeps steps
+/// whose bound only rounding could bring within contact.
+fn first_step_within(gaps: &[Real], body: &Predicted, r: Real) -> Option<usize> {
+    gaps.iter()
+        .zip(&body.growth)
+        .position(|(g, s)| g - r * s <= body.contact * (1.0 + 1e-9) + 1e-9)
+}
+
+/// What a run of siblings' shared path (grid points 0 to `tail`, see
+/// [`Candidates::shared_until`](super::candidates::Candidates::shared_until)) meets of one
+/// body: the gaps over its steps, each sample's first contact within them, and the CVaR of
+/// those contacts' losses (the rest taken as 0), a lower bound of every sibling's p_coll^i.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Shared {
+    gaps: Vec<Real>,
+    closest: Real,
+    contacts: Vec<Option<Contact>>,
+    bound: Real,
+    losses: Vec<Real>,
+}
+
+impl Shared {
+    /// Fills the entry for the shared path `prefix` of candidates on an n-step grid, their
+    /// p_coll^i a CVaR_α.
+    pub(super) fn fill(
+        &mut self,
+        prefix: &[Vec2],
+        body: &Predicted,
+        offsets: &[(Vec2, Real)],
+        alpha: Real,
+        n: usize,
+        scoring: Scoring,
+    ) {
+        let track = &body.track;
+        self.closest = step_gaps(prefix, |k| track.positions[k], &mut self.gaps);
+        self.contacts.clear();
+        self.losses.clear();
+        for &(o, r) in offsets {
+            let contact = first_step_within(&self.gaps, body, r).and_then(|from| {
+                first_contact_from(
+                    prefix,
+                    body.contact,
+                    |k| track.positions[k] + o * (track.sigma[k] - track.sigma[0]),
+                    from + 1,
+                )
+            });
+            self.contacts.push(contact);
+            self.losses.push(loss(contact, n, scoring));
+        }
+        let tail = tail_mass(alpha, offsets.len());
+        self.losses.sort_unstable_by(|a, b| b.total_cmp(a));
+        self.losses.truncate(tail_count(tail, offsets.len()));
+        self.bound = tail_mean(&self.losses, tail);
+    }
+}
+
 /// p_coll^i: CVaR_α of the collision loss over body i's prediction samples (each offset
 /// with its length), for one path. `None` as soon as the samples traced so far put it above
 /// `budget` (a candidate that cannot win then needs no more of them); a finite budget only
-/// cuts the work short, never changes a value returned.
+/// cuts the work short, never changes a value returned. With `shared`, what the path's first
+/// `tail` grid steps meet of the body, as [`Shared::fill`] left it for this path's siblings,
+/// is taken from there: the same values, with the work of one sibling.
 pub(super) fn body_risk(
     path: Path,
     body: &Predicted,
     offsets: &[(Vec2, Real)],
-    alpha: Real,
-    scoring: Scoring,
+    (alpha, scoring): (Real, Scoring),
     budget: Real,
+    shared: Option<(&Shared, usize)>,
     scratch: &mut Scratch,
 ) -> Option<Real> {
     let track = &body.track;
-    if !might_touch(path, body, &mut scratch.gaps) {
+    // No sample comes closer than the mean minus the largest offset: checked first by boxes,
+    // then along the tracks (as `might_touch`).
+    if !path.box_meets(body.reach) {
         return Some(0.0);
+    }
+    let mean = |k: usize| track.positions[k];
+    let closest = match shared {
+        Some((s, tail)) => {
+            scratch.gaps.clear();
+            scratch.gaps.extend_from_slice(&s.gaps);
+            s.closest
+                .min(step_gaps_from(path.points, tail, mean, &mut scratch.gaps))
+        }
+        None => step_gaps(path.points, mean, &mut scratch.gaps),
+    };
+    let may_touch = closest <= body.contact + body.spread;
+    if !may_touch {
+        return Some(0.0);
+    }
+    if let Some((s, _)) = shared
+        && s.bound > budget
+    {
+        return None;
     }
     let path = path.points;
     let n = path.len() - 1;
@@ -118,29 +200,23 @@ pub(super) fn body_risk(
     } = scratch;
     losses.clear();
     worst.clear();
-    for &(o, r) in offsets {
-        // During step k a sample is at least `gaps[k - 1] − |o|·growth[k - 1]` from the path
-        // (the triangle inequality): the scan starts at the first step where that is within
-        // contact, and a sample with none scores 0 untraced. The margin keeps steps whose
-        // bound only rounding could bring within contact.
-        let from = gaps
-            .iter()
-            .zip(&body.growth)
-            .position(|(g, s)| g - r * s <= body.contact * (1.0 + 1e-9) + 1e-9);
-        let Some(from) = from else {
+    for (j, &(o, r)) in offsets.iter().enumerate() {
+        // The scan starts at the first step where the sample may be within contact, and a
+        // sample with none scores 0 untraced.
+        let Some(from) = first_step_within(gaps, body, r) else {
             losses.push(0.0);
             continue;
         };
-        let l = loss(
-            first_contact_from(
-                path,
-                body.contact,
-                |k| track.positions[k] + o * (track.sigma[k] - track.sigma[0]),
-                from + 1,
-            ),
-            n,
-            scoring,
-        );
+        let sample = |k| track.positions[k] + o * (track.sigma[k] - track.sigma[0]);
+        let contact = match shared {
+            // The shared steps were scanned from the same step: their first contact, or the
+            // scan goes on after them.
+            Some((s, tail)) if from < tail => {
+                s.contacts[j].or_else(|| first_contact_from(path, body.contact, sample, tail + 1))
+            }
+            _ => first_contact_from(path, body.contact, sample, from + 1),
+        };
+        let l = loss(contact, n, scoring);
         losses.push(l);
         if l > 0.0 && budget.is_finite() {
             // The largest losses so far, largest first: the CVaR is at least their tail mean.

@@ -178,9 +178,21 @@ pub(super) fn step_gaps(
     gaps: &mut Vec<Real>,
 ) -> Real {
     gaps.clear();
+    step_gaps_from(path, 0, other, gaps)
+}
+
+/// [`step_gaps`] for the steps after grid point `start`, appended to `gaps` (each step's gap
+/// is its own two points' alone, so the bits are those of a scan from the start). Returns the
+/// smallest of them.
+pub(super) fn step_gaps_from(
+    path: &[Vec2],
+    start: usize,
+    other: impl Fn(usize) -> Vec2,
+    gaps: &mut Vec<Real>,
+) -> Real {
     let mut best = Real::INFINITY;
-    let mut d0 = other(0) - path[0];
-    for (k, &at) in path.iter().enumerate().skip(1) {
+    let mut d0 = other(start) - path[start];
+    for (k, &at) in path.iter().enumerate().skip(start + 1) {
         let d1 = other(k) - at;
         let e = d1 - d0;
         let len_sq = e.norm_squared();

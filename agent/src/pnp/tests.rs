@@ -5,6 +5,14 @@ use crate::math::unit;
 use crate::model::AgentKind;
 
 proptest::proptest! {
+    /// The goal terms' sort keys order as `total_cmp` does, signs, zeros, infinities and
+    /// NaNs included.
+    #[test]
+    fn sort_keys_order_as_total_cmp(a in proptest::num::f64::ANY, b in proptest::num::f64::ANY) {
+        proptest::prop_assert_eq!(ordered(a).cmp(&ordered(b)), a.total_cmp(&b));
+        proptest::prop_assert_eq!(ordered(a).cmp(&ordered(-a)), a.total_cmp(&-a));
+    }
+
     /// Ordering only the worst ⌈tail⌉ losses gives CVaR bit for bit as ordering them all.
     #[test]
     fn cvar_orders_only_the_tail_it_takes(
@@ -539,29 +547,44 @@ fn the_omni_variant_steps_aside_where_the_agile_one_stops() {
 
 #[test]
 fn holonomic_paths_are_the_velocity_commands_executed_within_the_acceleration_limit() {
-    let mut pnp = hallway_robot(PnpParams::omni(true));
-    let e = EgoState {
-        velocity: vec2(1.5, -0.4),
-        ..ego(vec2(1.0, -0.5), 0.3, 0.0)
+    // `pnp-omni`, and a three-segment set whose segments do not divide the grid evenly.
+    let three = PnpParams {
+        segments: 3,
+        first_speeds: Vec::new(),
+        speeds: vec![0.0, 0.5, 1.0],
+        directions: vec![0.0, 0.7, -2.0],
+        horizon: 1.75,
+        ..PnpParams::omni(true)
     };
-    let goal = vec2(20.0, 5.0);
-    pnp.plan(&e, &[], &StaticMap::empty(), goal, None);
-    let p = pnp.params().clone();
-    let toward = (goal - e.position).normalize();
-    let (n, substeps, h) = (6, 5, 0.05);
-    assert_eq!(pnp.candidates(), 121 * 31);
-    for (c, primitive) in pnp.candidates.primitives.iter().enumerate() {
-        let (mut position, mut v) = (e.position, e.velocity);
-        let mut path = vec![position];
-        for k in 0..n {
-            let (fv, a) = primitive[k / (n / primitive.len())];
-            let target = candidates::rotate(toward, a) * (fv * p.v_max);
-            for _ in 0..substeps {
-                v += clamp_norm(target - v, p.a_max * h);
-                position += v * h;
+    for (params, n, count) in [
+        (PnpParams::omni(true), 6_usize, 121 * 31),
+        (three, 7, 7 * 7 * 7),
+    ] {
+        let mut pnp = hallway_robot(params);
+        let e = EgoState {
+            velocity: vec2(1.5, -0.4),
+            ..ego(vec2(1.0, -0.5), 0.3, 0.0)
+        };
+        let goal = vec2(20.0, 5.0);
+        pnp.plan(&e, &[], &StaticMap::empty(), goal, None);
+        let p = pnp.params().clone();
+        let toward = (goal - e.position).normalize();
+        let (substeps, h) = (5, 0.05);
+        let per_segment = n.div_ceil(p.segments);
+        assert_eq!(pnp.candidates(), count);
+        for (c, primitive) in pnp.candidates.primitives.iter().enumerate() {
+            let (mut position, mut v) = (e.position, e.velocity);
+            let mut path = vec![position];
+            for k in 0..n {
+                let (fv, a) = primitive[(k / per_segment).min(p.segments - 1)];
+                let target = candidates::rotate(toward, a) * (fv * p.v_max);
+                for _ in 0..substeps {
+                    v += clamp_norm(target - v, p.a_max * h);
+                    position += v * h;
+                }
+                path.push(position);
             }
-            path.push(position);
+            assert_eq!(pnp.candidates.path(c, n), &path[..], "candidate {c}");
         }
-        assert_eq!(pnp.candidates.path(c, n), &path[..], "candidate {c}");
     }
 }
