@@ -294,11 +294,15 @@ impl Pnp {
         // early and the rest are mostly cut short; ties in J go to the lower index, as they
         // would scoring them in index order.
         self.goal_terms.clear();
+        let there = (ego.position - goal).norm() < self.params.goal_tolerance;
         for c in 0..self.candidates.primitives.len() {
             let path = self.candidates.path(c, n);
             // A candidate that arrives (within the tolerance of the goal itself) is done there:
-            // it scores what it cost to get there, nothing for overshooting afterwards.
-            let arrives = if p.arrival && local_goal == goal {
+            // it scores what it cost to get there, nothing for overshooting afterwards. Not
+            // once the robot stands within the tolerance and still has the goal: whoever set
+            // it wants the robot closer (a route's corner in a narrow aisle is reached nearer
+            // than a station), and counting every candidate as arrived would leave it standing.
+            let arrives = if p.arrival && local_goal == goal && !there {
                 path.iter()
                     .position(|q| (q - goal).norm() < p.goal_tolerance)
             } else {

@@ -3,7 +3,7 @@
 //! would execute it.
 
 use super::PnpParams;
-use crate::math::{Real, Vec2, clamp_norm, unit, vec2};
+use crate::math::{Real, Vec2, unit, vec2};
 use crate::model::{Command, EgoState};
 
 /// The candidates, fixed by the parameters, and their paths in the current plan.
@@ -26,8 +26,6 @@ pub(super) struct Candidates {
     headings: Vec<Vec2>,
     /// (direction, its unit vector) for a holonomic base, in this plan.
     ways: Vec<(Real, Vec2)>,
-    /// Scratch for the holonomic roll-out's sibling tails.
-    lanes: Lanes,
     /// The way to the goal (unit), which holonomic candidates' directions are from.
     toward: Vec2,
 }
@@ -110,7 +108,6 @@ impl Candidates {
             paths: Vec::new(),
             headings: Vec::new(),
             ways: Vec::new(),
-            lanes: Lanes::default(),
             toward: vec2(1.0, 0.0),
         }
     }
@@ -215,7 +212,8 @@ impl Candidates {
     }
 
     /// [`Pnp::roll_out`] for a holonomic base: the velocity approaches each segment's within
-    /// the acceleration limit, as the simulator's robots execute velocity commands.
+    /// the acceleration limit, as the simulator's robots execute velocity commands, in
+    /// closed form ([`Ramp`]).
     fn roll_out_holonomic(&mut self, p: &PnpParams, ego: &EgoState, n: usize, dt: Real) {
         let segments = self.primitives.first().map_or(1, Vec::len);
         let per_segment = n.div_ceil(segments);
@@ -234,118 +232,91 @@ impl Candidates {
                 .find(|w| w.0 == a)
                 .map_or_else(|| rotate(toward, a), |w| w.1)
         };
+        // Segment s holds grid steps `start(s)..end(s)`; the last one runs to the horizon.
+        let start = |s: usize| (s * per_segment).min(n);
+        let end = |s: usize| {
+            if s + 1 == segments { n } else { start(s + 1) }
+        };
         let mut boundary = vec![(ego.position, ego.velocity); segments + 1];
         let grid = (n, per_segment);
-        let last = segments - 1;
-        // Grid points up to `tail` are the same for candidates that differ only in their
-        // last segment (siblings, consecutive in prefix-major order).
-        let tail = (last * per_segment).min(n);
-        let mut c = 0;
-        while c < self.primitives.len() {
-            let prefix = &self.primitives[c][..last];
-            let siblings = 1 + self.primitives[c + 1..]
-                .iter()
-                .take_while(|q| q[..last] == *prefix)
-                .count();
-            // The first sibling's path up to `tail`, stepped as the tail is below.
-            let (shared, from) =
-                start_path(&mut self.paths, &self.primitives, c, grid, ego.position);
+        for (c, primitive) in self.primitives.iter().enumerate() {
+            let (shared, _) = start_path(&mut self.paths, &self.primitives, c, grid, ego.position);
             let (mut position, mut v) = boundary[shared.min(segments)];
-            for k in from.min(tail)..tail {
-                let segment = k / per_segment;
-                if k % per_segment == 0 {
-                    boundary[segment] = (position, v);
+            for (s, &(fv, a)) in primitive.iter().enumerate().skip(shared) {
+                let steps = end(s).saturating_sub(start(s));
+                if steps == 0 {
+                    continue;
                 }
-                let (fv, a) = self.primitives[c][segment];
-                let target = way(a) * (fv * p.v_max);
-                for _ in 0..substeps {
-                    v += clamp_norm(target - v, p.a_max * h);
-                    position += v * h;
+                boundary[s] = (position, v);
+                let ramp = Ramp::new(v, way(a) * (fv * p.v_max), p.a_max * h);
+                let from = position;
+                for k in 1..=steps {
+                    position = from + ramp.displacement(k * substeps) * h;
+                    self.paths.push(position);
                 }
-                self.paths.push(position);
+                v = ramp.velocity(steps * substeps);
             }
-            if tail < n {
-                boundary[last] = (position, v);
-            }
-            // Every sibling starts as the first; their tails are stepped side by side, which
-            // keeps the processor busy while each one's square root and division are
-            // under way (each value as `clamp_norm` gives it, bit for bit).
-            let first = c * (n + 1);
-            self.paths.resize(first + n + 1, position);
-            for _ in 1..siblings {
-                self.paths.extend_from_within(first..first + n + 1);
-            }
-            let lanes = &mut self.lanes;
-            lanes.clear(siblings);
-            for (j, primitive) in self.primitives[c..c + siblings].iter().enumerate() {
-                let (fv, a) = primitive[last];
-                lanes.set(j, position, v, way(a) * (fv * p.v_max));
-            }
-            let m = p.a_max * h;
-            for k in tail..n {
-                for _ in 0..substeps {
-                    lanes.step(m, h);
-                }
-                for j in 0..siblings {
-                    self.paths[first + j * (n + 1) + k + 1] = vec2(lanes.px[j], lanes.py[j]);
-                }
-            }
-            c += siblings;
         }
     }
 }
 
-/// The siblings' states in [`Candidates::roll_out_holonomic`]'s side-by-side tails, one
-/// array per coordinate so that the processor steps several at once.
-#[derive(Debug, Clone, Default)]
-struct Lanes {
-    px: Vec<Real>,
-    py: Vec<Real>,
-    vx: Vec<Real>,
-    vy: Vec<Real>,
-    tx: Vec<Real>,
-    ty: Vec<Real>,
+/// A velocity approaching `target` within the acceleration limit, integrated in substeps of
+/// h: each substep the velocity moves `m` (the limit times h) straight toward the target, or
+/// onto it once within `m`, and the position moves by the new velocity times h. Along a
+/// straight line the sums have a closed form; substep by substep the same values come out
+/// to rounding (the tests check 1e-9 m).
+#[derive(Debug, Clone, Copy)]
+struct Ramp {
+    v0: Vec2,
+    /// The way to the target (unit; 0 if there).
+    way: Vec2,
+    /// How far the velocity is from the target (m/s), and the step `m`.
+    gap: Real,
+    m: Real,
+    /// Substeps before the last one that reaches the target: ⌊gap / m⌋.
+    full: Real,
 }
 
-impl Lanes {
-    /// `count` lanes, all at 0.
-    fn clear(&mut self, count: usize) {
-        for a in [
-            &mut self.px,
-            &mut self.py,
-            &mut self.vx,
-            &mut self.vy,
-            &mut self.tx,
-            &mut self.ty,
-        ] {
-            a.clear();
-            a.resize(count, 0.0);
+impl Ramp {
+    fn new(v0: Vec2, target: Vec2, m: Real) -> Self {
+        let d = target - v0;
+        let gap = d.norm();
+        let way = if gap > 0.0 {
+            d * (1.0 / gap)
+        } else {
+            vec2(0.0, 0.0)
+        };
+        // ≥ 0: truncation is the floor (a cast, not a call).
+        let full = if m > 0.0 {
+            (gap / m) as u64 as Real
+        } else {
+            0.0
+        };
+        Self {
+            v0,
+            way,
+            gap,
+            m,
+            full,
         }
     }
 
-    fn set(&mut self, j: usize, position: Vec2, v: Vec2, target: Vec2) {
-        (self.px[j], self.py[j]) = (position.x, position.y);
-        (self.vx[j], self.vy[j]) = (v.x, v.y);
-        (self.tx[j], self.ty[j]) = (target.x, target.y);
+    /// The velocity after `i` substeps.
+    fn velocity(&self, i: usize) -> Vec2 {
+        self.v0 + self.way * (i as Real * self.m).min(self.gap)
     }
 
-    /// One substep of `h` s for every lane: `v += clamp_norm(target − v, m)`, then
-    /// `position += v·h`, each value bit for bit as those give it.
-    fn step(&mut self, m: Real, h: Real) {
-        let count = self.px.len();
-        let (px, py) = (&mut self.px[..count], &mut self.py[..count]);
-        let (vx, vy) = (&mut self.vx[..count], &mut self.vy[..count]);
-        let (tx, ty) = (&self.tx[..count], &self.ty[..count]);
-        for j in 0..count {
-            let (dx, dy) = (tx[j] - vx[j], ty[j] - vy[j]);
-            let n2 = dx * dx + dy * dy;
-            // × 1 leaves a value as it is.
-            let s = if n2 > m * m { m / n2.sqrt() } else { 1.0 };
-            vx[j] += dx * s;
-            vy[j] += dy * s;
-            px[j] += vx[j] * h;
-            py[j] += vy[j] * h;
-        }
+    /// The sum of the velocities after substeps 1 to `k` (times h, how far the body moved).
+    fn displacement(&self, k: usize) -> Vec2 {
+        let k = k as Real;
+        let gained = if self.m <= 0.0 {
+            0.0
+        } else if k <= self.full {
+            self.m * k * (k + 1.0) / 2.0
+        } else {
+            self.m * self.full * (self.full + 1.0) / 2.0 + (k - self.full) * self.gap
+        };
+        self.v0 * k + self.way * gained
     }
 }
 
