@@ -241,12 +241,12 @@ impl PnpParams {
     /// are holonomic and ORCA's velocities use that; `pnp-agile`'s unicycle candidates cannot
     /// step aside or back off without turning first, so when someone came at it the robot
     /// stopped and turned while they walked into it. In the default warehouse (tuning seeds
-    /// 1–4) ten directions give 4.80 tasks/min and 3.5 person-caused contacts per run against
+    /// 1–4) ten directions gave 4.90 tasks/min and 4.2 person-caused contacts per run against
     /// `pnp-agile`'s 4.30 and 39.0 (`pgp+orca`: 4.55 and 4.2); eight evenly spread, 4.65 and
-    /// 5.2. In the hallway (tuning seeds 1–6 / 7–12, 50 m, the layer on) the median time is
-    /// 58.1 / 59.8 s against `pnp-agile`'s 63.8 / 62.9 s; eight evenly spread gave 65.3 / 69.4 s
-    /// and finer steps near ahead (±5°, ±10°, ±20°, ±40°) 59.5 / 59.5 s (the alternatives
-    /// measured with the substep roll-out, results/pnp-warehouse/REPORT.md).
+    /// 5.2. In the hallway (tuning seeds 1–6 / 7–12, 50 m, the layer on) the median time was
+    /// 57.4 / 60.1 s against `pnp-agile`'s 63.8 / 62.9 s; eight evenly spread gave 65.3 / 69.4 s
+    /// and finer steps near ahead (±5°, ±10°, ±20°, ±40°) 59.5 / 59.5 s. The committed code
+    /// gives 5.05 tasks/min, 7.8 contacts and 58.1 / 59.8 s (results/pnp-warehouse/REPORT.md).
     pub fn omni(peek: bool) -> Self {
         Self {
             directions: [
