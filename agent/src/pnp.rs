@@ -416,7 +416,7 @@ impl Pnp {
                 let body = if reactive && self.reaction.reacts(i) {
                     // People the candidate does not come near without their reaction are
                     // left out: the robot's push is taken to move them away, not closer.
-                    if !might_touch(swept, body, &mut self.scratch.gaps) {
+                    if !might_touch(swept, body, None, &mut self.scratch.gaps) {
                         continue;
                     }
                     self.reaction.respond(i, path, body, &mut self.reacting);

@@ -83,12 +83,26 @@ pub(super) fn social_force_rollout(
 
 /// Whether any of body's samples may come within contact of `path`: no sample comes closer
 /// than the mean minus the largest offset, checked first by boxes, then along the tracks
-/// (whose gap per grid step is left in `gaps`).
-pub(super) fn might_touch(path: Path, body: &Predicted, gaps: &mut Vec<Real>) -> bool {
+/// (whose gap per grid step is left in `gaps`). With `shared`, the gaps over the path's first
+/// `tail` grid steps are taken from its siblings' [`Shared`] entry.
+pub(super) fn might_touch(
+    path: Path,
+    body: &Predicted,
+    shared: Option<(&Shared, usize)>,
+    gaps: &mut Vec<Real>,
+) -> bool {
     if !path.box_meets(body.reach) {
         return false;
     }
-    let closest = step_gaps(path.points, |k| body.track.positions[k], gaps);
+    let mean = |k: usize| body.track.positions[k];
+    let closest = match shared {
+        Some((s, tail)) => {
+            gaps.clear();
+            gaps.extend_from_slice(&s.gaps);
+            s.closest.min(step_gaps_from(path.points, tail, mean, gaps))
+        }
+        None => step_gaps(path.points, mean, gaps),
+    };
     closest <= body.contact + body.spread
 }
 
@@ -166,23 +180,7 @@ pub(super) fn body_risk(
     scratch: &mut Scratch,
 ) -> Option<Real> {
     let track = &body.track;
-    // No sample comes closer than the mean minus the largest offset: checked first by boxes,
-    // then along the tracks (as `might_touch`).
-    if !path.box_meets(body.reach) {
-        return Some(0.0);
-    }
-    let mean = |k: usize| track.positions[k];
-    let closest = match shared {
-        Some((s, tail)) => {
-            scratch.gaps.clear();
-            scratch.gaps.extend_from_slice(&s.gaps);
-            s.closest
-                .min(step_gaps_from(path.points, tail, mean, &mut scratch.gaps))
-        }
-        None => step_gaps(path.points, mean, &mut scratch.gaps),
-    };
-    let may_touch = closest <= body.contact + body.spread;
-    if !may_touch {
+    if !might_touch(path, body, shared, &mut scratch.gaps) {
         return Some(0.0);
     }
     if let Some((s, _)) = shared
