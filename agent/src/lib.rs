@@ -26,6 +26,7 @@ pub mod planner;
 pub mod pnp;
 pub mod prediction;
 pub mod risk;
+pub mod route;
 #[cfg(feature = "runtime")]
 pub mod runtime;
 pub mod safety;

@@ -18,6 +18,7 @@ use agent::map::{MapError, Obstacle, StaticMap};
 use agent::math::{Real, Vec2, angle_of, clamp_norm};
 use agent::model::{AgentKind, Command, EgoState, Neighbour};
 use agent::planner::PlanningInput;
+use agent::route::Router;
 use agent::safety::{LADDER, SafetyLayer, SafetyParams};
 use exposure::Exposure;
 use std::fmt;
@@ -84,6 +85,10 @@ pub struct PlaybackOptions {
     /// After the person's own end time, the robot gets this long, or as long as the person
     /// took, whichever is longer, to arrive (s).
     pub patience_s: Real,
+    /// In partial runs, when the straight line to the goal does not keep this far from the
+    /// scene's walls, the robot heads for the next corner of the shortest way round them
+    /// instead ([`agent::route::Router::steer`]) (m); 0 gives the planner the goal alone.
+    pub route_clearance_m: Real,
     /// The robot.
     pub robot: RobotSpec,
 }
@@ -99,6 +104,8 @@ impl Default for PlaybackOptions {
             sensor_range_m: 12.0,
             person_radius_m: 0.3,
             patience_s: 10.0,
+            // Room for the body and a body's width more round a wall's end.
+            route_clearance_m: 0.6,
             // The PGP study's robot (Table I: 1 m/s), holonomic or unicycle as commanded.
             robot: RobotSpec {
                 radius_m: 0.3,
@@ -329,8 +336,19 @@ pub fn human_outcome(
     )
 }
 
-fn goal_at(track: &Track, run: &PlaybackRun, t: Real) -> Vec2 {
+/// The goal the planner gets at `t` with the robot `at`: in partial runs the run's goal, or
+/// the way round a wall to it; in full runs the person one annotation step ahead (their
+/// track is the way round).
+fn goal_at(
+    track: &Track,
+    run: &PlaybackRun,
+    t: Real,
+    map: &StaticMap,
+    router: &Router,
+    at: Vec2,
+) -> Vec2 {
     match run.kind {
+        RunKind::Partial if router.clearance() > 0.0 => router.steer(map, at, run.goal),
         RunKind::Partial => run.goal,
         RunKind::Full => track
             .state_at((t + SAMPLE_DT).min(run.t_end))
@@ -455,6 +473,7 @@ pub fn play(
     let duration = run.t_end - run.t_start;
     let deadline = run.t_end + options.patience_s.max(duration);
     let every = simulation_steps(0.0, options.replan_period, options.dt).max(1);
+    let router = Router::new(options.route_clearance_m);
     let mut command = Command::STOP;
     let mut neighbours = Vec::new();
     let (mut path, mut replans, mut reached) = (0.0, 0, false);
@@ -471,7 +490,7 @@ pub fn play(
                 ego: &robot.state,
                 neighbours: &neighbours,
                 map,
-                goal: goal_at(track, run, t),
+                goal: goal_at(track, run, t, map, &router, at),
                 dt: options.replan_period,
                 visibility: None,
                 safety: None,
@@ -679,6 +698,74 @@ mod tests {
             (2, 0),
             "{outcome:?}"
         );
+    }
+
+    /// Regression: seq_eth's pedestrian 222 walked round the west end of the building's
+    /// front; the robot in their place, a little east of their line, slid along the wall's
+    /// far side until time ran out. Here a person walks 10 m round the end of a wall that
+    /// the straight line from start to goal crosses: a robot driving straight at the goal
+    /// it is given arrives, and never crosses the wall.
+    #[test]
+    fn a_goal_behind_a_wall_is_reached_round_the_wall_s_end() {
+        let corners = [
+            vec2(5.0, -2.0),
+            vec2(1.0, -2.0),
+            vec2(1.0, 2.0),
+            vec2(3.0, 2.0),
+        ];
+        let mut samples = Vec::new();
+        for leg in corners.windows(2) {
+            let (a, b) = (leg[0], leg[1]);
+            let along = (b - a).normalize();
+            for k in 0..((b - a).norm() / 0.4).round() as usize {
+                samples.push((a + along * (0.4 * k as Real), along));
+            }
+        }
+        samples.push((corners[3], vec2(1.0, 0.0)));
+        let walker = Track {
+            id: 1,
+            samples: samples
+                .iter()
+                .enumerate()
+                .map(|(k, &(position, velocity))| Sample {
+                    t: 0.4 * k as Real,
+                    position,
+                    velocity,
+                })
+                .collect(),
+        };
+        let rec = Recording {
+            walls: vec![(vec2(2.0, 0.0), vec2(20.0, 0.0))],
+            tracks: vec![walker, standing(2, vec2(-6.0, 6.0), 0.0, 12.0)],
+            ..toy()
+        };
+        let map = map_of(&rec).expect("a wall");
+        let options = PlaybackOptions::default();
+        let run = &runs(&rec, RunKind::Partial, &options)[0];
+        assert!(!map.line_of_sight(run.start, run.goal));
+        let mut at = Vec::new();
+        let outcome = play(&rec, &map, run, &options, &mut |input| {
+            at.push(input.ego.position);
+            Command::Velocity((input.goal - input.ego.position).normalize())
+        });
+        assert!(outcome.reached, "{outcome:?}");
+        assert!(
+            at.windows(2).all(|w| map.line_of_sight(w[0], w[1])),
+            "{at:?}"
+        );
+        // Without the way round, the same robot drives into the wall.
+        let straight = PlaybackOptions {
+            route_clearance_m: 0.0,
+            ..options.clone()
+        };
+        let mut crossed = false;
+        let mut last = run.start;
+        play(&rec, &map, run, &straight, &mut |input| {
+            crossed |= !map.line_of_sight(last, input.ego.position);
+            last = input.ego.position;
+            Command::Velocity((input.goal - input.ego.position).normalize())
+        });
+        assert!(crossed);
     }
 
     #[test]
