@@ -61,6 +61,18 @@ fn main() {
                 })
                 .collect();
             println!("    people within 3 m: {}", near.join(" "));
+            let robots_near: Vec<String> = fleet
+                .world
+                .robots
+                .iter()
+                .enumerate()
+                .filter(|&(j, o)| j != i && (o.state.position - r.state.position).norm() < 3.0)
+                .map(|(j, o)| {
+                    let (q, v) = (o.state.position, o.state.velocity);
+                    format!("R{j} ({:.1},{:.1} v {:.1},{:.1})", q.x, q.y, v.x, v.y)
+                })
+                .collect();
+            println!("    robots within 3 m: {}", robots_near.join(" "));
             println!(
                 "t {:5.1} robot {i} at ({:5.2},{:5.2}) v ({:5.2},{:5.2}) goal ({:5.2},{:5.2}) waypoint {:?} remaining {:.1} reroutes {}",
                 fleet.world.time,

@@ -596,6 +596,16 @@ impl Fleet {
         let Some(policy) = &mut self.policy else {
             return;
         };
+        if policy.watches_people() {
+            let crowd = &self.world.humans.crowd;
+            policy.set_people(
+                crowd
+                    .positions
+                    .iter()
+                    .copied()
+                    .zip(crowd.velocities.iter().copied()),
+            );
+        }
         for (buffer, job) in self.route_scratch.iter_mut().zip(&self.jobs) {
             buffer.clear();
             if let Some(job) = job {

@@ -168,6 +168,13 @@ pub struct PolicyParams {
     /// were measured without it. (Absent from snapshots and journals written before it: 0.)
     #[serde(default)]
     pub people_route_weight_m: Real,
+    /// People-aware aisle entry: a robot not yet inside the segment on its way waits at its
+    /// hold point while someone inside walks along the aisle toward it faster than this
+    /// (m/s). In an aisle too narrow for two robots a robot and a person meet where neither
+    /// can pass, and the robot's safety layer backs it out ahead of them. 0, the default,
+    /// turns it off. (Absent from snapshots and journals written before it: 0.)
+    #[serde(default)]
+    pub people_hold_speed_m_s: Real,
 }
 
 /// A person this close to a route's legs (m, centre to line) counts against it: a robot's and
@@ -195,13 +202,14 @@ impl Default for PolicyParams {
             queue_gap_m: 0.4,
             station_clear_m: 2.0,
             people_route_weight_m: 0.0,
+            people_hold_speed_m_s: 0.0,
         }
     }
 }
 
 impl PolicyParams {
     /// Every parameter by its name (the field's).
-    fn fields_mut(&mut self) -> [(&'static str, &mut Real); 18] {
+    fn fields_mut(&mut self) -> [(&'static str, &mut Real); 19] {
         [
             ("passing_margin_m", &mut self.passing_margin_m),
             ("request_distance_m", &mut self.request_distance_m),
@@ -224,6 +232,7 @@ impl PolicyParams {
             ("queue_gap_m", &mut self.queue_gap_m),
             ("station_clear_m", &mut self.station_clear_m),
             ("people_route_weight_m", &mut self.people_route_weight_m),
+            ("people_hold_speed_m_s", &mut self.people_hold_speed_m_s),
         ]
     }
 
@@ -458,6 +467,9 @@ pub struct TrafficPolicy {
     map: StaticMap,
     robot_radius: Real,
     totals: PolicyTotals,
+    /// The people's positions and velocities this step ([`TrafficPolicy::set_people`]).
+    #[serde(skip)]
+    people: Vec<(Vec2, Vec2)>,
 }
 
 /// What keep-right needs of the site: wide corridors' axes.
@@ -501,6 +513,7 @@ impl TrafficPolicy {
             map: site.map(),
             robot_radius,
             totals: PolicyTotals::default(),
+            people: Vec::new(),
         }
     }
 
@@ -590,6 +603,29 @@ impl TrafficPolicy {
         Some(if d < 0 { ends.0 } else { ends.1 })
     }
 
+    /// Whether the policy looks at people ([`PolicyParams::people_hold_speed_m_s`]).
+    pub fn watches_people(&self) -> bool {
+        self.params.people_hold_speed_m_s > 0.0
+    }
+
+    /// The people's positions and velocities for the next [`TrafficPolicy::step`].
+    pub fn set_people(&mut self, people: impl IntoIterator<Item = (Vec2, Vec2)>) {
+        self.people.clear();
+        self.people.extend(people);
+    }
+
+    /// Whether someone inside `segment` walks along it toward a robot entering it in
+    /// direction `dir` (people-aware aisle entry).
+    fn oncoming_person(&self, segment: usize, dir: i8) -> bool {
+        let limit = self.params.people_hold_speed_m_s;
+        let seg = &self.segments[segment];
+        limit > 0.0
+            && self
+                .people
+                .iter()
+                .any(|&(p, v)| seg.contains(p) && -v.x * Real::from(dir) > limit)
+    }
+
     /// One policy step at time `now`, after the monitor has seen the fleet's state.
     pub fn step(
         &mut self,
@@ -616,7 +652,8 @@ impl TrafficPolicy {
     fn constraint_for(&self, i: usize, r: &PolicyRobot<'_>, want: &Option<Want>) -> Constraint {
         if let Some(w) = want
             && !w.inside
-            && !self.reservations[w.segment].holders.contains(&i)
+            && (!self.reservations[w.segment].holders.contains(&i)
+                || self.oncoming_person(w.segment, w.dir))
         {
             let short = w.distance - self.params.hold_back_m;
             let (mut at, heading) = along(r.position, r.route, short.max(0.0));

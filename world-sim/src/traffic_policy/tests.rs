@@ -769,3 +769,41 @@ fn policy_parameters_change_by_name_and_bad_ones_are_named() {
         assert!(e.contains(named), "{bad}: {e}");
     }
 }
+
+/// People-aware aisle entry: a robot about to enter a segment waits at its hold point while
+/// someone inside walks along it toward the robot, even with the segment granted; someone
+/// walking its way, or standing, does not hold it; with the parameter at 0 nobody does.
+#[test]
+fn a_robot_waits_at_the_mouth_while_someone_walks_out_toward_it() {
+    let (site, radius) = narrow();
+    let params = PolicyParams {
+        people_hold_speed_m_s: 0.3,
+        ..PolicyParams::default()
+    };
+    let s = {
+        let policy = TrafficPolicy::new(&site, 1, radius, params);
+        policy.segments()[0]
+    };
+    let route = [vec2(s.x1 + 1.5, s.y)];
+    let robots = [PolicyRobot {
+        position: vec2(s.x0 - 1.0, s.y),
+        route: &route,
+        station: None,
+    }];
+    let middle = vec2(0.5 * (s.x0 + s.x1), s.y);
+    let held = |params: PolicyParams, person: (Vec2, Vec2)| {
+        let mut policy = TrafficPolicy::new(&site, 1, radius, params);
+        policy.set_people([person]);
+        step(&mut policy, 0.0, &robots);
+        step(&mut policy, 0.1, &robots);
+        matches!(policy.constraint(0), Constraint::Hold { .. })
+    };
+    // Walking west, toward the robot entering eastward.
+    assert!(held(params, (middle, vec2(-1.0, 0.0))));
+    // The same person walking east, standing, or outside the aisle.
+    assert!(!held(params, (middle, vec2(1.0, 0.0))));
+    assert!(!held(params, (middle, vec2(0.0, 0.0))));
+    assert!(!held(params, (middle + vec2(0.0, 5.0), vec2(-1.0, 0.0))));
+    // Off by default.
+    assert!(!held(PolicyParams::default(), (middle, vec2(-1.0, 0.0))));
+}
