@@ -3,9 +3,9 @@
 //!
 //! The local planners see walls only near the robot. A goal on the far side of a long wall
 //! (in a recorded scene, the far side of a building's corner) pulls a robot straight into it,
-//! and sliding along it leads nowhere. [`Router::waypoint`] gives such a robot the first
-//! corner of the way round instead, and the goal itself whenever the straight line to it is
-//! clear. Sites with routes of their own (the warehouse's aisles) do not need it.
+//! and sliding along it leads nowhere. [`Router::steer`] gives the planner a goal toward the
+//! next corner of the way round instead, and the goal itself whenever the straight line to it
+//! is clear. Sites with routes of their own (the warehouse's aisles) do not need it.
 //!
 //! Cost: building a router is O(n²) in the map's corners (8 nodes each), so it is meant for
 //! the few dozen edges of a recorded scene, not a warehouse of shelves.
@@ -40,43 +40,12 @@ impl Router {
             graph: std::cell::OnceCell::new(),
         }
     }
-}
 
-impl Router {
     /// The clearance it keeps (m).
     pub fn clearance(&self) -> Real {
         self.clearance
     }
-}
 
-impl Graph {
-    fn new(map: &StaticMap, clearance: Real) -> Self {
-        // A ring of RING nodes whose edges stay outside the clearance circle.
-        let reach = clearance / (std::f64::consts::PI / RING as Real).cos() * 1.01;
-        let mut nodes = Vec::new();
-        for v in map.vertices().iter().filter(|v| v.convex) {
-            for k in 0..RING {
-                let angle = k as Real * std::f64::consts::TAU / RING as Real;
-                let node = v.point + vec2(angle.cos(), angle.sin()) * reach;
-                if !map.is_inside(&node) && map.distance(&node) >= clearance {
-                    nodes.push(node);
-                }
-            }
-        }
-        let n = nodes.len();
-        let mut visible = vec![false; n * n];
-        for i in 0..n {
-            for j in i + 1..n {
-                let clear = keeps_clear(map, nodes[i], nodes[j], clearance * 0.99);
-                visible[i * n + j] = clear;
-                visible[j * n + i] = clear;
-            }
-        }
-        Self { nodes, visible }
-    }
-}
-
-impl Router {
     /// The way from `from` to `to`: the corners to pass, then `to`; just `to` when the
     /// straight line keeps clear of the map, or when there is no way round (the planner then
     /// does what it can).
@@ -108,7 +77,7 @@ impl Router {
         let way = self.route(map, from, to);
         let skip = way[..way.len() - 1]
             .iter()
-            .take_while(|&&c| (c - from).norm() < 0.5 * self.clearance)
+            .take_while(|&&c| (c - from).norm() < (0.5 * self.clearance).max(1e-6))
             .count();
         let way = &way[skip..];
         if way.len() == 1 {
@@ -186,6 +155,33 @@ impl Router {
         }
         path.reverse();
         Some(path)
+    }
+}
+
+impl Graph {
+    fn new(map: &StaticMap, clearance: Real) -> Self {
+        // A ring of RING nodes whose edges stay outside the clearance circle.
+        let reach = clearance / (std::f64::consts::PI / RING as Real).cos() * 1.01;
+        let mut nodes = Vec::new();
+        for v in map.vertices().iter().filter(|v| v.convex) {
+            for k in 0..RING {
+                let angle = k as Real * std::f64::consts::TAU / RING as Real;
+                let node = v.point + vec2(angle.cos(), angle.sin()) * reach;
+                if !map.is_inside(&node) && map.distance(&node) >= clearance {
+                    nodes.push(node);
+                }
+            }
+        }
+        let n = nodes.len();
+        let mut visible = vec![false; n * n];
+        for i in 0..n {
+            for j in i + 1..n {
+                let clear = keeps_clear(map, nodes[i], nodes[j], clearance * 0.99);
+                visible[i * n + j] = clear;
+                visible[j * n + i] = clear;
+            }
+        }
+        Self { nodes, visible }
     }
 }
 
