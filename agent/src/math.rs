@@ -103,6 +103,25 @@ pub fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
         .fold((first, first), |(min, max), p| (min.inf(p), max.sup(p)))
 }
 
+/// The distance between segments `a`–`b` and `c`–`d` (0 if they cross).
+pub fn segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Real {
+    let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
+    let (r, s) = (b - a, d - c);
+    let denom = cross(r, s);
+    if denom != 0.0 {
+        let t = cross(c - a, s) / denom;
+        let u = cross(c - a, r) / denom;
+        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+            return 0.0;
+        }
+    }
+    let to = |a: Vec2, b: Vec2, p: Vec2| (closest_on_segment(a, b, p) - p).norm();
+    to(c, d, a)
+        .min(to(c, d, b))
+        .min(to(a, b, c))
+        .min(to(a, b, d))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

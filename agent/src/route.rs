@@ -11,7 +11,7 @@
 //! the few dozen edges of a recorded scene, not a warehouse of shelves.
 
 use crate::map::StaticMap;
-use crate::math::{Real, Vec2, dist_sq_point_segment, vec2};
+use crate::math::{Real, Vec2, segment_distance, vec2};
 
 /// Nodes per corner, evenly round it.
 const RING: usize = 8;
@@ -62,11 +62,6 @@ impl Router {
         };
         way.push(to);
         way
-    }
-
-    /// The first point of [`Router::route`].
-    pub fn waypoint(&self, map: &StaticMap, from: Vec2, to: Vec2) -> Vec2 {
-        self.route(map, from, to)[0]
     }
 
     /// The goal to give a local planner at `from` on the way to `to`: `to` when in clear
@@ -193,14 +188,9 @@ fn keeps_clear(map: &StaticMap, a: Vec2, b: Vec2, clearance: Real) -> bool {
     }
     let mut near = Vec::new();
     map.edges_near_box(a.inf(&b), a.sup(&b), clearance, &mut near);
-    let limit = clearance * clearance;
     near.iter().all(|&e| {
         let (p, q) = map.edge(e as usize);
-        // Segments that do not cross are nearest at an end point of one of them.
-        dist_sq_point_segment(&a, &b, &p) >= limit
-            && dist_sq_point_segment(&a, &b, &q) >= limit
-            && dist_sq_point_segment(&p, &q, &a) >= limit
-            && dist_sq_point_segment(&p, &q, &b) >= limit
+        segment_distance(a, b, p, q) >= clearance
     })
 }
 
@@ -219,11 +209,11 @@ mod tests {
     }
 
     #[test]
-    fn a_goal_in_clear_sight_is_its_own_waypoint() {
+    fn a_goal_in_clear_sight_is_the_whole_way() {
         let map = front();
         let router = Router::new(0.6);
         let goal = vec2(8.0, 3.0);
-        assert_eq!(router.waypoint(&map, vec2(1.0, 2.0), goal), goal);
+        assert_eq!(router.route(&map, vec2(1.0, 2.0), goal), [goal]);
     }
 
     /// The replay's pedestrian 222 (seq_eth, from t = 581 s): the straight line from start to
@@ -235,7 +225,7 @@ mod tests {
         let router = Router::new(0.6);
         let goal = vec2(4.66, 2.87);
         for from in [vec2(-3.51, -2.43), vec2(1.0, -1.3), vec2(4.7, -1.05)] {
-            let w = router.waypoint(&map, from, goal);
+            let w = router.route(&map, from, goal)[0];
             assert!(w != goal, "from {from:?}");
             assert!(
                 w.x < -0.793 + 0.7,
@@ -245,10 +235,10 @@ mod tests {
         }
     }
 
-    /// Following the waypoints reaches the goal: every leg is in sight and keeps the
+    /// Following the way's corners reaches the goal: every leg is in sight and keeps the
     /// clearance the leg's ends allow, and the walk ends at the goal.
     #[test]
-    fn following_the_waypoints_arrives() {
+    fn following_the_corners_arrives() {
         let map = StaticMap::new(vec![
             Obstacle::Wall(vec2(-0.793, -0.595), vec2(14.167, -0.727)),
             Obstacle::Polygon(vec![
@@ -263,7 +253,7 @@ mod tests {
         let goal = vec2(-3.0, 8.0);
         let mut at = vec2(6.0, -3.0);
         for _ in 0..10 {
-            let w = router.waypoint(&map, at, goal);
+            let w = router.route(&map, at, goal)[0];
             assert!(map.line_of_sight(at, w));
             at = w;
             if at == goal {
@@ -302,7 +292,7 @@ mod tests {
         .expect("a valid map");
         let router = Router::new(0.6);
         let goal = vec2(2.0, 2.0);
-        assert_eq!(router.waypoint(&map, vec2(-3.0, 2.0), goal), goal);
+        assert_eq!(router.route(&map, vec2(-3.0, 2.0), goal), [goal]);
     }
 
     #[test]
@@ -310,8 +300,8 @@ mod tests {
         let map = StaticMap::empty();
         let router = Router::new(0.6);
         assert_eq!(
-            router.waypoint(&map, vec2(0.0, 0.0), vec2(5.0, 5.0)),
-            vec2(5.0, 5.0)
+            router.route(&map, vec2(0.0, 0.0), vec2(5.0, 5.0)),
+            [vec2(5.0, 5.0)]
         );
     }
 }

@@ -3,8 +3,7 @@
 //! the loss of such a contact, and CVaR over equally likely losses.
 
 use super::Severity;
-use crate::math::{Real, Vec2, vec2};
-use crate::visibility::distance_to_segment;
+use crate::math::{Real, Vec2, segment_distance, vec2};
 
 /// Whether the chord `a`–`b` passes within `radius` of any of `segments`.
 pub(super) fn near_any_segment(a: Vec2, b: Vec2, segments: &[(Vec2, Vec2)], radius: Real) -> bool {
@@ -20,24 +19,6 @@ pub(super) fn near_any_segment(a: Vec2, b: Vec2, segments: &[(Vec2, Vec2)], radi
             || lo.y - chi.y > reach;
         !apart && segment_distance(a, b, c, d) < radius
     })
-}
-
-/// The distance between segments `a`–`b` and `c`–`d` (0 if they cross).
-fn segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Real {
-    let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
-    let (r, s) = (b - a, d - c);
-    let denom = cross(r, s);
-    if denom != 0.0 {
-        let t = cross(c - a, s) / denom;
-        let u = cross(c - a, r) / denom;
-        if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
-            return 0.0;
-        }
-    }
-    distance_to_segment(c, d, a)
-        .min(distance_to_segment(c, d, b))
-        .min(distance_to_segment(a, b, c))
-        .min(distance_to_segment(a, b, d))
 }
 
 /// A candidate's path on the time grid, with the smallest box holding it.
