@@ -91,6 +91,11 @@ pub struct AsfmParams {
     pub wall_reach: Real,
     /// J_t's time-to-go at the horizon's end (Eq. 16's first term).
     pub time_to_go: TimeToGo,
+    /// Before each optimisation, also weigh the constant desired velocities of
+    /// [`optimise::RESTART_TURNS`] × [`optimise::RESTART_SPEEDS`] and standing still against
+    /// the warm start, and start from the one with the lowest J. Ours; off in the paper, which
+    /// warm-starts only.
+    pub restarts: bool,
 }
 
 impl Default for AsfmParams {
@@ -123,6 +128,7 @@ impl Default for AsfmParams {
             rollout_bodies: 10,
             wall_reach: 6.0,
             time_to_go: TimeToGo::Paper,
+            restarts: false,
         }
     }
 }
@@ -175,7 +181,21 @@ impl AsfmParams {
     /// - `wall_reach` = 3·B as in the paper;
     /// - J_t's time-to-go [`TimeToGo::AtTopSpeed`]: Eq. 16's also falls when the robot
     ///   drives away from its goal fast (V < −ε), with a pole at V = −ε; with one obstacle
-    ///   the optimum never goes there, among many people it can.
+    ///   the optimum never goes there, among many people it can;
+    /// - `process_noise` [`ASFM_Q_PROCESS_NOISE`] (as `asfm-q`): with Eq. 9 as written the
+    ///   gain falls as 1/(n + 1), so after a few seconds a track follows the filter's model
+    ///   rather than what is seen. A person whose Â_o came out negative is drawn toward the
+    ///   robot by that model, and the track ends up on the robot while the person walks
+    ///   away: a ghost in every rollout, whose P_d (10⁶–10⁷) the optimiser flees for the rest
+    ///   of the run (open space, 0.2 people/m², seed 3: the robot drifts away from its goal
+    ///   with nobody within 3 m);
+    /// - `restarts`: the warm start is a local optimum's neighbourhood, and after a crowd has
+    ///   pushed the robot about it can be the wrong one (driving away from the goal). Weighing
+    ///   a fan of straight starts against it is the fallback when the way it was taking has
+    ///   closed.
+    ///
+    /// The last two were chosen on open-space seeds 1–100 at 0.1–0.6 people/m²
+    /// (results/open-space/REPORT.md).
     pub fn crowd() -> Self {
         let range = 0.5;
         Self {
@@ -183,6 +203,8 @@ impl AsfmParams {
             d_min: 0.3,
             wall_reach: 3.0 * range,
             time_to_go: TimeToGo::AtTopSpeed,
+            process_noise: ASFM_Q_PROCESS_NOISE,
+            restarts: true,
             ..Self::default()
         }
     }

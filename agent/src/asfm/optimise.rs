@@ -16,6 +16,7 @@ use argmin::core::{CostFunction, Error, Executor, Gradient, State};
 use argmin::solver::linesearch::MoreThuenteLineSearch;
 use argmin::solver::quasinewton::LBFGS;
 use std::cell::RefCell;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, PI};
 
 /// A tracked body in the rollout.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -463,17 +464,71 @@ pub struct Solution {
     pub iterations: u64,
 }
 
-/// Minimises J over the desired velocities, from `start` (H of them).
-pub fn optimise(scene: &Scene, start: &[Vec2], p: &AsfmParams) -> Solution {
-    let objective = Objective::new(scene, p);
-    let init: Vec<Real> = start
-        .iter()
+/// The restarts' directions, turned from the way to the goal (rad): straight on, ±30°, ±60°,
+/// ±90°, ±135° and back.
+pub const RESTART_TURNS: [Real; 10] = [
+    0.0,
+    FRAC_PI_6,
+    -FRAC_PI_6,
+    FRAC_PI_3,
+    -FRAC_PI_3,
+    FRAC_PI_2,
+    -FRAC_PI_2,
+    3.0 * FRAC_PI_4,
+    -3.0 * FRAC_PI_4,
+    PI,
+];
+/// The restarts' speeds, fractions of v^max (0.9 as the first warm start's).
+pub const RESTART_SPEEDS: [Real; 2] = [0.9, 0.45];
+
+/// The free parameters of `sequence` (H desired velocities).
+fn unsquashed(sequence: impl Iterator<Item = Vec2>, v_max: Real) -> Vec<Real> {
+    sequence
         .flat_map(|v| {
-            let u = unsquash(*v, p.v_max);
+            let u = unsquash(v, v_max);
             [u.x, u.y]
         })
-        .collect();
-    let f_init = objective.cost(&init).unwrap_or(Real::INFINITY);
+        .collect()
+}
+
+/// Where the optimisation starts, and its J: `start`, or with [`AsfmParams::restarts`] the
+/// lowest-J of `start`, the constant sequences of [`RESTART_TURNS`] × [`RESTART_SPEEDS`] and
+/// standing still (ties keep the earlier, `start` first).
+fn initial(
+    objective: &Objective<'_>,
+    scene: &Scene,
+    start: &[Vec2],
+    p: &AsfmParams,
+) -> (Vec<Real>, Real) {
+    let mut best = unsquashed(start.iter().copied(), p.v_max);
+    let mut f_best = objective.cost(&best).unwrap_or(Real::INFINITY);
+    if !p.restarts {
+        return (best, f_best);
+    }
+    let to = scene.goal - scene.robot.0;
+    let heading = to.y.atan2(to.x);
+    let fan = RESTART_TURNS.iter().flat_map(|&turn| {
+        let (sin, cos) = (heading + turn).sin_cos();
+        RESTART_SPEEDS
+            .iter()
+            .map(move |&s| vec2(cos, sin) * (s * p.v_max))
+    });
+    for v in fan.chain(std::iter::once(vec2(0.0, 0.0))) {
+        let candidate = unsquashed(std::iter::repeat_n(v, start.len()), p.v_max);
+        let f = objective.cost(&candidate).unwrap_or(Real::INFINITY);
+        if f < f_best {
+            best = candidate;
+            f_best = f;
+        }
+    }
+    (best, f_best)
+}
+
+/// Minimises J over the desired velocities, from `start` (H of them), or from a restart
+/// with a lower J ([`AsfmParams::restarts`]).
+pub fn optimise(scene: &Scene, start: &[Vec2], p: &AsfmParams) -> Solution {
+    let objective = Objective::new(scene, p);
+    let (init, f_init) = initial(&objective, scene, start, p);
     let linesearch = MoreThuenteLineSearch::new();
     let solver = LBFGS::new(linesearch, p.lbfgs_memory);
     let result = Executor::new(&objective, solver)

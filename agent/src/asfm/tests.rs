@@ -332,3 +332,82 @@ fn the_crowd_time_to_go_falls_only_as_the_robot_nears_its_goal() {
     assert!(time(&crowd, 0.1) < time(&crowd, -0.1));
     assert!(time(&crowd, -0.1) < time(&crowd, -0.9));
 }
+
+#[test]
+fn the_crowd_filter_keeps_a_person_drawn_toward_the_robot_where_they_are_seen() {
+    // A person standing 1 m from a robot that stands too, seen exactly every 0.1 s for 30 s,
+    // the filter's model drawing them toward the robot (Â_o = −7). With Eq. 9 as written the
+    // gain falls as 1/(n + 1) and the track follows the model onto the robot: a ghost the
+    // optimiser would flee. `asfm-crowd`'s process noise keeps the gain up and the track on
+    // the person.
+    let seen = vec2(1.0, 0.0);
+    let robot = ego(vec2(0.0, 0.0), vec2(0.0, 0.0));
+    let map = StaticMap::empty();
+    let track_after = |params: AsfmParams| {
+        let dt = params.dt;
+        let mut planner = Asfm::with_estimation(params, Estimation::Fixed(-7.0));
+        for _ in 0..300 {
+            planner.step(
+                &robot,
+                &[person(3, seen, vec2(0.0, 0.0))],
+                &map,
+                vec2(5.0, 5.0),
+                dt,
+            );
+        }
+        planner.filtered(3).expect("tracked").0
+    };
+    let crowd = track_after(AsfmParams::crowd());
+    assert!(
+        (crowd - seen).norm() < 0.05,
+        "asfm-crowd's track at {crowd:?}"
+    );
+    let without_noise = track_after(AsfmParams {
+        process_noise: 0.0,
+        ..AsfmParams::crowd()
+    });
+    assert!(
+        (without_noise - seen).norm() > 0.2,
+        "without process noise the track stays at {without_noise:?}"
+    );
+}
+
+#[test]
+fn restarts_take_the_robot_round_a_person_its_warm_start_runs_into() {
+    // A person standing 1 m straight ahead who does not avoid the robot (Â_o = 0), the goal
+    // beyond them, and a warm start straight at them at 0.95·v^max (the way that was open a
+    // moment ago). From there the optimiser slows down behind the person; restarts start it
+    // from a way round, whose J is lower, and it ends lower.
+    let mut scene = gradient_scene();
+    scene.walls.clear();
+    scene.robot = (vec2(0.0, 0.0), vec2(1.0, 0.0), 0.3);
+    scene.goal = vec2(6.0, 0.0);
+    scene.bodies = vec![Body {
+        position: vec2(1.6, 0.0),
+        velocity: vec2(0.0, 0.0),
+        radius: 0.3,
+        strength: 0.0,
+        goal: None,
+        intended: vec2(0.0, 0.0),
+    }];
+    let crowd = AsfmParams::crowd();
+    let ahead = vec![vec2(0.95 * crowd.v_max, 0.0); crowd.horizon];
+    let with = optimise::optimise(&scene, &ahead, &crowd);
+    let without = optimise::optimise(
+        &scene,
+        &ahead,
+        &AsfmParams {
+            restarts: false,
+            ..crowd.clone()
+        },
+    );
+    // Without: still straight on at top speed (the squash's gradient vanishes there).
+    assert!(without.desired[0].y.abs() < 0.1, "{:?}", without.desired[0]);
+    assert!(with.desired[0].y.abs() > 0.5, "{:?}", with.desired[0]);
+    assert!(
+        with.terms.total() < 0.7 * without.terms.total(),
+        "{:?} against {:?}",
+        with.terms,
+        without.terms
+    );
+}
