@@ -89,6 +89,9 @@ pub struct AsfmParams {
     pub rollout_bodies: usize,
     /// Walls farther than this do not push the robot (m). Ours; 3·B: e⁻³ of the push at 0.
     pub wall_reach: Real,
+    /// A of Eq. 3 for walls and shelves. The paper: "for static obstacles, we only employ
+    /// (3)", whose A is the robot's own: A_r.
+    pub wall_strength: Real,
     /// J_t's time-to-go at the horizon's end (Eq. 16's first term).
     pub time_to_go: TimeToGo,
     /// Before each optimisation, also weigh the constant desired velocities of
@@ -127,6 +130,7 @@ impl Default for AsfmParams {
             forget_after: 1.0,
             rollout_bodies: 10,
             wall_reach: 6.0,
+            wall_strength: 20.0,
             time_to_go: TimeToGo::Paper,
             restarts: false,
         }
@@ -189,12 +193,18 @@ impl AsfmParams {
     ///   away: a ghost in every rollout, whose P_d (10⁶–10⁷) the optimiser flees for the rest
     ///   of the run (open space, 0.2 people/m², seed 3: the robot drifts away from its goal
     ///   with nobody within 3 m);
+    /// - `wall_strength` A_w = 2.0: with A_r = 20 and B = 0.5 m a shelf pushes harder
+    ///   than the attraction can pull (v^max/τ = 10 m/s² at 1 m/s) within 0.35 m of it, so in
+    ///   a 2.5 m aisle the robot cannot pass a person who walks its middle at d_min, and
+    ///   retreats ahead of them (results/pnp-warehouse/REPORT.md). Chosen in the default
+    ///   warehouse among 1, 2 and 3 (seeds 1–20: the same work within 2 %, the fewest
+    ///   person-caused contacts at 2) and 5, 10 and 20 (seeds 1–10: less work);
     /// - `restarts`: the warm start is a local optimum's neighbourhood, and after a crowd has
     ///   pushed the robot about it can be the wrong one (driving away from the goal). Weighing
     ///   a fan of straight starts against it is the fallback when the way it was taking has
     ///   closed.
     ///
-    /// The last two were chosen on open-space seeds 1–100 at 0.1–0.6 people/m²
+    /// Process noise and restarts were chosen on open-space seeds 1–100 at 0.1–0.6 people/m²
     /// (results/open-space/REPORT.md).
     pub fn crowd() -> Self {
         let range = 0.5;
@@ -202,6 +212,7 @@ impl AsfmParams {
             range,
             d_min: 0.3,
             wall_reach: 3.0 * range,
+            wall_strength: 2.0,
             time_to_go: TimeToGo::AtTopSpeed,
             process_noise: ASFM_Q_PROCESS_NOISE,
             restarts: true,

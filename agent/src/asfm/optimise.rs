@@ -49,13 +49,13 @@ pub struct Scene {
 }
 
 /// The robot's repulsion from walls: Eq. 3 from the nearest point of each segment, with the
-/// robot's strength A_r and range B ("for static obstacles, we only employ (3)").
+/// walls' strength (A_r in the paper: "for static obstacles, we only employ (3)") and range B.
 pub fn wall_push(position: Vec2, radius: Real, walls: &[(Vec2, Vec2)], p: &AsfmParams) -> Vec2 {
     let mut f = vec2(0.0, 0.0);
     for &(a, b) in walls {
         let d = position - closest_on_segment(a, b, position);
         if d.norm() < p.wall_reach {
-            f += repulsion(d, radius, p.robot_strength, p.range);
+            f += repulsion(d, radius, p.wall_strength, p.range);
         }
     }
     f
@@ -75,10 +75,10 @@ fn wall_push_and_jacobian(
         let d = position - closest_on_segment(a, b, position);
         let norm = d.norm();
         if norm < p.wall_reach {
-            f += repulsion(d, radius, p.robot_strength, p.range);
+            f += repulsion(d, radius, p.wall_strength, p.range);
             if norm > 0.0 {
                 let decay = exp(-(norm - radius) / p.range);
-                let mut jac = unit_repulsion_jacobian(d, decay, p.range) * p.robot_strength;
+                let mut jac = unit_repulsion_jacobian(d, decay, p.range) * p.wall_strength;
                 let e = b - a;
                 let len_sq = e.norm_squared();
                 let along = if len_sq > 0.0 {

@@ -233,7 +233,8 @@ fn gradient_scene() -> Scene {
 
 #[test]
 fn the_adjoint_gradient_is_that_of_central_differences() {
-    // The paper's parameters and `asfm-crowd`'s (another range, d_min and time-to-go).
+    // The paper's parameters and `asfm-crowd`'s (another range, d_min, time-to-go and wall
+    // strength).
     for p in [AsfmParams::default(), AsfmParams::crowd()] {
         adjoint_matches_central_differences(&p);
     }
@@ -409,5 +410,59 @@ fn restarts_take_the_robot_round_a_person_its_warm_start_runs_into() {
         "{:?} against {:?}",
         with.terms,
         without.terms
+    );
+}
+
+#[test]
+fn the_crowd_robot_passes_a_person_walking_down_the_middle_of_an_aisle() {
+    // A 2.5 m aisle between shelves, the robot (r 0.3 m, 1 m/s) driving +x to a goal 14 m on,
+    // and a person (r 0.25 m) walking −x down the aisle's middle who does not avoid it
+    // (Â_o = 0). Beside them there is room for the robot at d_min with 0.1 m to spare.
+    // With the robot's A_r = 20 on the shelves (the paper's reading) it cannot go within
+    // 0.35 m of them, so it backs away ahead of the person; with `asfm-crowd`'s wall strength
+    // it passes. Positions are integrated as commanded; nobody is stopped by anybody.
+    use crate::map::Obstacle;
+    let map = StaticMap::new(vec![
+        Obstacle::Wall(vec2(-20.0, -1.25), vec2(30.0, -1.25)),
+        Obstacle::Wall(vec2(-20.0, 1.25), vec2(30.0, 1.25)),
+    ])
+    .expect("valid walls");
+    let backed_off = |params: AsfmParams| {
+        let dt = params.dt;
+        let mut planner = Asfm::with_estimation(params, Estimation::Fixed(0.0));
+        let mut robot = EgoState {
+            radius: 0.3,
+            ..ego(vec2(0.0, 0.0), vec2(0.0, 0.0))
+        };
+        let walker = vec2(-1.0, 0.0);
+        let mut at = vec2(6.0, 0.0);
+        let (mut furthest, mut back): (Real, Real) = (0.0, 0.0);
+        for _ in 0..150 {
+            let seen = Neighbour::new(9, at, walker, 0.25, AgentKind::Human);
+            let out = planner.step(&robot, &[seen], &map, vec2(14.0, 0.0), dt);
+            robot.velocity = out.command;
+            robot.position += out.command * dt;
+            at += walker * dt;
+            furthest = furthest.max(robot.position.x);
+            back = back.max(furthest - robot.position.x);
+        }
+        (back, robot.position.x)
+    };
+    let crowd = AsfmParams {
+        v_max: 1.0,
+        ..AsfmParams::crowd()
+    };
+    let (back, end) = backed_off(crowd.clone());
+    assert!(
+        back < 0.3 && end > 10.0,
+        "asfm-crowd backed off {back} m, ended at x = {end}"
+    );
+    let (back, end) = backed_off(AsfmParams {
+        wall_strength: crowd.robot_strength,
+        ..crowd
+    });
+    assert!(
+        back > 1.0,
+        "with A_r on the shelves: backed off {back} m, ended at x = {end}"
     );
 }
