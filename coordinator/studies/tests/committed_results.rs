@@ -1,7 +1,7 @@
 //! The committed study results are what the code computes now: a smoke version of the
 //! open-space study reproduces its cells of `results/open-space/runs.csv` (the papers'
 //! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
-//! every planner) byte for byte, and small versions of the laned, hallway and traffic studies
+//! every planner) byte for byte, as does one of `asfm-crowd`'s, and small versions of the laned, hallway and traffic studies
 //! reproduce rows of `results/laned/runs.csv`, `results/hallway/runs.csv` and
 //! `results/traffic/runs.csv`. A change that moves any
 //! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
@@ -15,15 +15,26 @@ use world_sim::scenario::Scenario;
 
 #[test]
 fn open_space_smoke_rows_are_the_committed_rows() {
-    smoke_rows_are_committed("open-space", false);
+    smoke_rows_are_committed("open-space", false, &PLANNERS, &[0.1, 0.5, 1.0]);
 }
 
 #[test]
 fn open_space_smoke_rows_under_the_safety_layer_are_the_committed_rows() {
-    smoke_rows_are_committed("open-space-safety", true);
+    smoke_rows_are_committed("open-space-safety", true, &PLANNERS, &[0.1, 0.5, 1.0]);
 }
 
-fn smoke_rows_are_committed(dir: &str, safety: bool) {
+/// `asfm-crowd` in the crowds it was made for (`results/open-space/asfm-crowd`).
+#[test]
+fn asfm_crowd_smoke_rows_are_the_committed_rows() {
+    smoke_rows_are_committed(
+        "open-space/asfm-crowd/seeds-1-100",
+        true,
+        &["asfm-crowd"],
+        &[0.2, 0.5],
+    );
+}
+
+fn smoke_rows_are_committed(dir: &str, safety: bool, planners: &[&str], densities: &[f64]) {
     let path = format!(
         "{}/../../results/{dir}/runs.csv",
         env!("CARGO_MANIFEST_DIR")
@@ -33,8 +44,8 @@ fn smoke_rows_are_committed(dir: &str, safety: bool) {
     scenario.robot.safety = safety;
     let plan = StudyPlan {
         scenario,
-        algorithms: PLANNERS.iter().map(|a| a.parse().expect("known")).collect(),
-        densities: vec![0.1, 0.5, 1.0],
+        algorithms: planners.iter().map(|a| a.parse().expect("known")).collect(),
+        densities: densities.to_vec(),
         first_seed: 1,
         seeds: 2,
     };
@@ -55,7 +66,7 @@ fn smoke_rows_are_committed(dir: &str, safety: bool) {
         assert_eq!(line, theirs, "run {key}");
         compared += 1;
     }
-    assert_eq!(compared, PLANNERS.len() * 3 * 2);
+    assert_eq!(compared, planners.len() * densities.len() * 2);
 }
 
 const PLANNERS: [&str; 6] = ["dwa", "orca", "sf", "pgp+dwa", "pgp+orca", "pgp+sf"];
