@@ -377,7 +377,7 @@ fn the_crowd_filter_keeps_a_person_drawn_toward_the_robot_where_they_are_seen() 
 fn restarts_take_the_robot_round_a_person_its_warm_start_runs_into() {
     // A person standing 1 m straight ahead who does not avoid the robot (Â_o = 0), the goal
     // beyond them, and a warm start straight at them at 0.95·v^max (the way that was open a
-    // moment ago). From there the optimiser slows down behind the person; restarts start it
+    // moment ago). From there the optimiser keeps driving straight at them; restarts start it
     // from a way round, whose J is lower, and it ends lower.
     let mut scene = gradient_scene();
     scene.walls.clear();
