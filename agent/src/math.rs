@@ -103,6 +103,11 @@ pub fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
         .fold((first, first), |(min, max), p| (min.inf(p), max.sup(p)))
 }
 
+/// The distance from `p` to the segment `a`–`b`.
+pub fn distance_to_segment(a: Vec2, b: Vec2, p: Vec2) -> Real {
+    (closest_on_segment(a, b, p) - p).norm()
+}
+
 /// The distance between segments `a`–`b` and `c`–`d` (0 if they cross).
 pub fn segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Real {
     let cross = |u: Vec2, v: Vec2| u.x * v.y - u.y * v.x;
@@ -115,11 +120,10 @@ pub fn segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> Real {
             return 0.0;
         }
     }
-    let to = |a: Vec2, b: Vec2, p: Vec2| (closest_on_segment(a, b, p) - p).norm();
-    to(c, d, a)
-        .min(to(c, d, b))
-        .min(to(a, b, c))
-        .min(to(a, b, d))
+    distance_to_segment(c, d, a)
+        .min(distance_to_segment(c, d, b))
+        .min(distance_to_segment(a, b, c))
+        .min(distance_to_segment(a, b, d))
 }
 
 #[cfg(test)]

@@ -174,7 +174,7 @@ impl Visibility {
     fn occlude_segment(&mut self, a: Vec2, b: Vec2) {
         let (pa, pb) = (a - self.origin, b - self.origin);
         if pa.norm().min(pb.norm()) >= self.range
-            && distance_to_segment(a, b, self.origin) >= self.range
+            && crate::math::distance_to_segment(a, b, self.origin) >= self.range
         {
             return;
         }
@@ -205,11 +205,6 @@ impl Visibility {
 
 fn cross(a: Vec2, b: Vec2) -> Real {
     a.x * b.y - a.y * b.x
-}
-
-/// The distance from `p` to the segment `a`–`b`.
-pub(crate) fn distance_to_segment(a: Vec2, b: Vec2, p: Vec2) -> Real {
-    (crate::math::closest_on_segment(a, b, p) - p).norm()
 }
 
 #[cfg(test)]
