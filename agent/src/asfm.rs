@@ -89,9 +89,9 @@ pub struct AsfmParams {
     pub rollout_bodies: usize,
     /// Walls farther than this do not push the robot (m). Ours; 3·B: e⁻³ of the push at 0.
     pub wall_reach: Real,
-    /// A of Eq. 3 for walls and shelves. The paper: "for static obstacles, we only employ
-    /// (3)", whose A is the robot's own: A_r.
-    pub wall_strength: Real,
+    /// A of Eq. 3 for walls and shelves; `None` for the robot's own A_r, as the paper reads
+    /// ("for static obstacles, we only employ (3)").
+    pub wall_strength: Option<Real>,
     /// J_t's time-to-go at the horizon's end (Eq. 16's first term).
     pub time_to_go: TimeToGo,
     /// Before each optimisation, also weigh the constant desired velocities of
@@ -130,7 +130,7 @@ impl Default for AsfmParams {
             forget_after: 1.0,
             rollout_bodies: 10,
             wall_reach: 6.0,
-            wall_strength: 20.0,
+            wall_strength: None,
             time_to_go: TimeToGo::Paper,
             restarts: false,
         }
@@ -174,6 +174,11 @@ impl AsfmVariant {
 }
 
 impl AsfmParams {
+    /// A of Eq. 3 for walls and shelves: the field `wall_strength` when set, else A_r.
+    pub fn wall_strength(&self) -> Real {
+        self.wall_strength.unwrap_or(self.robot_strength)
+    }
+
     /// `asfm-crowd`: the paper's model and objective with the lengths of a crowd. The paper
     /// has one obstacle; summed over a crowd, its repulsion (A_r = 20 reaching B = 2 m) and
     /// d_min = 1 m between surfaces leave no way through (open space: 25 % success at 0.1
@@ -212,7 +217,7 @@ impl AsfmParams {
             range,
             d_min: 0.3,
             wall_reach: 3.0 * range,
-            wall_strength: 2.0,
+            wall_strength: Some(2.0),
             time_to_go: TimeToGo::AtTopSpeed,
             process_noise: ASFM_Q_PROCESS_NOISE,
             restarts: true,

@@ -51,18 +51,19 @@ pub struct Scene {
 /// The robot's repulsion from walls: Eq. 3 from the nearest point of each segment, with the
 /// walls' strength (A_r in the paper: "for static obstacles, we only employ (3)") and range B.
 pub fn wall_push(position: Vec2, radius: Real, walls: &[(Vec2, Vec2)], p: &AsfmParams) -> Vec2 {
+    let strength = p.wall_strength();
     let mut f = vec2(0.0, 0.0);
     for &(a, b) in walls {
         let d = position - closest_on_segment(a, b, position);
         if d.norm() < p.wall_reach {
-            f += repulsion(d, radius, p.wall_strength, p.range);
+            f += repulsion(d, radius, strength, p.range);
         }
     }
     f
 }
 
-/// [`wall_push`] and its Jacobian ∂f/∂r: A_r·∂U/∂d·(I − t̂t̂ᵀ) for a nearest point inside a
-/// segment (it slides along it as r moves), A_r·∂U/∂d for one at an end.
+/// [`wall_push`] and its Jacobian ∂f/∂r: A_w·∂U/∂d·(I − t̂t̂ᵀ) for a nearest point inside a
+/// segment (it slides along it as r moves), A_w·∂U/∂d for one at an end (A_w the walls' strength).
 fn wall_push_and_jacobian(
     position: Vec2,
     radius: Real,
@@ -71,14 +72,15 @@ fn wall_push_and_jacobian(
 ) -> (Vec2, Mat2) {
     let mut f = vec2(0.0, 0.0);
     let mut jacobian = Mat2::zeros();
+    let strength = p.wall_strength();
     for &(a, b) in walls {
         let d = position - closest_on_segment(a, b, position);
         let norm = d.norm();
         if norm < p.wall_reach {
-            f += repulsion(d, radius, p.wall_strength, p.range);
+            f += repulsion(d, radius, strength, p.range);
             if norm > 0.0 {
                 let decay = exp(-(norm - radius) / p.range);
-                let mut jac = unit_repulsion_jacobian(d, decay, p.range) * p.wall_strength;
+                let mut jac = unit_repulsion_jacobian(d, decay, p.range) * strength;
                 let e = b - a;
                 let len_sq = e.norm_squared();
                 let along = if len_sq > 0.0 {
@@ -481,16 +483,6 @@ pub const RESTART_TURNS: [Real; 10] = [
 /// The restarts' speeds, fractions of v^max (0.9 as the first warm start's).
 pub const RESTART_SPEEDS: [Real; 2] = [0.9, 0.45];
 
-/// The free parameters of `sequence` (H desired velocities).
-fn unsquashed(sequence: impl Iterator<Item = Vec2>, v_max: Real) -> Vec<Real> {
-    sequence
-        .flat_map(|v| {
-            let u = unsquash(v, v_max);
-            [u.x, u.y]
-        })
-        .collect()
-}
-
 /// Where the optimisation starts, and its J: `start`, or with [`AsfmParams::restarts`] the
 /// lowest-J of `start`, the constant sequences of [`RESTART_TURNS`] × [`RESTART_SPEEDS`] and
 /// standing still (ties keep the earlier, `start` first).
@@ -500,7 +492,13 @@ fn initial(
     start: &[Vec2],
     p: &AsfmParams,
 ) -> (Vec<Real>, Real) {
-    let mut best = unsquashed(start.iter().copied(), p.v_max);
+    let mut best: Vec<Real> = start
+        .iter()
+        .flat_map(|&v| {
+            let u = unsquash(v, p.v_max);
+            [u.x, u.y]
+        })
+        .collect();
     let mut f_best = objective.cost(&best).unwrap_or(Real::INFINITY);
     if !p.restarts {
         return (best, f_best);
@@ -513,11 +511,16 @@ fn initial(
             .iter()
             .map(move |&s| vec2(cos, sin) * (s * p.v_max))
     });
+    // One buffer for the candidates: the loser of each comparison is overwritten.
+    let mut candidate = vec![0.0; best.len()];
     for v in fan.chain(std::iter::once(vec2(0.0, 0.0))) {
-        let candidate = unsquashed(std::iter::repeat_n(v, start.len()), p.v_max);
+        let u = unsquash(v, p.v_max);
+        for c in candidate.chunks_exact_mut(2) {
+            c.copy_from_slice(&[u.x, u.y]);
+        }
         let f = objective.cost(&candidate).unwrap_or(Real::INFINITY);
         if f < f_best {
-            best = candidate;
+            std::mem::swap(&mut best, &mut candidate);
             f_best = f;
         }
     }
