@@ -1,8 +1,11 @@
 //! One call of the safety layer on a robot driving at full speed among 50 perceived people
 //! (the planners' benchmark scene, 0.5 persons/m²), in open space and between two walls; and
 //! on a robot standing among them, which people walking on would walk into (a yield), and
-//! one `admits` call, the predicate planners ask; and the open-ground call with the opt-in
-//! across-the-way bound on people's strays (`person_accel_across = 2.4`).
+//! one `admits` call, the predicate planners ask; the open-ground call with the opt-in
+//! across-the-way bound on people's strays (`person_accel_across = 2.4`); and the robot's
+//! `Guard` checking a command with its memory on (the default) and off, while a fifth of the
+//! people are hidden every other call, and with everyone seen (the memory's bookkeeping
+//! alone).
 //!
 //! Target (issue 43): one call with 50 perceived bodies ≤ 20 µs median, yields included
 //! (met: results/safety/REPORT.md, "Speed").
@@ -11,9 +14,11 @@
 
 mod scene;
 
+use agent::guard::Guard;
 use agent::map::{Obstacle, StaticMap};
 use agent::math::vec2;
 use agent::model::{Command, EgoState};
+use agent::planner::PlanningInput;
 use agent::safety::{SafetyLayer, SafetyLimits, SafetyParams};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -64,6 +69,36 @@ fn safety(c: &mut Criterion) {
     group.bench_function(BenchmarkId::new("open-across", 50), |b| {
         b.iter(|| black_box(across.guard(command, &e, &limits, black_box(&people), &open)))
     });
+    // The Guard: the same call through the robot's runtime, with and without its memory.
+    let some = &people[..40];
+    for (name, memory_time, hiding) in [
+        ("guard-memory", 1.0, true),
+        ("guard-no-memory", 0.0, true),
+        ("guard-memory-all-seen", 1.0, false),
+        ("guard-no-memory-all-seen", 0.0, false),
+    ] {
+        let params = SafetyParams {
+            memory_time,
+            ..SafetyParams::default()
+        };
+        let mut guard = Guard::with_params(limits, params);
+        let mut hidden = false;
+        group.bench_function(BenchmarkId::new(name, 50), |b| {
+            b.iter(|| {
+                hidden = hiding && !hidden;
+                let input = PlanningInput {
+                    ego: &e,
+                    neighbours: if hidden { some } else { &people },
+                    map: &open,
+                    goal: vec2(10.0, 0.0),
+                    dt: limits.control_period,
+                    visibility: None,
+                    safety: None,
+                };
+                black_box(guard.check(command, black_box(&input)))
+            })
+        });
+    }
     group.finish();
 }
 

@@ -4,7 +4,7 @@
 //! counts what it changed.
 
 use crate::math::Real;
-use crate::model::{Base, Command};
+use crate::model::{Base, Command, Neighbour};
 use crate::planner::{Plan, PlannerStack, PlanningInput};
 use crate::safety::{Guarded, SafeSet, SafetyLayer, SafetyLimits, SafetyParams, Zone};
 
@@ -26,6 +26,13 @@ pub struct Guard {
     /// Sum over changed commands of how far the layer moved them (m/s: the velocity
     /// difference, or for unicycle commands the speed difference).
     pub change_sum: Real,
+    /// Every body perceived within the last [`SafetyParams::memory_time`]: as last perceived,
+    /// and the seconds since.
+    remembered: Vec<(Neighbour, Real)>,
+    /// What the layer checks: the bodies perceived now, and the remembered ones walked on.
+    bodies: Vec<Neighbour>,
+    /// The ids perceived now, sorted (scratch).
+    seen_ids: Vec<u64>,
 }
 
 impl Guard {
@@ -45,6 +52,9 @@ impl Guard {
             protective: 0,
             yielded: 0,
             change_sum: 0.0,
+            remembered: Vec::new(),
+            bodies: Vec::new(),
+            seen_ids: Vec::new(),
         }
     }
 
@@ -67,9 +77,12 @@ impl Guard {
     /// What the robot may execute of the planner's `command`, planned on `input`; counted.
     pub fn check(&mut self, command: Command, input: &PlanningInput<'_>) -> Guarded {
         let limits = self.limits_for(input);
-        let set = self
-            .layer
-            .prepare(input.ego, &limits, input.neighbours, input.map);
+        let bodies = if self.recall(input) {
+            &self.bodies[..]
+        } else {
+            input.neighbours
+        };
+        let set = self.layer.prepare(input.ego, &limits, bodies, input.map);
         let command = self.base.executable(command, input.ego);
         let guarded = set.guard(command);
         self.count(command, &guarded);
@@ -80,9 +93,12 @@ impl Guard {
     /// command is replaced by what the robot may execute.
     pub fn plan(&mut self, stack: &mut PlannerStack, input: &PlanningInput<'_>) -> (Plan, Guarded) {
         let limits = self.limits_for(input);
-        let set: SafeSet<'_> = self
-            .layer
-            .prepare(input.ego, &limits, input.neighbours, input.map);
+        let bodies = if self.recall(input) {
+            &self.bodies[..]
+        } else {
+            input.neighbours
+        };
+        let set: SafeSet<'_> = self.layer.prepare(input.ego, &limits, bodies, input.map);
         let within = PlanningInput {
             safety: Some(&set),
             ..*input
@@ -93,6 +109,45 @@ impl Guard {
         self.count(plan.command, &guarded);
         plan.command = guarded.command;
         (plan, guarded)
+    }
+
+    /// Brings the memory up to `input`'s perception (each call is one control period,
+    /// `input.dt`, after the last) and fills `bodies`: everyone perceived now, and everyone
+    /// perceived within the memory time and not now, moved on at their last perceived
+    /// velocity. False when nobody is remembered: the layer checks `input.neighbours`.
+    fn recall(&mut self, input: &PlanningInput<'_>) -> bool {
+        let keep = self.layer.params().memory_time;
+        self.bodies.clear();
+        if keep <= 0.0 {
+            self.remembered.clear();
+            return false;
+        }
+        for (_, age) in &mut self.remembered {
+            *age += input.dt;
+        }
+        let seen = input.neighbours;
+        self.seen_ids.clear();
+        self.seen_ids.extend(seen.iter().map(|n| n.id));
+        self.seen_ids.sort_unstable();
+        let ids = &self.seen_ids;
+        self.remembered
+            .retain(|(n, age)| *age <= keep && ids.binary_search(&n.id).is_err());
+        let any = !self.remembered.is_empty();
+        if any {
+            self.bodies.extend_from_slice(seen);
+        }
+        for (n, age) in &self.remembered {
+            let mut walked = n.clone();
+            walked.position += n.velocity * *age;
+            self.bodies.push(walked);
+        }
+        // Kept without a robot's announced intent: the layer does not read it.
+        self.remembered.extend(seen.iter().map(|n| {
+            let mut kept = Neighbour::new(n.id, n.position, n.velocity, n.radius, n.kind);
+            kept.yaw_rate = n.yaw_rate;
+            (kept, 0.0)
+        }));
+        any
     }
 
     fn limits_for(&self, input: &PlanningInput<'_>) -> SafetyLimits {
@@ -130,5 +185,74 @@ fn speed(c: Command) -> Real {
     match c {
         Command::Velocity(v) => v.norm(),
         Command::Unicycle { speed, .. } => speed.abs(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::StaticMap;
+    use crate::math::vec2;
+    use crate::model::{AgentKind, EgoState};
+
+    fn ego() -> EgoState {
+        EgoState {
+            position: vec2(0.0, 0.0),
+            heading: 0.0,
+            velocity: vec2(1.0, 0.0),
+            yaw_rate: 0.0,
+            radius: 0.3,
+        }
+    }
+
+    /// The zone the guard gives "drive on at 1 m/s" at each of `steps` plans, the person
+    /// walking at the robot perceived only at the first.
+    fn zones(memory_time: Real, ahead: Real, steps: usize) -> Vec<Zone> {
+        let params = SafetyParams {
+            memory_time,
+            ..SafetyParams::default()
+        };
+        let mut guard = Guard::with_params(SafetyLimits::SIMULATED_ROBOT, params);
+        let map = StaticMap::empty();
+        let ego = ego();
+        let person = Neighbour::new(7, vec2(ahead, 0.0), vec2(-1.3, 0.0), 0.35, AgentKind::Human);
+        (0..steps)
+            .map(|k| {
+                let seen = if k == 0 { vec![person.clone()] } else { vec![] };
+                let input = PlanningInput {
+                    ego: &ego,
+                    neighbours: &seen,
+                    map: &map,
+                    goal: vec2(10.0, 0.0),
+                    dt: 0.1,
+                    visibility: None,
+                    safety: None,
+                };
+                guard.check(Command::Velocity(vec2(1.0, 0.0)), &input).zone
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_person_hidden_a_moment_is_still_checked() {
+        // 5 m ahead, walking at the robot at 1.3 m/s: clear of the fields when last seen,
+        // within the warning field 0.5 s later.
+        // Without memory the layer forgets the person the moment they are hidden.
+        let forgetful = zones(0.0, 5.0, 10);
+        assert!(forgetful.iter().all(|z| *z == Zone::Clear), "{forgetful:?}");
+        // With it, the person walks on toward the robot, and the fields act.
+        let mindful = zones(1.0, 5.0, 10);
+        assert_eq!(mindful[0], Zone::Clear, "{mindful:?}");
+        assert!(
+            mindful[5..].iter().all(|z| *z == Zone::Warning),
+            "{mindful:?}"
+        );
+    }
+
+    #[test]
+    fn a_body_unseen_longer_than_the_memory_time_is_forgotten() {
+        // Kept 0.3 s, the person is gone before they would reach the warning field.
+        let z = zones(0.3, 5.0, 10);
+        assert!(z.iter().all(|z| *z == Zone::Clear), "{z:?}");
     }
 }

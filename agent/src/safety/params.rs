@@ -101,6 +101,15 @@ pub struct SafetyParams {
     pub yield_clearance: Real,
     /// Whether the layer yields at all (off: it only slows and stops, as before issue 43).
     pub yielding: bool,
+    /// T_m (s): how long the robot's [`Guard`](crate::guard::Guard) keeps a body it no longer
+    /// perceives, walking on at its last perceived velocity, in what the layer checks. A
+    /// person hidden for a moment behind someone else, or behind a shelf's end, is still
+    /// there; a layer that checks only what it sees drives into them as they step out. 0
+    /// keeps nothing. 1 s: in the hallway study's tuning runs (seeds 1–30, people at
+    /// 2–3 m/s, who hid each other for 0.3–0.5 s before the contacts the layer let through)
+    /// robot-caused contacts fell from 25 to 12 at 0.5 s and to 5 at 1 s, with median times
+    /// within 2–6 % (results/safety/REPORT.md, "Memory").
+    pub memory_time: Real,
 }
 
 impl SafetyParams {
@@ -121,7 +130,8 @@ impl SafetyParams {
         within("person_accel_across", self.person_accel_across, 0.0, 20.0)?;
         within("check_step", self.check_step, 0.005, 0.5)?;
         within("yield_time", self.yield_time, 0.1, 10.0)?;
-        within("yield_clearance", self.yield_clearance, 0.0, 3.0)
+        within("yield_clearance", self.yield_clearance, 0.0, 3.0)?;
+        within("memory_time", self.memory_time, 0.0, 10.0)
     }
 }
 
@@ -149,6 +159,7 @@ impl SafetyParams {
                 "check_step" => &mut self.check_step,
                 "yield_time" => &mut self.yield_time,
                 "yield_clearance" => &mut self.yield_clearance,
+                "memory_time" => &mut self.memory_time,
                 _ => return Err(format!("`{key}` is not a safety-layer parameter")),
             };
             *field = value.parse().map_err(|e| format!("`{pair}`: {e}"))?;
@@ -172,6 +183,7 @@ impl Default for SafetyParams {
             yield_time: 2.0,
             yield_clearance: 0.2,
             yielding: true,
+            memory_time: 1.0,
         }
     }
 }

@@ -1,0 +1,157 @@
+//! One run of the hallway study (`gapfleet study hallway`: the built-in hallway at a length,
+//! its share of people walking at one speed, a 3 m/s robot, body occlusion and the safety
+//! layer on) with every contact the robot causes explained: the person's track over the
+//! second before, whether the robot saw them at each plan, what its layer did, and how hard
+//! the person changed their motion (the acceleration the layer's swerve allowance a_h
+//! must cover).
+//!
+//!     cargo run --release -p world-sim --example hallway_contacts -- PLANNER LENGTH SPEED SEED \
+//!         [LAYER]
+//!
+//! e.g. `orca 25 3 114`. LAYER changes the safety layer's parameters as `--safety-layer` does
+//! (`memory_time=0`). The run is the study's, step for step.
+
+use agent::map::LocalMap;
+use agent::math::{Real, Vec2};
+use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::safety::Zone;
+use std::collections::VecDeque;
+use world_sim::episode::guards;
+use world_sim::metrics::{ContactCause, contact_cause};
+use world_sim::scenario::Scenario;
+use world_sim::world::World;
+
+/// One step of the person's history as the robot saw it.
+#[derive(Debug, Clone, Copy)]
+struct Seen {
+    t: Real,
+    velocity: Vec2,
+    seen: bool,
+    zone: Zone,
+    robot_velocity: Vec2,
+    gap: Real,
+}
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() < 4 {
+        return Err("usage: hallway_contacts PLANNER LENGTH SPEED SEED".into());
+    }
+    let planner: PlannerSpec = args[0].parse().map_err(|e| format!("{e}"))?;
+    let length: Real = args[1].parse().map_err(|e| format!("length: {e}"))?;
+    let speed: Real = args[2].parse().map_err(|e| format!("speed: {e}"))?;
+    let seed: u64 = args[3].parse().map_err(|e| format!("seed: {e}"))?;
+    let mut scenario = Scenario::builtin("hallway").map_err(|e| e.to_string())?;
+    // As `studies::hallway::hallway_scenario` and `HallwayStudy::scenario_for`.
+    scenario.robot.max_speed = 3.0;
+    scenario.robot.body_occlusion = true;
+    scenario.robot.safety = true;
+    let h = scenario.hallway.as_mut().ok_or("no hallway")?;
+    h.length_m = length;
+    h.width_m = 4.0;
+    h.humans = (length * 12.0 / 25.0).round() as usize;
+    scenario.humans.speed = speed;
+    scenario.seed = seed;
+    scenario.max_time_s = 60.0 + 2.0 * length;
+    if let Some(changes) = args.get(4) {
+        scenario.robot.safety_layer = scenario.robot.safety_layer.with_overrides(changes)?;
+    }
+
+    let mut world = World::from_scenario(&scenario);
+    let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
+    stack.set_record_fan(false);
+    let mut guard = guards(&scenario, 1).pop().flatten();
+    let people = world.humans.crowd.len();
+    let keep = (1.0 / scenario.dt_s).round() as usize + 1;
+    let mut history: Vec<VecDeque<Seen>> = vec![VecDeque::new(); people];
+    let mut touching = vec![false; people];
+    let mut local = LocalMap::default();
+    let (mut robot_caused, mut person_caused) = (0, 0);
+    let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
+    let robot_radius = world.robots[0].state.radius;
+    for _ in 0..steps {
+        let (ego, seen) = world.observe(0);
+        let goal = world.robots[0].goal;
+        if (goal - ego.position).norm() <= world.robots[0].spec.goal_tolerance_m {
+            println!("t {:5.1} arrived", world.time);
+            break;
+        }
+        let profile = world.visibility(0, &mut local);
+        let input = PlanningInput {
+            ego: &ego,
+            neighbours: &seen,
+            map: &world.map,
+            goal,
+            dt: world.dt,
+            visibility: profile.as_ref(),
+            safety: None,
+        };
+        let (command, zone) = match &mut guard {
+            Some(g) => {
+                let (_, guarded) = g.plan(&mut stack, &input);
+                (guarded.command, guarded.zone)
+            }
+            None => (stack.plan(&input).command, Zone::Clear),
+        };
+        let crowd = &world.humans.crowd;
+        for (i, h) in history.iter_mut().enumerate() {
+            let p = crowd.positions[i];
+            h.push_back(Seen {
+                t: world.time,
+                velocity: crowd.velocities[i],
+                seen: seen.iter().any(|n| n.id == i as u64),
+                zone,
+                robot_velocity: ego.velocity,
+                gap: (p - ego.position).norm() - robot_radius - world.humans.radius,
+            });
+            if h.len() > keep {
+                h.pop_front();
+            }
+        }
+        world.step(&[command]);
+        let r = world.robots[0].state;
+        for (i, was) in touching.iter_mut().enumerate() {
+            let p = world.humans.crowd.positions[i];
+            let now = (p - r.position).norm() < r.radius + world.humans.radius;
+            if now && !*was {
+                let cause = contact_cause(r.position, r.velocity, p);
+                match cause {
+                    ContactCause::Robot => robot_caused += 1,
+                    ContactCause::Other => person_caused += 1,
+                }
+                if cause == ContactCause::Robot {
+                    let line = (p - r.position).normalize();
+                    println!(
+                        "t {:5.1} robot-caused contact with person {i}: robot {:.2} m/s, toward {:+.2}; person toward the robot {:+.2} m/s",
+                        world.time,
+                        r.velocity.norm(),
+                        r.velocity.dot(&line),
+                        -world.humans.crowd.velocities[i].dot(&line),
+                    );
+                    let h: Vec<&Seen> = history[i].iter().collect();
+                    for (k, s) in h.iter().enumerate() {
+                        // The person's acceleration over this step.
+                        let accel = h.get(k + 1).map_or(Real::NAN, |n| {
+                            (n.velocity - s.velocity).norm() / (n.t - s.t)
+                        });
+                        println!(
+                            "    t {:5.1} gap {:5.2} person v ({:+.2}, {:+.2}) accel {:5.2} seen {} | robot v ({:+.2}, {:+.2}) layer {:?}",
+                            s.t,
+                            s.gap,
+                            s.velocity.x,
+                            s.velocity.y,
+                            accel,
+                            s.seen,
+                            s.robot_velocity.x,
+                            s.robot_velocity.y,
+                            s.zone,
+                        );
+                    }
+                }
+            }
+            *was = now;
+        }
+    }
+    println!("{robot_caused} robot-caused, {person_caused} person-caused contacts");
+    Ok(())
+}
