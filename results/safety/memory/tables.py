@@ -57,6 +57,9 @@ base = load("results/hallway-layer-heldout/runs.csv", {"orca", "pgp+orca"}) + lo
 hallway("Hallway, held-out seeds 101–130, no memory (results/hallway-layer-heldout)", base)
 hallway("Hallway, held-out seeds 101–130, memory 1 s",
         load(f"{HERE}/hallway-seeds-101-130-memory-1/runs.csv"))
+for t in ["0", "1"]:
+    hallway(f"Hallway, seeds 131–160 (never looked at before the choice), memory {t} s",
+            load(f"{HERE}/hallway-seeds-131-160-memory-{t}/runs.csv"))
 fleets("Fleets, seeds 1–30, no memory (results/fleet-safety)", "results/fleet-safety/runs.csv")
 fleets("Fleets, seeds 1–30, memory 1 s", f"{HERE}/fleets-seeds-1-30-memory-1/runs.csv")
 fleets("Fleets, held-out seeds 101–130, no memory (results/fleet-safety-heldout)",
