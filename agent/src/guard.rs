@@ -29,8 +29,8 @@ pub struct Guard {
     /// Every body perceived within the last [`SafetyParams::memory_time`]: as last perceived,
     /// and the seconds since.
     remembered: Vec<(Neighbour, Real)>,
-    /// What the layer checks: the bodies perceived now, and the remembered ones walked on.
-    bodies: Vec<Neighbour>,
+    /// The remembered bodies not perceived now, walked on to where they would be.
+    walked: Vec<Neighbour>,
     /// The ids perceived now, sorted (scratch).
     seen_ids: Vec<u64>,
 }
@@ -53,7 +53,7 @@ impl Guard {
             yielded: 0,
             change_sum: 0.0,
             remembered: Vec::new(),
-            bodies: Vec::new(),
+            walked: Vec::new(),
             seen_ids: Vec::new(),
         }
     }
@@ -77,12 +77,14 @@ impl Guard {
     /// What the robot may execute of the planner's `command`, planned on `input`; counted.
     pub fn check(&mut self, command: Command, input: &PlanningInput<'_>) -> Guarded {
         let limits = self.limits_for(input);
-        let bodies = if self.recall(input) {
-            &self.bodies[..]
-        } else {
-            input.neighbours
-        };
-        let set = self.layer.prepare(input.ego, &limits, bodies, input.map);
+        self.recall(input);
+        let set = self.layer.prepare_remembering(
+            input.ego,
+            &limits,
+            input.neighbours,
+            &self.walked,
+            input.map,
+        );
         let command = self.base.executable(command, input.ego);
         let guarded = set.guard(command);
         self.count(command, &guarded);
@@ -93,12 +95,14 @@ impl Guard {
     /// command is replaced by what the robot may execute.
     pub fn plan(&mut self, stack: &mut PlannerStack, input: &PlanningInput<'_>) -> (Plan, Guarded) {
         let limits = self.limits_for(input);
-        let bodies = if self.recall(input) {
-            &self.bodies[..]
-        } else {
-            input.neighbours
-        };
-        let set: SafeSet<'_> = self.layer.prepare(input.ego, &limits, bodies, input.map);
+        self.recall(input);
+        let set: SafeSet<'_> = self.layer.prepare_remembering(
+            input.ego,
+            &limits,
+            input.neighbours,
+            &self.walked,
+            input.map,
+        );
         let within = PlanningInput {
             safety: Some(&set),
             ..*input
@@ -112,15 +116,14 @@ impl Guard {
     }
 
     /// Brings the memory up to `input`'s perception (each call is one control period,
-    /// `input.dt`, after the last) and fills `bodies`: everyone perceived now, and everyone
-    /// perceived within the memory time and not now, moved on at their last perceived
-    /// velocity. False when nobody is remembered: the layer checks `input.neighbours`.
-    fn recall(&mut self, input: &PlanningInput<'_>) -> bool {
+    /// `input.dt`, after the last) and fills `walked`: everyone perceived within the memory
+    /// time and not now, moved on at their last perceived velocity.
+    fn recall(&mut self, input: &PlanningInput<'_>) {
         let keep = self.layer.params().memory_time;
-        self.bodies.clear();
+        self.walked.clear();
         if keep <= 0.0 {
             self.remembered.clear();
-            return false;
+            return;
         }
         for (_, age) in &mut self.remembered {
             *age += input.dt;
@@ -132,22 +135,17 @@ impl Guard {
         let ids = &self.seen_ids;
         self.remembered
             .retain(|(n, age)| *age <= keep && ids.binary_search(&n.id).is_err());
-        let any = !self.remembered.is_empty();
-        if any {
-            self.bodies.extend_from_slice(seen);
-        }
-        for (n, age) in &self.remembered {
+        self.walked.extend(self.remembered.iter().map(|(n, age)| {
             let mut walked = n.clone();
             walked.position += n.velocity * *age;
-            self.bodies.push(walked);
-        }
+            walked
+        }));
         // Kept without a robot's announced intent: the layer does not read it.
         self.remembered.extend(seen.iter().map(|n| {
             let mut kept = Neighbour::new(n.id, n.position, n.velocity, n.radius, n.kind);
             kept.yaw_rate = n.yaw_rate;
             (kept, 0.0)
         }));
-        any
     }
 
     fn limits_for(&self, input: &PlanningInput<'_>) -> SafetyLimits {

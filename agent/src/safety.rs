@@ -262,6 +262,20 @@ impl SafetyLayer {
         bodies: &[Neighbour],
         map: &'a StaticMap,
     ) -> SafeSet<'a> {
+        self.prepare_remembering(ego, limits, bodies, &[], map)
+    }
+
+    /// [`Self::prepare`] for the bodies perceived now and those `remembered`: no longer
+    /// perceived, where they would be now (the [`Guard`](crate::guard::Guard)'s memory). Both
+    /// are checked alike, the perceived ones first.
+    pub fn prepare_remembering<'a>(
+        &'a mut self,
+        ego: &EgoState,
+        limits: &SafetyLimits,
+        bodies: &[Neighbour],
+        remembered: &[Neighbour],
+        map: &'a StaticMap,
+    ) -> SafeSet<'a> {
         let p = self.params;
         self.ego = *ego;
         self.limits = *limits;
@@ -277,7 +291,7 @@ impl SafetyLayer {
             stop_horizon
         };
         let reach = top * horizon;
-        self.gather(ego, bodies, map, reach, horizon);
+        self.gather(ego, bodies.iter().chain(remembered), map, reach, horizon);
         self.ego_wall = self.local.distance(map, &ego.position);
         self.mark_relevant(ego, limits);
         SafeSet { layer: self, map }
@@ -285,10 +299,10 @@ impl SafetyLayer {
 
     /// Keeps the bodies and wall edges that can come within reach of the robot before the
     /// longest rollout ends.
-    fn gather(
+    fn gather<'b>(
         &mut self,
         ego: &EgoState,
-        bodies: &[Neighbour],
+        bodies: impl Iterator<Item = &'b Neighbour>,
         map: &StaticMap,
         reach: Real,
         horizon: Real,
@@ -302,7 +316,6 @@ impl SafetyLayer {
         self.near.clear();
         self.near.extend(
             bodies
-                .iter()
                 .filter(|b| {
                     let travel = reach
                         + b.velocity.norm() * horizon
