@@ -5,20 +5,21 @@
 //! the person changed their motion (the acceleration the layer's swerve allowance a_h
 //! must cover).
 //!
-//!     cargo run --release -p world-sim --example hallway_contacts -- PLANNER LENGTH SPEED SEED \
+//!     cargo run --release -p studies --example hallway_contacts -- PLANNER LENGTH SPEED SEED \
 //!         [LAYER]
 //!
 //! e.g. `orca 25 3 114`. LAYER changes the safety layer's parameters as `--safety-layer` does
-//! (`memory_time=0`). The run is the study's, step for step.
+//! (`memory_time=0`). The run is the study's, step for step: the same scenario
+//! (`studies::hallway`) and the same loop as `world_sim::episode::run_episode`.
 
 use agent::map::LocalMap;
 use agent::math::{Real, Vec2};
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
 use agent::safety::Zone;
 use std::collections::VecDeque;
+use studies::hallway::{HallwayStudy, hallway_scenario};
 use world_sim::episode::guards;
 use world_sim::metrics::{ContactCause, contact_cause};
-use world_sim::scenario::Scenario;
 use world_sim::world::World;
 
 /// One step of the person's history as the robot saw it.
@@ -41,21 +42,20 @@ fn main() -> Result<(), String> {
     let length: Real = args[1].parse().map_err(|e| format!("length: {e}"))?;
     let speed: Real = args[2].parse().map_err(|e| format!("speed: {e}"))?;
     let seed: u64 = args[3].parse().map_err(|e| format!("seed: {e}"))?;
-    let mut scenario = Scenario::builtin("hallway").map_err(|e| e.to_string())?;
-    // As `studies::hallway::hallway_scenario` and `HallwayStudy::scenario_for`.
-    scenario.robot.max_speed = 3.0;
-    scenario.robot.body_occlusion = true;
-    scenario.robot.safety = true;
-    let h = scenario.hallway.as_mut().ok_or("no hallway")?;
-    h.length_m = length;
-    h.width_m = 4.0;
-    h.humans = (length * 12.0 / 25.0).round() as usize;
-    scenario.humans.speed = speed;
-    scenario.seed = seed;
-    scenario.max_time_s = 60.0 + 2.0 * length;
+    let mut base = hallway_scenario(3.0, true).map_err(|e| e.to_string())?;
     if let Some(changes) = args.get(4) {
-        scenario.robot.safety_layer = scenario.robot.safety_layer.with_overrides(changes)?;
+        base.robot.safety_layer = base.robot.safety_layer.with_overrides(changes)?;
     }
+    let study = HallwayStudy {
+        scenario: base,
+        planners: vec![planner],
+        lengths: vec![length],
+        width_m: 4.0,
+        speeds: vec![speed],
+        first_seed: seed,
+        seeds: 1,
+    };
+    let scenario = study.scenario_for(length, speed, seed);
 
     let mut world = World::from_scenario(&scenario);
     let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
