@@ -251,6 +251,7 @@ impl World {
             seed: scenario.seed,
             scratch: Vec::new(),
             externals: Vec::new(),
+            sightings: Vec::new(),
         }
     }
 
