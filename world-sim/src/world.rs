@@ -111,6 +111,9 @@ pub struct World {
     /// ([`World::appeared_too_close`]).
     #[serde(default)]
     sightings: Vec<Vec<Sighting>>,
+    /// Per robot, the step at which its sightings were last noted, plus one (0: not yet).
+    #[serde(default)]
+    noted: Vec<u64>,
 }
 
 /// When a robot last perceived a person, and by when braking from the start of that sighting

@@ -252,6 +252,7 @@ impl World {
             scratch: Vec::new(),
             externals: Vec::new(),
             sightings: Vec::new(),
+            noted: Vec::new(),
         }
     }
 

@@ -56,6 +56,8 @@ impl World {
     /// and, with `body_occlusion`, past every other body, with the scenario's noise.
     pub fn observe(&mut self, index: usize) -> (EgoState, Vec<Neighbour>) {
         let (ego, mut seen) = self.perceive(index);
+        // What the step would note of this sensor's view: noted once, here, when asked first.
+        self.note_once(index, &seen);
         let spec = &self.robots[index].spec;
         let (pos_noise, vel_noise) = (spec.position_noise_m, spec.velocity_noise);
         if pos_noise > 0.0 || vel_noise > 0.0 {
@@ -117,15 +119,44 @@ impl World {
 
 impl World {
     /// Notes what every robot's sensor sees now, before a step, whoever asks what it
-    /// perceives ([`World::appeared_too_close`] judges contacts by it).
+    /// perceives ([`World::appeared_too_close`] judges contacts by it). A robot whose view
+    /// [`World::observe`] gave at this step was noted then, from the same world; the others'
+    /// views are taken here.
     pub(super) fn note_all_sightings(&mut self) {
         if self.humans.crowd.is_empty() {
             return;
         }
         for index in 0..self.robots.len() {
-            let (_, seen) = self.perceive(index);
-            self.note_sightings(index, &seen);
+            if !self.noted_now(index) {
+                let (_, seen) = self.perceive(index);
+                self.note_once(index, &seen);
+            }
         }
+    }
+
+    /// Robot `index` was placed elsewhere ([`RobotBody::place`](crate::robot::RobotBody::place)):
+    /// a view noted before at this step is not what it sees now.
+    pub(crate) fn moved(&mut self, index: usize) {
+        if let Some(noted) = self.noted.get_mut(index) {
+            *noted = 0;
+        }
+    }
+
+    /// Whether robot `index`'s view was noted at this step.
+    fn noted_now(&self, index: usize) -> bool {
+        self.noted.get(index) == Some(&(self.step + 1))
+    }
+
+    /// Notes `seen`, robot `index`'s view now, unless noted already at this step.
+    fn note_once(&mut self, index: usize, seen: &[Neighbour]) {
+        if self.humans.crowd.is_empty() || self.noted_now(index) {
+            return;
+        }
+        self.note_sightings(index, seen);
+        if self.noted.len() < self.robots.len() {
+            self.noted.resize(self.robots.len(), 0);
+        }
+        self.noted[index] = self.step + 1;
     }
 
     /// Notes that robot `index` perceives `seen` now. A sighting begins when it perceives
