@@ -26,8 +26,8 @@
 //!   the robot's own velocity along the line of centres toward the person exceeds
 //!   [`CAUSING_SPEED`] ([`contact_cause`]), else **person-caused** (a person walked into a robot
 //!   that stood or moved away); a robot-caused onset with someone the robot could not have
-//!   stopped for, because it had not perceived them within its memory time or first
-//!   perceived them too late to stop, counts as **appeared too close**
+//!   stopped for, because its sensor had not seen them for over [`UNSEEN_FOR_S`] or saw them
+//!   again too late to stop, counts as **appeared too close**
 //!   ([`World::appeared_too_close`], the replays' rule); with another robot, and with a wall
 //!   or shelf, each counted apart.
 
@@ -53,6 +53,13 @@ pub const NEAR_MISS_GAP: Real = 0.3;
 /// than this along the line of centres (m/s): the moving threshold, so that a robot that
 /// stands (or creeps at sensor-noise speed) is not blamed for being walked into.
 pub const CAUSING_SPEED: Real = MOVING_SPEED;
+/// A person the robot's sensor has not seen for longer than this (s) is unknown to it: a
+/// contact it begins with them before it could stop from seeing them again counts as
+/// appeared too close ([`World::appeared_too_close`]). 1 s, the safety layer's default memory
+/// time T_m: what a robot is expected to keep of someone hidden a moment. A constant of the
+/// measure, not the robot's own T_m, so that a robot that forgets sooner is not excused more
+/// often.
+pub const UNSEEN_FOR_S: Real = 1.0;
 
 /// Who caused a contact, judged at its onset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -590,6 +597,35 @@ mod tests {
         assert_eq!(drive_into_standing_person(0.8, true), (0, 1));
         // Never perceived at all (no sensor range to speak of): appeared too.
         assert_eq!(drive_into_standing_person(0.01, true), (0, 1));
+    }
+
+    /// As [`drive_into_standing_person`], the sensor seeing 5 m for the first `seen_steps`
+    /// steps and nothing after, with the robot's own memory time `memory` (s).
+    fn drive_into_person_hidden_after(seen_steps: usize, memory: Real) -> (u64, u64) {
+        let start = vec2(0.0, 5.0);
+        let mut w = world_with_one_person(start + vec2(3.0, 0.0));
+        w.humans.crowd.max_speeds[0] = 0.0;
+        w.robots[0].spec.safety_layer.memory_time = memory;
+        let mut m = MetricsRecorder::new(&w, 0);
+        for k in 0..40 {
+            w.robots[0].spec.sensor_range_m = if k < seen_steps { 5.0 } else { 0.01 };
+            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
+            m.record(&w);
+        }
+        let r = m.finish();
+        (r.robot_caused_contacts, r.appeared_contacts)
+    }
+
+    #[test]
+    fn a_person_hidden_a_moment_is_still_known_whatever_the_robot_remembers() {
+        // The contact comes at about 2.6 s. Seen until 2 s: hidden 0.6 s, known.
+        for memory in [0.0, 1.0, 3.0] {
+            assert_eq!(drive_into_person_hidden_after(20, memory), (1, 0));
+        }
+        // Seen until 1 s: unseen for 1.6 s, over `UNSEEN_FOR_S`, whatever the robot keeps.
+        for memory in [0.0, 1.0, 3.0] {
+            assert_eq!(drive_into_person_hidden_after(10, memory), (0, 1));
+        }
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! with `body_occlusion`), with the scenario's noise, and the sensor's visibility profile.
 
 use super::{ROBOT_ID_BIT, Sighting, World, gaussian2};
+use crate::metrics::UNSEEN_FOR_S;
 use agent::map::{LocalMap, StaticMap};
 use agent::math::{Real, Vec2};
 use agent::model::{AgentKind, EgoState, Neighbour};
@@ -160,13 +161,11 @@ impl World {
     }
 
     /// Notes that robot `index` perceives `seen` now. A sighting begins when it perceives
-    /// someone it has not perceived within its safety layer's memory time T_m
-    /// ([`agent::safety::SafetyParams::memory_time`], what its `Guard` keeps): from then on
-    /// braking at its limit stops it by `now + speed / braking`.
+    /// someone it has not perceived for longer than [`UNSEEN_FOR_S`]: from then on braking at
+    /// its limit stops it by `now + speed / braking`.
     fn note_sightings(&mut self, index: usize, seen: &[Neighbour]) {
         let robot = &self.robots[index];
         let (now, dt) = (self.time, self.dt);
-        let memory = robot.spec.safety_layer.memory_time;
         let speed = robot.state.velocity.norm();
         let braking = robot.spec.safety_limits(dt).braking().max(1e-9);
         if self.sightings.len() < self.robots.len() {
@@ -178,7 +177,7 @@ impl World {
             let Some(s) = sightings.get_mut(n.id as usize) else {
                 continue;
             };
-            if !known(s.last, now, memory, dt) {
+            if !known(s.last, now, UNSEEN_FOR_S, dt) {
                 s.stand_by = now + speed / braking;
             }
             s.last = now;
@@ -186,8 +185,8 @@ impl World {
     }
 
     /// Whether a contact robot `robot` begins now with person `person` while moving toward
-    /// them is one it could not have stopped for: it had not perceived them within its
-    /// memory time T_m (hidden behind someone, round a shelf's end, or out of range), or it
+    /// them is one it could not have stopped for: it had not perceived them for longer than
+    /// [`UNSEEN_FOR_S`] (hidden behind someone, round a shelf's end, or out of range), or it
     /// first perceived them so recently that braking from then on would not yet have stopped
     /// it. The replays' rule for people who appear in a recording (`playback`), applied to
     /// what a simulated robot's sensor sees at each step (`World::step` notes it).
@@ -195,14 +194,13 @@ impl World {
         let Some(sightings) = self.sightings.get(robot) else {
             return false;
         };
-        let memory = self.robots[robot].spec.safety_layer.memory_time;
         let s = sightings.get(person).copied().unwrap_or_default();
-        !known(s.last, self.time, memory, self.dt) || self.time < s.stand_by
+        !known(s.last, self.time, UNSEEN_FOR_S, self.dt) || self.time < s.stand_by
     }
 }
 
-/// Whether a body last perceived at `last` is still known at `now`: perceived within the
-/// memory time, or at the last observation (one step before, `dt`) when there is none.
+/// Whether a body last perceived at `last` is still known at `now`: perceived within `memory`
+/// of it, or at the last observation (one step before, `dt`).
 fn known(last: Real, now: Real, memory: Real, dt: Real) -> bool {
     now - last <= memory + dt * 1.5
 }
