@@ -61,11 +61,10 @@ pub(crate) fn blueprint() -> rerun::blueprint::Blueprint {
         ),
         fleet_plot("tasks / min", &["tasks_per_minute"]),
         fleet_plot(
-            "contacts: robot-caused, person-caused, appeared too close, robot–robot, total",
+            "contacts: robot-caused, person-caused, robot–robot, total",
             &[
                 "robot_caused_contacts",
                 "person_caused_contacts",
-                "appeared_contacts",
                 "robot_robot_contacts",
                 "total_contacts",
             ],

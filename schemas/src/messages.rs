@@ -367,11 +367,6 @@ pub struct FleetMetrics {
     /// Contacts with walls and shelves so far (onsets); absent from older senders.
     #[serde(default)]
     pub wall_contacts: u64,
-    /// Contacts so far in which a robot moved toward a person who appeared too close for it
-    /// to stop (stepping out from behind others or round a shelf's end, unseen until then);
-    /// absent from older senders.
-    #[serde(default)]
-    pub appeared_contacts: u64,
 }
 
 /// Stuck robot-seconds by what held the robot (`world_sim::stuck::Hold`).

@@ -109,7 +109,6 @@ fn demo_rrd_passes_rerun_verify_and_holds_the_dashboard() {
         "/world/safety/warning",
         "/metrics/robot_caused_contacts/fleet",
         "/metrics/person_caused_contacts/fleet",
-        "/metrics/appeared_contacts/fleet",
         "/metrics/protective_robots/fleet",
         "/metrics/stuck_robots/fleet",
         "/metrics/live_agents/fleet",

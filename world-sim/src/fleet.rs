@@ -250,7 +250,6 @@ impl Fleet {
         yaw_rate: Real,
     ) {
         self.world.robots[i].place(position, heading, velocity, yaw_rate);
-        self.world.moved(i);
     }
 
     /// Whether robot `i` is held.

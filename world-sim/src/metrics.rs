@@ -25,11 +25,8 @@
 //!   begins), told apart as HuNavSim does: with a person, **robot-caused** when at the onset
 //!   the robot's own velocity along the line of centres toward the person exceeds
 //!   [`CAUSING_SPEED`] ([`contact_cause`]), else **person-caused** (a person walked into a robot
-//!   that stood or moved away); a robot-caused onset with someone the robot could not have
-//!   stopped for, because its sensor had not seen them for over [`UNSEEN_FOR_S`] or saw them
-//!   again too late to stop, counts as **appeared too close**
-//!   ([`World::appeared_too_close`], the replays' rule); with another robot, and with a wall
-//!   or shelf, each counted apart.
+//!   that stood or moved away); with another robot, and with a wall or shelf, each counted
+//!   apart.
 
 use crate::world::World;
 use agent::math::{Real, Vec2};
@@ -53,13 +50,6 @@ pub const NEAR_MISS_GAP: Real = 0.3;
 /// than this along the line of centres (m/s): the moving threshold, so that a robot that
 /// stands (or creeps at sensor-noise speed) is not blamed for being walked into.
 pub const CAUSING_SPEED: Real = MOVING_SPEED;
-/// A person the robot's sensor has not seen for longer than this (s) is unknown to it: a
-/// contact it begins with them before it could stop from seeing them again counts as
-/// appeared too close ([`World::appeared_too_close`]). 1 s, the safety layer's default memory
-/// time T_m: what a robot is expected to keep of someone hidden a moment. A constant of the
-/// measure, not the robot's own T_m, so that a robot that forgets sooner is not excused more
-/// often.
-pub const UNSEEN_FOR_S: Real = 1.0;
 
 /// Who caused a contact, judged at its onset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -127,11 +117,6 @@ pub struct RobotMetrics {
     pub robot_caused_contacts: u64,
     /// Contacts people caused, walking into the robot (onsets).
     pub person_caused_contacts: u64,
-    /// Contacts the robot began moving toward someone who appeared too close to stop for
-    /// (onsets, [`World::appeared_too_close`]): hidden behind others or round a shelf's end
-    /// until then.
-    #[serde(default)]
-    pub appeared_contacts: u64,
     /// Contacts with other robots (onsets).
     pub robot_robot_contacts: u64,
     /// Contacts with walls and shelves (onsets).
@@ -145,12 +130,11 @@ pub struct RobotMetrics {
 }
 
 impl RobotMetrics {
-    /// Every contact onset: with people (robot-caused, person-caused and with people who
-    /// appeared too close), with robots, with walls and shelves.
+    /// Every contact onset: with people (robot-caused and person-caused), with robots, with
+    /// walls and shelves.
     pub fn total_contacts(&self) -> u64 {
         self.robot_caused_contacts
             + self.person_caused_contacts
-            + self.appeared_contacts
             + self.robot_robot_contacts
             + self.wall_contacts
     }
@@ -253,15 +237,11 @@ impl MetricsRecorder {
             let gap = d - ego.radius - world.humans.radius;
             self.min_human_distance = self.min_human_distance.min(d);
             overlap |= gap < 0.0;
-            let cause = match contact_cause(ego.position, ego.velocity, crowd.positions[i]) {
-                ContactCause::Robot if gap < 0.0 && world.appeared_too_close(self.index, i) => {
-                    Onset::Appeared
-                }
-                ContactCause::Robot => Onset::Robot,
-                ContactCause::Other => Onset::Person,
-            };
-            self.contacts
-                .person_onset(&mut self.touching_people[i], gap < 0.0, cause);
+            self.contacts.person_onset(
+                &mut self.touching_people[i],
+                gap < 0.0,
+                contact_cause(ego.position, ego.velocity, crowd.positions[i]),
+            );
             violation |= d < SVR_DISTANCE;
             intimate |= gap < INTIMATE_GAP;
             personal |= gap < PERSONAL_GAP;
@@ -357,7 +337,6 @@ impl MetricsRecorder {
             human_extra_path_m: 0.0,
             robot_caused_contacts: self.contacts.robot_caused,
             person_caused_contacts: self.contacts.person_caused,
-            appeared_contacts: self.contacts.appeared,
             robot_robot_contacts: self.contacts.robot,
             wall_contacts: self.contacts.wall,
             personal_space_entries: self.personal_space_entries,
@@ -373,30 +352,16 @@ struct ContactCounts {
     person_caused: u64,
     robot: u64,
     wall: u64,
-    appeared: u64,
-}
-
-/// Who a contact with a person is counted against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Onset {
-    /// The robot moved toward a person it knew of in time to stop.
-    Robot,
-    /// The robot moved toward a person who appeared too close to stop for
-    /// ([`World::appeared_too_close`]).
-    Appeared,
-    /// The person walked into a robot that stood, crept or moved away.
-    Person,
 }
 
 impl ContactCounts {
     /// Counts a contact with a person if one begins now (`touching` holds whether one was
     /// under way).
-    fn person_onset(&mut self, touching: &mut bool, overlap: bool, cause: Onset) {
+    fn person_onset(&mut self, touching: &mut bool, overlap: bool, cause: ContactCause) {
         if overlap && !*touching {
             match cause {
-                Onset::Robot => self.robot_caused += 1,
-                Onset::Appeared => self.appeared += 1,
-                Onset::Person => self.person_caused += 1,
+                ContactCause::Robot => self.robot_caused += 1,
+                ContactCause::Other => self.person_caused += 1,
             }
         }
         *touching = overlap;
@@ -561,84 +526,6 @@ mod tests {
         let r = m.finish();
         assert_eq!((r.robot_caused_contacts, r.person_caused_contacts), (0, 1));
         assert_eq!((r.robot_robot_contacts, r.wall_contacts), (0, 0));
-    }
-
-    /// The robot drives at 1 m/s on a standing person 3 m ahead with a sensor of `range` m,
-    /// its planner asking what it perceives every step when `observe`: the contacts it
-    /// begins, robot-caused and appeared too close.
-    fn drive_into_standing_person(range: Real, observe: bool) -> (u64, u64) {
-        let start = vec2(0.0, 5.0);
-        let mut w = world_with_one_person(start + vec2(3.0, 0.0));
-        w.humans.crowd.max_speeds[0] = 0.0;
-        w.robots[0].spec.sensor_range_m = range;
-        let mut m = MetricsRecorder::new(&w, 0);
-        for _ in 0..40 {
-            if observe {
-                w.observe(0);
-            }
-            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
-            m.record(&w);
-        }
-        let r = m.finish();
-        assert_eq!(r.person_caused_contacts, 0);
-        (r.robot_caused_contacts, r.appeared_contacts)
-    }
-
-    #[test]
-    fn a_person_the_robot_saw_in_time_is_its_contact() {
-        // Seen from 3 m at up to 1 m/s: braking from the first sight stops it in 0.7 m.
-        assert_eq!(drive_into_standing_person(5.0, true), (1, 0));
-    }
-
-    #[test]
-    fn a_person_first_perceived_too_close_to_stop_for_appeared_too_close() {
-        // First perceived 0.8 m centre to centre, about 0.1 m from touching, at 1 m/s: no
-        // brake stops it in time.
-        assert_eq!(drive_into_standing_person(0.8, true), (0, 1));
-        // Never perceived at all (no sensor range to speak of): appeared too.
-        assert_eq!(drive_into_standing_person(0.01, true), (0, 1));
-    }
-
-    /// As [`drive_into_standing_person`], the sensor seeing 5 m for the first `seen_steps`
-    /// steps and nothing after, with the robot's own memory time `memory` (s).
-    fn drive_into_person_hidden_after(seen_steps: usize, memory: Real) -> (u64, u64) {
-        let start = vec2(0.0, 5.0);
-        let mut w = world_with_one_person(start + vec2(3.0, 0.0));
-        w.humans.crowd.max_speeds[0] = 0.0;
-        w.robots[0].spec.safety_layer.memory_time = memory;
-        let mut m = MetricsRecorder::new(&w, 0);
-        for k in 0..40 {
-            w.robots[0].spec.sensor_range_m = if k < seen_steps { 5.0 } else { 0.01 };
-            w.step(&[Command::Velocity(vec2(1.0, 0.0))]);
-            m.record(&w);
-        }
-        let r = m.finish();
-        (r.robot_caused_contacts, r.appeared_contacts)
-    }
-
-    #[test]
-    fn a_person_hidden_a_moment_is_still_known_whatever_the_robot_remembers() {
-        // The contact comes at about 2.6 s. Seen until 2 s: hidden 0.6 s, known.
-        for memory in [0.0, 1.0, 3.0] {
-            assert_eq!(drive_into_person_hidden_after(20, memory), (1, 0));
-        }
-        // Seen until 1 s: unseen for 1.6 s, over `UNSEEN_FOR_S`, whatever the robot keeps.
-        for memory in [0.0, 1.0, 3.0] {
-            assert_eq!(drive_into_person_hidden_after(10, memory), (0, 1));
-        }
-    }
-
-    #[test]
-    fn what_the_sensor_saw_does_not_depend_on_who_asked() {
-        // The world notes what each robot's sensor sees at every step: a run that never
-        // asks (a coordinator replaying its journal) counts contacts the same.
-        for range in [5.0, 0.8, 0.01] {
-            assert_eq!(
-                drive_into_standing_person(range, false),
-                drive_into_standing_person(range, true),
-                "range {range} m"
-            );
-        }
     }
 
     #[test]

@@ -106,31 +106,6 @@ pub struct World {
     seed: u64,
     scratch: Vec<Vec2>,
     externals: Vec<(Vec2, Vec2)>,
-    /// Per robot, per person: when its sensor last saw them (noted at every step), and by
-    /// when it could stand, braking from the moment this sighting began
-    /// ([`World::appeared_too_close`]).
-    #[serde(default)]
-    sightings: Vec<Vec<Sighting>>,
-    /// Per robot, the step at which its sightings were last noted, plus one (0: not yet).
-    #[serde(default)]
-    noted: Vec<u64>,
-}
-
-/// When a robot last perceived a person, and by when braking from the start of that sighting
-/// stops it.
-#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
-struct Sighting {
-    last: Real,
-    stand_by: Real,
-}
-
-impl Default for Sighting {
-    fn default() -> Self {
-        Self {
-            last: Real::NEG_INFINITY,
-            stand_by: Real::NEG_INFINITY,
-        }
-    }
 }
 
 impl World {
@@ -187,7 +162,6 @@ impl World {
     /// Advances one step: robots execute `commands` (one per robot), people walk.
     pub fn step(&mut self, commands: &[Command]) {
         assert_eq!(commands.len(), self.robots.len(), "one command per robot");
-        self.note_all_sightings();
         // People react to where the robots are at the start of the step, as to each other.
         self.externals.clear();
         if self.humans.react_to_robots {

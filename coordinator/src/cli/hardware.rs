@@ -35,7 +35,7 @@ pub struct HardwareArgs {
 /// One line of the hardware's status.
 fn status_line(r: &HardwareReport) -> String {
     format!(
-        "t {:6.1} s | driven {} starved {} robot-ticks, {} on the tick before's cmd_vel, {} cmd_vel overtaken | {:.0} m | closest person {:.2} m, SVR {:.3} | contacts: robot-caused {} person-caused {} appeared {} robot-robot {} | cmd_vel refused {}",
+        "t {:6.1} s | driven {} starved {} robot-ticks, {} on the tick before's cmd_vel, {} cmd_vel overtaken | {:.0} m | closest person {:.2} m, SVR {:.3} | contacts: robot-caused {} person-caused {} robot-robot {} | cmd_vel refused {}",
         r.sim_time,
         r.driven,
         r.starved,
@@ -46,7 +46,6 @@ fn status_line(r: &HardwareReport) -> String {
         r.played.svr,
         r.played.robot_caused_contacts,
         r.played.person_caused_contacts,
-        r.played.appeared_contacts,
         r.played.robot_robot_contacts,
         r.rejected
     )

@@ -241,9 +241,7 @@ impl DashboardObserver {
                     state,
                     trouble: gone.is_some() || stuck || touched,
                     tasks_done: fleet.tasks_done(i),
-                    contacts: m.robot_caused_contacts
-                        + m.person_caused_contacts
-                        + m.appeared_contacts,
+                    contacts: m.robot_caused_contacts + m.person_caused_contacts,
                     svr: m.svr,
                     closest_person_m: nearest.get(i).copied().flatten().map(|d| d as f32),
                     delay_share: delay_share(i).map(|s| s as f32),
@@ -578,7 +576,6 @@ impl Observer for DashboardObserver {
                 ("tasks_per_minute", s.tasks_per_min()),
                 ("robot_caused_contacts", s.robot_caused_contacts as f64),
                 ("person_caused_contacts", s.person_caused_contacts as f64),
-                ("appeared_contacts", s.appeared_contacts as f64),
                 ("robot_robot_contacts", s.robot_robot_contacts as f64),
                 ("total_contacts", s.total_contacts as f64),
                 ("stuck_robots", s.stuck_robots as f64),

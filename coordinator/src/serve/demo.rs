@@ -324,11 +324,11 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
     ));
     out.push_str(
         "robot  tasks  path_m  collision%   SVR   min_human_m  social_force  near_miss_steps  \
-         contacts: robot-caused  person-caused  appeared  robot-robot  walls  total\n",
+         contacts: robot-caused  person-caused  robot-robot  walls  total\n",
     );
     for (i, m) in report.fleet_metrics.iter().enumerate() {
         out.push_str(&format!(
-            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}  {:22}  {:13}  {:8}  {:11}  {:5}  {:5}\n",
+            "{i:5}  {:5}  {:6.1}  {:10.2}  {:.3}  {:11.2}  {:12.3}  {:15}  {:22}  {:13}  {:11}  {:5}  {:5}\n",
             report.tasks_done.get(i).copied().unwrap_or(0),
             m.path_length_m,
             m.collision_rate * 100.0,
@@ -338,18 +338,16 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             m.robot_near_misses,
             m.robot_caused_contacts,
             m.person_caused_contacts,
-            m.appeared_contacts,
             m.robot_robot_contacts,
             m.wall_contacts,
             m.total_contacts(),
         ));
     }
     out.push_str(&format!(
-        "contacts (onsets): with people {} robot-caused, {} person-caused, {} appeared too close \
-         to stop for; robot-robot {} (each robot counts its own); walls and shelves {}; total {}\n",
+        "contacts (onsets): with people {} robot-caused, {} person-caused; robot-robot {} \
+         (each robot counts its own); walls and shelves {}; total {}\n",
         fleet.robot_caused_contacts,
         fleet.person_caused_contacts,
-        fleet.appeared_contacts,
         fleet.robot_robot_contacts,
         fleet.wall_contacts,
         fleet.total_contacts,

@@ -161,7 +161,6 @@ pub(super) fn metrics_frame(
         near_misses: summary.near_miss_steps,
         robot_caused_contacts: summary.robot_caused_contacts,
         person_caused_contacts: summary.person_caused_contacts,
-        appeared_contacts: summary.appeared_contacts,
         dropped_commands: status.stale_commands,
         deadlocks: summary.traffic.deadlocks,
         stuck_robots: summary.stuck_robots as u32,

@@ -1,9 +1,9 @@
 //! One run of the hallway study (`gapfleet study hallway`: the built-in hallway at a length,
 //! its share of people walking at one speed, a 3 m/s robot, body occlusion and the safety
-//! layer on) with every contact the robot begins explained (robot-caused, or with someone who
-//! appeared too close to stop for): the person's track over the second before, whether the
-//! robot saw them at each plan, what its layer did, and how hard the person changed their
-//! motion (the acceleration the layer's swerve allowance a_h must cover).
+//! layer on) with every contact the robot causes explained: the person's track over the
+//! second before, whether the robot saw them at each plan, what its layer did, and how hard
+//! the person changed their motion (the acceleration the layer's swerve allowance a_h
+//! must cover).
 //!
 //!     cargo run --release -p studies --example hallway_contacts -- PLANNER LENGTH SPEED SEED \
 //!         [LAYER]
@@ -66,7 +66,7 @@ fn main() -> Result<(), String> {
     let mut history: Vec<VecDeque<Seen>> = vec![VecDeque::new(); people];
     let mut touching = vec![false; people];
     let mut local = LocalMap::default();
-    let (mut robot_caused, mut person_caused, mut appeared_contacts) = (0, 0, 0);
+    let (mut robot_caused, mut person_caused) = (0, 0);
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let robot_radius = world.robots[0].state.radius;
     for _ in 0..steps {
@@ -115,22 +115,15 @@ fn main() -> Result<(), String> {
             let now = (p - r.position).norm() < r.radius + world.humans.radius;
             if now && !*was {
                 let cause = contact_cause(r.position, r.velocity, p);
-                let appeared = cause == ContactCause::Robot && world.appeared_too_close(0, i);
                 match cause {
-                    ContactCause::Robot if appeared => appeared_contacts += 1,
                     ContactCause::Robot => robot_caused += 1,
                     ContactCause::Other => person_caused += 1,
                 }
                 if cause == ContactCause::Robot {
                     let line = (p - r.position).normalize();
                     println!(
-                        "t {:5.1} {} contact with person {i}: robot {:.2} m/s, toward {:+.2}; person toward the robot {:+.2} m/s",
+                        "t {:5.1} robot-caused contact with person {i}: robot {:.2} m/s, toward {:+.2}; person toward the robot {:+.2} m/s",
                         world.time,
-                        if appeared {
-                            "appeared-too-close"
-                        } else {
-                            "robot-caused"
-                        },
                         r.velocity.norm(),
                         r.velocity.dot(&line),
                         -world.humans.crowd.velocities[i].dot(&line),
@@ -159,8 +152,6 @@ fn main() -> Result<(), String> {
             *was = now;
         }
     }
-    println!(
-        "{robot_caused} robot-caused, {person_caused} person-caused, {appeared_contacts} appeared-too-close contacts"
-    );
+    println!("{robot_caused} robot-caused, {person_caused} person-caused contacts");
     Ok(())
 }

@@ -80,10 +80,6 @@ pub struct HallwayRow {
     pub robot_caused_contacts: u64,
     /// Contacts people caused.
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close for the robot to stop (stepping out from
-    /// behind others); absent from runs.csv files written before it was counted.
-    #[serde(default)]
-    pub appeared_contacts: u64,
 }
 
 impl HallwayStudy {
@@ -141,7 +137,6 @@ impl Study for HallwayStudy {
             personal_space_entries: m.personal_space_entries,
             robot_caused_contacts: m.robot_caused_contacts,
             person_caused_contacts: m.person_caused_contacts,
-            appeared_contacts: m.appeared_contacts,
         })
     }
 }
@@ -169,8 +164,6 @@ pub struct HallwayCell {
     pub robot_caused_contacts: u64,
     /// Person-caused contacts, summed.
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close to stop for, summed.
-    pub appeared_contacts: u64,
 }
 
 /// One (planner, length) over every human speed.
@@ -197,8 +190,6 @@ pub struct HallwayLength {
     pub robot_caused_contacts: u64,
     /// Person-caused contacts, summed.
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close to stop for, summed.
-    pub appeared_contacts: u64,
 }
 
 /// `summary.json`: every cell, in report order, and every (planner, length).
@@ -258,7 +249,6 @@ pub fn per_length(study: &HallwayStudy, rows: &[HallwayRow]) -> Vec<HallwayLengt
                     .unwrap_or(0.0),
                 robot_caused_contacts: mine.iter().map(|r| r.robot_caused_contacts).sum(),
                 person_caused_contacts: mine.iter().map(|r| r.person_caused_contacts).sum(),
-                appeared_contacts: mine.iter().map(|r| r.appeared_contacts).sum(),
             });
         }
     }
@@ -298,7 +288,6 @@ pub fn summarize(study: &HallwayStudy, rows: &[HallwayRow]) -> HallwaySummary {
                     .unwrap_or(0.0),
                     robot_caused_contacts: mine.iter().map(|r| r.robot_caused_contacts).sum(),
                     person_caused_contacts: mine.iter().map(|r| r.person_caused_contacts).sum(),
-                    appeared_contacts: mine.iter().map(|r| r.appeared_contacts).sum(),
                 });
             }
         }

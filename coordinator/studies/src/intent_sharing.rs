@@ -49,9 +49,6 @@ pub struct SharingRun {
     /// Contacts people caused: walking into a robot stopped or moving away (onsets).
     #[serde(default)]
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close for the robot to stop (onsets).
-    #[serde(default)]
-    pub appeared_contacts: u64,
     /// Robot–robot contacts (onsets, each pair once per robot).
     #[serde(default)]
     pub robot_robot_contacts: u64,
@@ -76,7 +73,6 @@ impl SharingRun {
             svr: fleet.svr,
             robot_caused_contacts: fleet.robot_caused_contacts,
             person_caused_contacts: fleet.person_caused_contacts,
-            appeared_contacts: fleet.appeared_contacts,
             robot_robot_contacts: fleet.robot_robot_contacts,
             wall_contacts: fleet.wall_contacts,
             protective_commands: report.protective.iter().sum(),
@@ -84,7 +80,7 @@ impl SharingRun {
     }
 
     /// The compared metrics, by name.
-    const METRICS: [Metric; 8] = [
+    const METRICS: [Metric; 7] = [
         ("tasks", |r| r.tasks as f64),
         ("robot_near_miss_steps", |r| r.robot_near_miss_steps as f64),
         ("robot_contact_steps", |r| r.robot_contact_steps as f64),
@@ -94,7 +90,6 @@ impl SharingRun {
         ("person_caused_contacts", |r| {
             r.person_caused_contacts as f64
         }),
-        ("appeared_contacts", |r| r.appeared_contacts as f64),
     ];
 }
 
@@ -125,13 +120,13 @@ pub fn report(runs: &[SharingRun]) -> String {
     let _ = writeln!(
         out,
         "sharing  tasks  robot_near_miss_steps  robot_contact_steps  collision%   SVR  \
-         robot-caused  person-caused  appeared  protective"
+         robot-caused  person-caused  protective"
     );
     for sharing in [true, false] {
         let m = |get: fn(&SharingRun) -> f64| mean(of(sharing).map(get)).unwrap_or(0.0);
         let _ = writeln!(
             out,
-            "{:7}  {:5.1}  {:21.1}  {:19.1}  {:10.3}  {:.3}  {:12.2}  {:13.2}  {:8.2}  {:10.1}",
+            "{:7}  {:5.1}  {:21.1}  {:19.1}  {:10.3}  {:.3}  {:12.2}  {:13.2}  {:10.1}",
             if sharing { "on" } else { "off" },
             m(SharingRun::METRICS[0].1),
             m(SharingRun::METRICS[1].1),
@@ -140,7 +135,6 @@ pub fn report(runs: &[SharingRun]) -> String {
             m(SharingRun::METRICS[4].1),
             m(SharingRun::METRICS[5].1),
             m(SharingRun::METRICS[6].1),
-            m(SharingRun::METRICS[7].1),
             m(|r| r.protective_commands as f64),
         );
     }
@@ -186,7 +180,6 @@ mod tests {
             svr: 0.2,
             robot_caused_contacts: 0,
             person_caused_contacts: seed,
-            appeared_contacts: 0,
             robot_robot_contacts: 0,
             wall_contacts: 0,
             protective_commands: 3,

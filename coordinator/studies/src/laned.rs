@@ -71,13 +71,6 @@ pub struct LanedRow {
     pub average_speed: f64,
     /// Contacts the robot caused.
     pub robot_caused_contacts: u64,
-    /// Contacts people caused (absent from runs.csv files written before it was counted, as
-    /// is the next).
-    #[serde(default)]
-    pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close for the robot to stop.
-    #[serde(default)]
-    pub appeared_contacts: u64,
 }
 
 impl LanedStudy {
@@ -129,8 +122,6 @@ impl Study for LanedStudy {
             time_to_goal_s: m.success.then_some(m.time_to_goal_s),
             average_speed: m.path_length_m / duration,
             robot_caused_contacts: m.robot_caused_contacts,
-            person_caused_contacts: m.person_caused_contacts,
-            appeared_contacts: m.appeared_contacts,
         })
     }
 }
@@ -148,10 +139,6 @@ pub struct LanedCell {
     pub speed_quartiles: [f64; 5],
     /// Robot-caused contacts, summed.
     pub robot_caused_contacts: u64,
-    /// Person-caused contacts, summed.
-    pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close to stop for, summed.
-    pub appeared_contacts: u64,
 }
 
 /// The five-number summary of `values` (quartiles by linear interpolation).
@@ -184,8 +171,6 @@ pub fn summarize(study: &LanedStudy, rows: &[LanedRow]) -> Vec<LanedCell> {
                     / mine.len().max(1) as f64,
                 speed_quartiles: five_numbers(&speeds),
                 robot_caused_contacts: mine.iter().map(|r| r.robot_caused_contacts).sum(),
-                person_caused_contacts: mine.iter().map(|r| r.person_caused_contacts).sum(),
-                appeared_contacts: mine.iter().map(|r| r.appeared_contacts).sum(),
             }
         })
         .collect()

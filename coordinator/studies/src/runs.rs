@@ -57,9 +57,6 @@ struct RunRecord {
     human_extra_path_m: f64,
     robot_caused_contacts: u64,
     person_caused_contacts: u64,
-    /// Absent from runs.csv files written before it was counted.
-    #[serde(default)]
-    appeared_contacts: u64,
     wall_contacts: u64,
 }
 
@@ -85,7 +82,6 @@ impl From<&RunRow> for RunRecord {
             human_extra_path_m: m.human_extra_path_m,
             robot_caused_contacts: m.robot_caused_contacts,
             person_caused_contacts: m.person_caused_contacts,
-            appeared_contacts: m.appeared_contacts,
             wall_contacts: m.wall_contacts,
         }
     }
@@ -117,7 +113,6 @@ impl From<RunRecord> for RunRow {
                 human_extra_path_m: r.human_extra_path_m,
                 robot_caused_contacts: r.robot_caused_contacts,
                 person_caused_contacts: r.person_caused_contacts,
-                appeared_contacts: r.appeared_contacts,
                 wall_contacts: r.wall_contacts,
                 // Not in the open-space study's runs.csv.
                 personal_space_entries: 0,

@@ -35,9 +35,6 @@ pub struct Group {
     pub robot_caused_contacts: u64,
     /// Contacts people caused (walking into a robot stopped or moving away), summed.
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close for the robot to stop, summed
-    /// (`world_sim::world::World::appeared_too_close`).
-    pub appeared_contacts: u64,
     /// Contacts with other robots, summed.
     pub robot_robot_contacts: u64,
     /// Contacts with walls and shelves, summed.
@@ -121,7 +118,6 @@ pub fn summarize(algorithms: &[PlannerSpec], densities: &[f64], rows: &[RunRow])
                 min_human_distance_m: mean(g.iter().map(|m| m.min_human_distance_m)),
                 robot_caused_contacts: g.iter().map(|m| m.robot_caused_contacts).sum(),
                 person_caused_contacts: g.iter().map(|m| m.person_caused_contacts).sum(),
-                appeared_contacts: g.iter().map(|m| m.appeared_contacts).sum(),
                 robot_robot_contacts: g.iter().map(|m| m.robot_robot_contacts).sum(),
                 wall_contacts: g.iter().map(|m| m.wall_contacts).sum(),
                 total_contacts: g.iter().map(|m| m.total_contacts()).sum(),

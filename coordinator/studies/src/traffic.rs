@@ -83,18 +83,13 @@ pub struct TrafficRun {
     pub robot_caused_contacts: u64,
     /// Contacts people caused, walking into robots (onsets).
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close for the robot to stop (onsets; 0 in
-    /// runs.csv files older than this column).
-    #[serde(default)]
-    pub appeared_contacts: u64,
     /// Robot–robot contacts (onsets).
     pub robot_robot_contacts: u64,
     /// Contacts with walls and shelves (onsets; 0 in runs.csv files older than this column,
     /// as are the ones below down to `yielded`).
     #[serde(default)]
     pub wall_contacts: u64,
-    /// Every contact: robot-caused, person-caused, appeared too close, robot–robot and wall
-    /// contacts.
+    /// Every contact: robot-caused, person-caused, robot–robot and wall contacts.
     #[serde(default)]
     pub total_contacts: u64,
     /// The smallest centre distance between any robot and any person (m).
@@ -221,7 +216,6 @@ impl TrafficRun {
             max_stuck: fleet.traffic.max_stuck,
             robot_caused_contacts: fleet.robot_caused_contacts,
             person_caused_contacts: fleet.person_caused_contacts,
-            appeared_contacts: fleet.appeared_contacts,
             robot_robot_contacts: fleet.robot_robot_contacts,
             wall_contacts: fleet.wall_contacts,
             total_contacts: fleet.total_contacts,

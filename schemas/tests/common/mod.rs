@@ -145,7 +145,6 @@ pub fn metrics() -> FleetMetrics {
         },
         robot_robot_contacts: 2,
         wall_contacts: 0,
-        appeared_contacts: 1,
     }
 }
 

@@ -16,7 +16,7 @@ use super::{Fleet, NotAWarehouse};
 use crate::scenario::Scenario;
 
 /// The snapshot format this build writes and reads.
-pub const SNAPSHOT_FORMAT: u32 = 3;
+pub const SNAPSHOT_FORMAT: u32 = 2;
 
 /// Why a snapshot could not be restored.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -51,9 +51,6 @@ pub struct FleetSummary {
     pub robot_caused_contacts: u64,
     /// Contacts people caused, walking into robots (onsets).
     pub person_caused_contacts: u64,
-    /// Contacts with people who appeared too close for the robot to stop (onsets,
-    /// `World::appeared_too_close`).
-    pub appeared_contacts: u64,
     /// Robot–robot contacts (onsets).
     pub robot_robot_contacts: u64,
     /// Contacts with walls and shelves (onsets).
@@ -128,7 +125,6 @@ impl FleetSummary {
             robot_contact_steps: sum(|m| m.robot_contacts),
             robot_caused_contacts: sum(|m| m.robot_caused_contacts),
             person_caused_contacts: sum(|m| m.person_caused_contacts),
-            appeared_contacts: sum(|m| m.appeared_contacts),
             robot_robot_contacts: sum(|m| m.robot_robot_contacts),
             wall_contacts: sum(|m| m.wall_contacts),
             total_contacts: sum(RobotMetrics::total_contacts),

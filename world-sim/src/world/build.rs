@@ -251,8 +251,6 @@ impl World {
             seed: scenario.seed,
             scratch: Vec::new(),
             externals: Vec::new(),
-            sightings: Vec::new(),
-            noted: Vec::new(),
         }
     }
 

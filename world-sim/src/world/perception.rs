@@ -2,8 +2,7 @@
 //! sight (walls and shelves occlude unless the scenario turns that off; people and robots too
 //! with `body_occlusion`), with the scenario's noise, and the sensor's visibility profile.
 
-use super::{ROBOT_ID_BIT, Sighting, World, gaussian2};
-use crate::metrics::UNSEEN_FOR_S;
+use super::{ROBOT_ID_BIT, World, gaussian2};
 use agent::map::{LocalMap, StaticMap};
 use agent::math::{Real, Vec2};
 use agent::model::{AgentKind, EgoState, Neighbour};
@@ -56,26 +55,10 @@ impl World {
     /// sensor range whose centre it can see past walls and shelves (unless occlusion is off)
     /// and, with `body_occlusion`, past every other body, with the scenario's noise.
     pub fn observe(&mut self, index: usize) -> (EgoState, Vec<Neighbour>) {
-        let (ego, mut seen) = self.perceive(index);
-        // What the step would note of this sensor's view: noted once, here, when asked first.
-        self.note_once(index, &seen);
-        let spec = &self.robots[index].spec;
-        let (pos_noise, vel_noise) = (spec.position_noise_m, spec.velocity_noise);
-        if pos_noise > 0.0 || vel_noise > 0.0 {
-            let mut rng = super::noise_stream(self.seed, self.step, index);
-            for n in &mut seen {
-                n.position += gaussian2(&mut rng) * pos_noise;
-                n.velocity += gaussian2(&mut rng) * vel_noise;
-            }
-        }
-        (ego, seen)
-    }
-
-    /// What robot `index`'s sensor sees, exactly ([`World::observe`] without the noise).
-    fn perceive(&self, index: usize) -> (EgoState, Vec<Neighbour>) {
         let robot = &self.robots[index];
         let ego = robot.state;
         let range = robot.spec.sensor_range_m;
+        let (pos_noise, vel_noise) = (robot.spec.position_noise_m, robot.spec.velocity_noise);
         let mut seen = Vec::new();
         let crowd = &self.humans.crowd;
         let occlusion = robot.spec.occlusion && !self.map.is_empty();
@@ -114,95 +97,15 @@ impl World {
                 .collect();
             seen.retain(|n| !hidden_by(ego.position, n.position, &blockers));
         }
+        if pos_noise > 0.0 || vel_noise > 0.0 {
+            let mut rng = super::noise_stream(self.seed, self.step, index);
+            for n in &mut seen {
+                n.position += gaussian2(&mut rng) * pos_noise;
+                n.velocity += gaussian2(&mut rng) * vel_noise;
+            }
+        }
         (ego, seen)
     }
-}
-
-impl World {
-    /// Notes what every robot's sensor sees now, before a step, whoever asks what it
-    /// perceives ([`World::appeared_too_close`] judges contacts by it). A robot whose view
-    /// [`World::observe`] gave at this step was noted then, from the same world; the others'
-    /// views are taken here.
-    pub(super) fn note_all_sightings(&mut self) {
-        if self.humans.crowd.is_empty() {
-            return;
-        }
-        for index in 0..self.robots.len() {
-            if !self.noted_now(index) {
-                let (_, seen) = self.perceive(index);
-                self.note_once(index, &seen);
-            }
-        }
-    }
-
-    /// Robot `index` was placed elsewhere ([`RobotBody::place`](crate::robot::RobotBody::place)):
-    /// a view noted before at this step is not what it sees now.
-    pub(crate) fn moved(&mut self, index: usize) {
-        if let Some(noted) = self.noted.get_mut(index) {
-            *noted = 0;
-        }
-    }
-
-    /// Whether robot `index`'s view was noted at this step.
-    fn noted_now(&self, index: usize) -> bool {
-        self.noted.get(index) == Some(&(self.step + 1))
-    }
-
-    /// Notes `seen`, robot `index`'s view now, unless noted already at this step.
-    fn note_once(&mut self, index: usize, seen: &[Neighbour]) {
-        if self.humans.crowd.is_empty() || self.noted_now(index) {
-            return;
-        }
-        self.note_sightings(index, seen);
-        if self.noted.len() < self.robots.len() {
-            self.noted.resize(self.robots.len(), 0);
-        }
-        self.noted[index] = self.step + 1;
-    }
-
-    /// Notes that robot `index` perceives `seen` now. A sighting begins when it perceives
-    /// someone it has not perceived for longer than [`UNSEEN_FOR_S`]: from then on braking at
-    /// its limit stops it by `now + speed / braking`.
-    fn note_sightings(&mut self, index: usize, seen: &[Neighbour]) {
-        let robot = &self.robots[index];
-        let (now, dt) = (self.time, self.dt);
-        let speed = robot.state.velocity.norm();
-        let braking = robot.spec.safety_limits(dt).braking().max(1e-9);
-        if self.sightings.len() < self.robots.len() {
-            self.sightings.resize(self.robots.len(), Vec::new());
-        }
-        let sightings = &mut self.sightings[index];
-        sightings.resize(self.humans.crowd.len(), Sighting::default());
-        for n in seen.iter().filter(|n| n.kind == AgentKind::Human) {
-            let Some(s) = sightings.get_mut(n.id as usize) else {
-                continue;
-            };
-            if !known(s.last, now, UNSEEN_FOR_S, dt) {
-                s.stand_by = now + speed / braking;
-            }
-            s.last = now;
-        }
-    }
-
-    /// Whether a contact robot `robot` begins now with person `person` while moving toward
-    /// them is one it could not have stopped for: it had not perceived them for longer than
-    /// [`UNSEEN_FOR_S`] (hidden behind someone, round a shelf's end, or out of range), or it
-    /// first perceived them so recently that braking from then on would not yet have stopped
-    /// it. The replays' rule for people who appear in a recording (`playback`), applied to
-    /// what a simulated robot's sensor sees at each step (`World::step` notes it).
-    pub fn appeared_too_close(&self, robot: usize, person: usize) -> bool {
-        let Some(sightings) = self.sightings.get(robot) else {
-            return false;
-        };
-        let s = sightings.get(person).copied().unwrap_or_default();
-        !known(s.last, self.time, UNSEEN_FOR_S, self.dt) || self.time < s.stand_by
-    }
-}
-
-/// Whether a body last perceived at `last` is still known at `now`: perceived within `memory`
-/// of it, or at the last observation (one step before, `dt`).
-fn known(last: Real, now: Real, memory: Real, dt: Real) -> bool {
-    now - last <= memory + dt * 1.5
 }
 
 /// Whether a body between `eye` and `target` (and not around `eye`) crosses the line of sight

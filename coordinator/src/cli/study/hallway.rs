@@ -83,13 +83,13 @@ pub(super) fn run(args: HallwayArgs) -> Result<()> {
         args.out.display(),
     );
     println!(
-        "| planner | length (m) | runs | reached | median time to goal (s) | mean time, reached (s) | path changes | personal-space entries | robot-caused | person-caused | appeared too close | total contacts |"
+        "| planner | length (m) | runs | reached | median time to goal (s) | mean time, reached (s) | path changes | personal-space entries | robot-caused | person-caused |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let time = |t: Option<f64>| t.map_or("–".to_string(), |t| format!("{t:.1}"));
     for l in &summary.lengths {
         println!(
-            "| {} | {} | {} | {:.0}% | {} | {} | {:.2} | {:.2} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {:.0}% | {} | {} | {:.2} | {:.2} | {} | {} |",
             l.planner,
             l.length_m,
             l.runs,
@@ -100,8 +100,6 @@ pub(super) fn run(args: HallwayArgs) -> Result<()> {
             l.personal_space_entries,
             l.robot_caused_contacts,
             l.person_caused_contacts,
-            l.appeared_contacts,
-            l.robot_caused_contacts + l.person_caused_contacts + l.appeared_contacts,
         );
     }
     Ok(())

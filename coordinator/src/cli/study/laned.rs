@@ -66,13 +66,13 @@ pub(super) fn run(args: LanedArgs) -> Result<()> {
         args.out.display(),
     );
     println!(
-        "| 1/(c1·c3) | c3 | runs | reached | average speed: min / q1 / median / q3 / max (m/s) | robot-caused | person-caused | appeared too close | total contacts |"
+        "| 1/(c1·c3) | c3 | runs | reached | average speed: min / q1 / median / q3 / max (m/s) | robot-caused |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|");
     for c in &cells {
         let q = c.speed_quartiles;
         println!(
-            "| {} | {:.4} | {} | {:.0}% | {:.2} / {:.2} / {:.2} / {:.2} / {:.2} | {} | {} | {} | {} |",
+            "| {} | {:.4} | {} | {:.0}% | {:.2} / {:.2} / {:.2} / {:.2} / {:.2} | {} |",
             c.ratio,
             study.params(c.ratio).c3,
             c.runs,
@@ -82,10 +82,7 @@ pub(super) fn run(args: LanedArgs) -> Result<()> {
             q[2],
             q[3],
             q[4],
-            c.robot_caused_contacts,
-            c.person_caused_contacts,
-            c.appeared_contacts,
-            c.robot_caused_contacts + c.person_caused_contacts + c.appeared_contacts,
+            c.robot_caused_contacts
         );
     }
     Ok(())

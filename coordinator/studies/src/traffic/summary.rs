@@ -39,8 +39,6 @@ pub struct Cell {
     pub robot_caused_contacts: f64,
     /// Mean person-caused contacts per run.
     pub person_caused_contacts: f64,
-    /// Mean contacts per run with people who appeared too close to stop for.
-    pub appeared_contacts: f64,
     /// Mean robot–robot contacts per run.
     pub robot_robot_contacts: f64,
     /// Mean wall and shelf contacts per run.
@@ -134,7 +132,6 @@ pub fn summarize(study: &TrafficStudy, runs: &[TrafficRun]) -> Vec<Cell> {
                     stuck_share: m(|r| r.stuck_robot_s) / (robots as f64 * study.seconds),
                     robot_caused_contacts: m(|r| r.robot_caused_contacts as f64),
                     person_caused_contacts: m(|r| r.person_caused_contacts as f64),
-                    appeared_contacts: m(|r| r.appeared_contacts as f64),
                     robot_robot_contacts: m(|r| r.robot_robot_contacts as f64),
                     wall_contacts: m(|r| r.wall_contacts as f64),
                     total_contacts: m(|r| r.total_contacts as f64),
@@ -223,17 +220,16 @@ pub fn table(cells: &[Cell]) -> String {
 /// Markdown table (means per run, except where a column says otherwise).
 pub fn contacts_table(cells: &[Cell]) -> String {
     let mut out = String::from(
-        "| site | robots | policy | layer | tasks/min | robot-caused | person-caused | appeared too close | robot–robot | walls | total | person-caused per robot-hour | total per robot-hour | closest (m) | intimate robot-s | people's delay (person-s) | commands changed | yields | mean change (m/s) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| site | robots | policy | layer | tasks/min | robot-caused | person-caused | robot–robot | walls | total | person-caused per robot-hour | total per robot-hour | closest (m) | intimate robot-s | people's delay (person-s) | commands changed | yields | mean change (m/s) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in cells {
         out.push_str(&format!(
-            "{} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} | {:.1}% | {:.1}% | {:.2} |\n",
+            "{} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} | {:.1}% | {:.1}% | {:.2} |\n",
             row_head(c),
             c.tasks_per_min,
             c.robot_caused_contacts,
             c.person_caused_contacts,
-            c.appeared_contacts,
             c.robot_robot_contacts,
             c.wall_contacts,
             c.total_contacts,
