@@ -3,7 +3,9 @@
 //! layer on) with every contact the robot causes explained: the person's track over the
 //! second before, whether the robot saw them at each plan, what its layer did, and how hard
 //! the person changed their motion (the acceleration the layer's swerve allowance a_h
-//! must cover).
+//! must cover). A contact with someone the robot had not seen for over a second, or saw again
+//! too late to stop for, is marked as hidden until too late (still robot-caused: the
+//! robot could have slowed where it could not see).
 //!
 //!     cargo run --release -p studies --example hallway_contacts -- PLANNER LENGTH SPEED SEED \
 //!         [LAYER]
@@ -66,11 +68,24 @@ fn main() -> Result<(), String> {
     let mut history: Vec<VecDeque<Seen>> = vec![VecDeque::new(); people];
     let mut touching = vec![false; people];
     let mut local = LocalMap::default();
-    let (mut robot_caused, mut person_caused) = (0, 0);
+    let (mut robot_caused, mut person_caused, mut hidden) = (0, 0, 0);
+    // Per person: when the robot last saw them, and by when braking from the moment it saw
+    // them again (after over a second unseen) would have stopped it.
+    let mut last_seen = vec![Real::NEG_INFINITY; people];
+    let mut stand_by = vec![Real::NEG_INFINITY; people];
+    let unseen_for = 1.0 + 1.5 * scenario.dt_s;
+    let braking = scenario.robot.max_accel;
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let robot_radius = world.robots[0].state.radius;
     for _ in 0..steps {
         let (ego, seen) = world.observe(0);
+        for n in seen.iter().filter(|n| (n.id as usize) < people) {
+            let i = n.id as usize;
+            if world.time - last_seen[i] > unseen_for {
+                stand_by[i] = world.time + ego.velocity.norm() / braking;
+            }
+            last_seen[i] = world.time;
+        }
         let goal = world.robots[0].goal;
         if (goal - ego.position).norm() <= world.robots[0].spec.goal_tolerance_m {
             println!("t {:5.1} arrived", world.time);
@@ -121,9 +136,17 @@ fn main() -> Result<(), String> {
                 }
                 if cause == ContactCause::Robot {
                     let line = (p - r.position).normalize();
+                    // Unseen for over a second, or seen again too late to stop for.
+                    let unseen = world.time - last_seen[i] > unseen_for || world.time < stand_by[i];
+                    hidden += u64::from(unseen);
                     println!(
-                        "t {:5.1} robot-caused contact with person {i}: robot {:.2} m/s, toward {:+.2}; person toward the robot {:+.2} m/s",
+                        "t {:5.1} robot-caused contact{} with person {i}: robot {:.2} m/s, toward {:+.2}; person toward the robot {:+.2} m/s",
                         world.time,
+                        if unseen {
+                            " (hidden from the robot until too late to stop)"
+                        } else {
+                            ""
+                        },
                         r.velocity.norm(),
                         r.velocity.dot(&line),
                         -world.humans.crowd.velocities[i].dot(&line),
@@ -152,6 +175,8 @@ fn main() -> Result<(), String> {
             *was = now;
         }
     }
-    println!("{robot_caused} robot-caused, {person_caused} person-caused contacts");
+    println!(
+        "{robot_caused} robot-caused ({hidden} with someone hidden from the robot until too late), {person_caused} person-caused contacts"
+    );
     Ok(())
 }
