@@ -24,6 +24,11 @@ use world_sim::episode::guards;
 use world_sim::metrics::{ContactCause, contact_cause};
 use world_sim::world::World;
 
+/// A person the robot has not seen for longer than this (s) is unknown to it when seen again:
+/// the layer's default memory time, the rule of results/safety/REPORT.md ("People hidden from
+/// the robot are not excused").
+const UNSEEN_FOR_S: Real = 1.0;
+
 /// One step of the person's history as the robot saw it.
 #[derive(Debug, Clone, Copy)]
 struct Seen {
@@ -73,8 +78,12 @@ fn main() -> Result<(), String> {
     // them again (after over a second unseen) would have stopped it.
     let mut last_seen = vec![Real::NEG_INFINITY; people];
     let mut stand_by = vec![Real::NEG_INFINITY; people];
-    let unseen_for = 1.0 + 1.5 * scenario.dt_s;
-    let braking = scenario.robot.max_accel;
+    let unseen_for = UNSEEN_FOR_S + 1.5 * scenario.dt_s;
+    let braking = scenario
+        .robot
+        .safety_limits(scenario.dt_s)
+        .braking()
+        .max(1e-9);
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let robot_radius = world.robots[0].state.radius;
     for _ in 0..steps {
