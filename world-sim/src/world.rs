@@ -271,6 +271,10 @@ const STALL_PROGRESS_M: Real = 0.5;
 /// People keep this far from a hallway's open ends (m); robots start and stop there too.
 const END_MARGIN_M: Real = 0.5;
 
+/// A hallway's end walls stand this far beyond its ends (m): room for a robot pushed back at
+/// its start, and far enough from where people turn back that they feel no push from them.
+const HALLWAY_END_ROOM_M: Real = 2.0;
+
 /// Where a group goes when one of its members arrives.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 enum GoalRule {

@@ -173,7 +173,8 @@ fn a_mixed_crowd_has_people_of_both_kinds_and_only_reacting_ones_keep_away() {
 fn hallway_has_walls_and_two_way_traffic_that_stays_inside() {
     let s = Scenario::builtin("hallway").expect("valid");
     let mut w = World::from_scenario(&s);
-    assert_eq!(w.map.boundary_segments().count(), 2);
+    // Two sides and two ends.
+    assert_eq!(w.map.boundary_segments().count(), 4);
     assert_eq!(w.humans.crowd.len(), 12);
     let heading_right = |w: &World| {
         (0..w.humans.crowd.len())
@@ -276,6 +277,52 @@ fn walled_stage_keeps_everyone_inside_the_walls() {
             .positions
             .iter()
             .all(|p| p.x > -1.0 && p.x < 11.0 && p.y > -1.0 && p.y < 11.0)
+    );
+}
+
+/// A robot cannot leave the hallway: walls close it behind the robot's start and beyond its far
+/// end, out of the reach of people turning back at the ends; a laned hallway, whose people
+/// walk out at the far end, is closed behind the start only.
+#[test]
+fn the_hallway_is_closed_behind_the_robots_start_and_beyond_its_far_end() {
+    let mut s = Scenario::builtin("hallway").expect("valid");
+    let (length, width) = {
+        let h = s.hallway.as_ref().expect("a hallway");
+        (h.length_m, h.width_m)
+    };
+    let w = World::from_scenario(&s);
+    let start = w.robots[0].state.position;
+    let middle = vec2(length / 2.0, width / 2.0);
+    for out in [
+        vec2(-10.0, width / 2.0),
+        vec2(-1.0, -5.0),
+        vec2(-1.0, width + 5.0),
+        vec2(length + 10.0, width / 2.0),
+        vec2(length + 1.0, -5.0),
+    ] {
+        assert!(
+            !w.map.line_of_sight(start, out),
+            "{out:?} is open from the start"
+        );
+        assert!(
+            !w.map.line_of_sight(middle, out),
+            "{out:?} is open from the middle"
+        );
+    }
+    // Room behind the start, and between the end walls and where people turn back (a metre
+    // inside the ends).
+    let back = w.map.cast_ray(start, vec2(-1.0, 0.0), 10.0);
+    assert!(back.is_some_and(|d| d > 2.0), "{back:?}");
+    let turn = vec2(length - 1.0, width / 2.0);
+    let ahead = w.map.cast_ray(turn, vec2(1.0, 0.0), 10.0);
+    assert!(ahead.is_some_and(|d| d > 2.5), "{ahead:?}");
+
+    s.hallway.as_mut().expect("a hallway").lanes = Some(2);
+    let w = World::from_scenario(&s);
+    assert!(!w.map.line_of_sight(start, vec2(-10.0, width / 2.0)));
+    assert!(
+        w.map
+            .line_of_sight(middle, vec2(length + 10.0, width / 2.0))
     );
 }
 

@@ -1,0 +1,152 @@
+//! What the safety layer did in hallway-study runs, and where the robot went: per run, the
+//! plans by the layer's zone (clear, warning, protective, yield), the plans in which the robot
+//! moved away from its goal (backing), and the plans it spent outside the hallway's walls
+//! (behind its start, or beyond the side walls, which closed ends now prevent).
+//!
+//!     cargo run --release -p studies --example hallway_layer -- PLANNER LENGTH SPEEDS SEEDS
+//!
+//! e.g. `pnp-omni 100 2.5,3 101,102,103`. With `VERBOSE=1`, every 2 s of each run: the goal,
+//! the robot, its command and zone, and the people within 3 m. The run is the study's, step
+//! for step (`studies::hallway`, the loop of `world_sim::episode::run_episode`).
+
+use agent::map::LocalMap;
+use agent::math::Real;
+use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::safety::Zone;
+use studies::hallway::{HallwayStudy, hallway_scenario};
+use world_sim::episode::guards;
+use world_sim::world::World;
+
+/// Plans per zone, backing and outside, in that order.
+type Tally = [u64; 6];
+
+fn list<T: std::str::FromStr>(text: &str, what: &str) -> Result<Vec<T>, String> {
+    text.split(',')
+        .map(|s| {
+            s.parse()
+                .map_err(|_| format!("{what}: `{s}` is not a number"))
+        })
+        .collect()
+}
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() < 4 {
+        return Err("usage: hallway_layer PLANNER LENGTH SPEEDS SEEDS".into());
+    }
+    let planner: PlannerSpec = args[0].parse().map_err(|e| format!("{e}"))?;
+    let length: Real = args[1].parse().map_err(|e| format!("length: {e}"))?;
+    let speeds: Vec<Real> = list(&args[2], "speeds")?;
+    let seeds: Vec<u64> = list(&args[3], "seeds")?;
+    let verbose = std::env::var_os("VERBOSE").is_some();
+    let base = hallway_scenario(3.0, true).map_err(|e| e.to_string())?;
+    let mut total: Tally = [0; 6];
+    for &speed in &speeds {
+        for &seed in &seeds {
+            let study = HallwayStudy {
+                scenario: base.clone(),
+                planners: vec![planner],
+                lengths: vec![length],
+                width_m: 4.0,
+                speeds: vec![speed],
+                first_seed: seed,
+                seeds: 1,
+            };
+            let scenario = study.scenario_for(length, speed, seed);
+            let width = study.width_m;
+            let mut world = World::from_scenario(&scenario);
+            let mut stack = PlannerStack::with_max_speed(planner, scenario.robot.max_speed);
+            stack.set_record_fan(false);
+            let mut guard = guards(&scenario, 1)
+                .pop()
+                .flatten()
+                .ok_or("the study's layer is on")?;
+            let mut local = LocalMap::default();
+            let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
+            let mut tally: Tally = [0; 6];
+            for k in 0..steps {
+                let (ego, seen) = world.observe(0);
+                let goal = world.robots[0].goal;
+                if (goal - ego.position).norm() <= world.robots[0].spec.goal_tolerance_m {
+                    break;
+                }
+                let profile = world.visibility(0, &mut local);
+                let input = PlanningInput {
+                    ego: &ego,
+                    neighbours: &seen,
+                    map: &world.map,
+                    goal,
+                    dt: world.dt,
+                    visibility: profile.as_ref(),
+                    safety: None,
+                };
+                let (_, guarded) = guard.plan(&mut stack, &input);
+                tally[match guarded.zone {
+                    Zone::Warning => 1,
+                    Zone::Protective => 2,
+                    Zone::Yield => 3,
+                    _ => 0,
+                }] += 1;
+                if ego.velocity.dot(&(goal - ego.position).normalize()) < -0.05 {
+                    tally[4] += 1;
+                }
+                let p = ego.position;
+                if p.x < 0.0 || p.x > length || p.y < 0.0 || p.y > width {
+                    tally[5] += 1;
+                }
+                if verbose && k % 20 == 0 {
+                    let near: Vec<String> = seen
+                        .iter()
+                        .filter(|n| (n.position - p).norm() < 3.0)
+                        .map(|n| {
+                            format!(
+                                "({:.1},{:.1} v {:.1},{:.1})",
+                                n.position.x, n.position.y, n.velocity.x, n.velocity.y
+                            )
+                        })
+                        .collect();
+                    println!(
+                        "  t {:5.1} goal ({:.1},{:.1}) at ({:.2},{:.2}) v ({:+.2},{:+.2}) {:?} {:?} near {}",
+                        world.time,
+                        goal.x,
+                        goal.y,
+                        p.x,
+                        p.y,
+                        ego.velocity.x,
+                        ego.velocity.y,
+                        guarded.command,
+                        guarded.zone,
+                        near.join(" ")
+                    );
+                }
+                world.step(&[guarded.command]);
+            }
+            let plans: u64 = tally[..4].iter().sum();
+            println!(
+                "speed {speed} seed {seed}: {:.1} s | clear {} warning {} protective {} yield {} | backing {} | outside the hallway {}",
+                plans as Real * scenario.dt_s,
+                tally[0],
+                tally[1],
+                tally[2],
+                tally[3],
+                tally[4],
+                tally[5]
+            );
+            for (t, n) in total.iter_mut().zip(tally) {
+                *t += n;
+            }
+        }
+    }
+    let plans = total[..4].iter().sum::<u64>().max(1) as Real;
+    let share = |n: u64| 100.0 * n as Real / plans;
+    println!(
+        "all runs: {plans} plans | clear {:.0} % warning {:.0} % protective {:.0} % yield {:.0} % | backing {:.0} % | outside {:.1} %",
+        share(total[0]),
+        share(total[1]),
+        share(total[2]),
+        share(total[3]),
+        share(total[4]),
+        share(total[5])
+    );
+    Ok(())
+}
