@@ -1,15 +1,25 @@
 #!/usr/bin/env python3
-"""The tables of results/safety/REPORT.md, "Memory": run from the repository's root,
+"""The tables of results/safety/REPORT.md, "Memory": run from the repository's root (a git
+checkout: the runs without memory are read from git history),
     python3 results/safety/memory/tables.py
 """
 import csv
+import io
 import statistics
+import subprocess
 
 HERE = "results/safety/memory"
 
 
-def load(path, planners=None):
-    rows = list(csv.DictReader(open(path)))
+def load(path, planners=None, commit=None):
+    """The rows of a runs.csv, or of the one committed at `commit` (the held-out hallway runs
+    before the hallway was closed at its ends have since been re-run in its place)."""
+    if commit is None:
+        text = open(path).read()
+    else:
+        text = subprocess.run(["git", "show", f"{commit}:{path}"], check=True,
+                              capture_output=True, text=True).stdout
+    rows = list(csv.DictReader(io.StringIO(text)))
     return [r for r in rows if planners is None or r["planner"] in planners]
 
 
@@ -52,8 +62,10 @@ def fleets(title, path):
 for t in ["0", "0.5", "1"]:
     hallway(f"Hallway, tuning seeds 1–30, people at 2–3 m/s, memory {t} s",
             load(f"{HERE}/hallway-seeds-1-30-memory-{t}/runs.csv"))
-base = load("results/hallway-layer-heldout/runs.csv", {"orca", "pgp+orca"}) + load(
-    "results/hallway-layer-heldout/pnp-omni/runs.csv", {"pnp-omni"})
+# Open ends: the hallway before it was closed (2026-11-30).
+OPEN = "6f272db"
+base = load("results/hallway-layer-heldout/runs.csv", {"orca", "pgp+orca"}, OPEN) + load(
+    "results/hallway-layer-heldout/pnp-omni/runs.csv", {"pnp-omni"}, OPEN)
 hallway("Hallway, held-out seeds 101–130, no memory (results/hallway-layer-heldout)", base)
 hallway("Hallway, held-out seeds 101–130, memory 1 s",
         load(f"{HERE}/hallway-seeds-101-130-memory-1/runs.csv"))
