@@ -89,13 +89,14 @@ fn pnp(c: &mut Criterion) {
     // `pnp`; the same plan with predictions that react to each candidate (`pnp-react`); and
     // with the first segment's speed in sixths (`pnp-fine`); and with a 1.5 s horizon and the
     // first segment's speed in twelfths (`pnp-agile`); and with velocities in ten directions
-    // (`pnp-omni`).
+    // (`pnp-omni`), and samples spread across people's way half as far (`pnp-omni-across`).
     for (name, params) in [
         ("plan", PnpParams::default()),
         ("plan-reactive", PnpParams::reactive(true)),
         ("plan-fine", PnpParams::fine(true)),
         ("plan-agile", PnpParams::agile(true)),
         ("plan-omni", PnpParams::omni(true)),
+        ("plan-omni-across", PnpParams::omni_across(true)),
     ] {
         let mut planner = Pnp::new(PnpParams {
             v_max: 3.0,

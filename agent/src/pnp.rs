@@ -555,7 +555,17 @@ impl Pnp {
             }
         }
         let largest = self.offsets.iter().map(|&(_, r)| r).fold(0.0, Real::max);
-        for slot in &mut self.predicted {
+        let across = self.params.across_spread;
+        for (slot, body) in self.predicted.iter_mut().zip(neighbours) {
+            let speed = body.velocity.norm();
+            let walking = across != 1.0
+                && body.kind == crate::model::AgentKind::Human
+                && speed >= crate::safety::ACROSS_MIN_SPEED;
+            slot.shape(
+                &self.offsets,
+                walking.then(|| body.velocity / speed),
+                across,
+            );
             let sigma = &slot.track.sigma;
             slot.spread = largest * (sigma.iter().copied().fold(0.0, Real::max) - sigma[0]);
             slot.growth.clear();

@@ -56,6 +56,9 @@ pub enum PnpVariant {
     /// `pnp-agile` with a holonomic base's candidates, velocities in ten directions
     /// (`pnp-omni`): [`PnpParams::omni`].
     Omni,
+    /// `pnp-omni` with the prediction samples spread across a walking person's way half as
+    /// far as along it (`pnp-omni-across`): [`PnpParams::omni_across`].
+    OmniAcross,
 }
 
 impl PnpVariant {
@@ -68,6 +71,7 @@ impl PnpVariant {
             PnpVariant::Fine => PnpParams::fine(peek),
             PnpVariant::Agile => PnpParams::agile(peek),
             PnpVariant::Omni => PnpParams::omni(peek),
+            PnpVariant::OmniAcross => PnpParams::omni_across(peek),
         }
     }
 }
@@ -123,7 +127,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -164,6 +168,8 @@ impl FromStr for PlannerSpec {
             "pnp-agile-nopeek" => pnp(PnpVariant::Agile, false),
             "pnp-omni" => pnp(PnpVariant::Omni, true),
             "pnp-omni-nopeek" => pnp(PnpVariant::Omni, false),
+            "pnp-omni-across" => pnp(PnpVariant::OmniAcross, true),
+            "pnp-omni-across-nopeek" => pnp(PnpVariant::OmniAcross, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -214,6 +220,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Agile, false) => "pnp-agile-nopeek",
                 (PnpVariant::Omni, true) => "pnp-omni",
                 (PnpVariant::Omni, false) => "pnp-omni-nopeek",
+                (PnpVariant::OmniAcross, true) => "pnp-omni-across",
+                (PnpVariant::OmniAcross, false) => "pnp-omni-across-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -257,6 +265,8 @@ mod tests {
             "pnp-agile-nopeek",
             "pnp-omni",
             "pnp-omni-nopeek",
+            "pnp-omni-across",
+            "pnp-omni-across-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

@@ -1,6 +1,6 @@
 //! Peek-and-pass's parameters: the values the paper leaves open, each with its reason, and
 //! the named variants (`pnp-paper`, `pnp`, `pnp-fine`, `pnp-agile`, `pnp-omni`,
-//! `pnp-react`).
+//! `pnp-omni-across`, `pnp-react`).
 
 use crate::math::Real;
 use crate::prediction::SigmaModel;
@@ -99,6 +99,13 @@ pub struct PnpParams {
     /// unicycle; the simulator's robots, and ORCA's, can step aside or back off without
     /// turning first.
     pub directions: Vec<Real>,
+    /// How far a walking person's prediction samples spread across their way, as a share of
+    /// how far they spread along it (PGP's σ is round: 1). Not in either paper. People stray
+    /// across their way about half as far as along it: at 0.8–0.9 s at most 2.4 m/s² across
+    /// against 4.0–4.8 m/s² in all, in ETH, UCY and the simulated crowds
+    /// (results/fleet-one-robot/layer-sensitivity). A person at [`ACROSS_MIN_SPEED`](crate::safety::ACROSS_MIN_SPEED) or
+    /// more has a way; a slower one, and robots, keep the round spread.
+    pub across_spread: Real,
 }
 
 /// How a predicted contact is scored: by which speed its loss is scaled, if any.
@@ -168,14 +175,17 @@ impl Default for PnpParams {
             prediction: Prediction::ConstantVelocity,
             severity: Severity::Closing,
             directions: Vec::new(),
+            across_spread: 1.0,
         }
     }
 }
 
 /// c3 with peeking on: the laned study's choice (`results/laned/REPORT.md`). The robot's
-/// median average speed rises from 1.20 m/s at 1/(c1·c3) = 10⁻⁴ to a plateau of 1.35–1.37 m/s
-/// from 10⁻² on; 10⁻² (c3 = 100) is the smallest ratio on the plateau (within 0.02 m/s of the
-/// best median), and the one with the fewest robot-caused contacts there.
+/// median average speed rose from 1.20 m/s at 1/(c1·c3) = 10⁻⁴ to a plateau of 1.35–1.37 m/s
+/// from 10⁻² on; 10⁻² (c3 = 100) was the smallest ratio on the plateau (within 0.02 m/s of
+/// the best median), and the one with the fewest robot-caused contacts there. With the
+/// hallway closed behind the robot's start the plateau is 1.34–1.37 m/s and 10⁻² lies 0.03
+/// below the best; c3 is kept (the report says why).
 pub const PEEK_C3: Real = 100.0;
 /// c3 with peeking off ("c3 high", as the paper turns it off).
 pub const NO_PEEK_C3: Real = 10_000.0;
@@ -256,6 +266,20 @@ impl PnpParams {
             .map(|d: &Real| d.to_radians())
             .collect(),
             ..Self::agile(peek)
+        }
+    }
+
+    /// `pnp-omni` with the prediction samples spread across a walking person's way half as
+    /// far as along it (`pnp-omni-across`, [`PnpParams::across_spread`] 0.5). With PGP's round
+    /// spread, people running by in the next lane at 2.5–3 m/s keep `pnp-omni` backing away
+    /// from its goal (16 % of its plans at 3 m/s, ORCA's 5 %). On hallway tuning seeds 1–12
+    /// (50 m, people at 0.5–3 m/s, the layer on) the median time to the end was 61.6 s at 1,
+    /// 60.1 s at 0.7 and 59.2 s at 0.5 (ORCA 60.5 s), with personal-space entries 16.4, 17.6
+    /// and 18.1 per run (ORCA 13.2): results/hallway-layer-heldout/REPORT.md.
+    pub fn omni_across(peek: bool) -> Self {
+        Self {
+            across_spread: 0.5,
+            ..Self::omni(peek)
         }
     }
 

@@ -23,6 +23,26 @@ pub(super) struct Predicted {
     /// How far a sample with a unit offset strays from the mean at most during each grid
     /// step: `growth[k - 1]` = max(σ(k − 1), σ(k)) − σ(0).
     pub(super) growth: Vec<Real>,
+    /// Each sample's offset for this body: the fixed offsets, squeezed across the body's way
+    /// by [`PnpParams::across_spread`](super::PnpParams::across_spread) when it walks; no
+    /// longer than the fixed ones, so every bound taken with their lengths still holds.
+    pub(super) offsets: Vec<Vec2>,
+}
+
+impl Predicted {
+    /// Sets this body's sample offsets from the fixed `offsets`: across `heading` (a unit
+    /// vector) scaled by `across`, or as they are without a heading.
+    pub(super) fn shape(&mut self, offsets: &[(Vec2, Real)], heading: Option<Vec2>, across: Real) {
+        self.offsets.clear();
+        self.offsets
+            .extend(offsets.iter().map(|&(o, _)| match heading {
+                Some(h) => {
+                    let n = vec2(-h.y, h.x);
+                    h * o.dot(&h) + n * (across * o.dot(&n))
+                }
+                None => o,
+            }));
+    }
 }
 
 /// Replaces the people's tracks in `predicted` with a Social Force rollout
@@ -145,7 +165,7 @@ impl Shared {
         self.closest = step_gaps(prefix, |k| track.positions[k], &mut self.gaps);
         self.contacts.clear();
         self.losses.clear();
-        for &(o, r) in offsets {
+        for (&(_, r), &o) in offsets.iter().zip(&body.offsets) {
             let contact = first_step_within(&self.gaps, body, r).and_then(|from| {
                 first_contact_from(
                     prefix,
@@ -198,7 +218,7 @@ pub(super) fn body_risk(
     } = scratch;
     losses.clear();
     worst.clear();
-    for (j, &(o, r)) in offsets.iter().enumerate() {
+    for (j, (&(_, r), &o)) in offsets.iter().zip(&body.offsets).enumerate() {
         // The scan starts at the first step where the sample may be within contact, and a
         // sample with none scores 0 untraced.
         let Some(from) = first_step_within(gaps, body, r) else {

@@ -139,6 +139,7 @@ impl Reaction {
         out.contact = base.contact;
         out.spread = base.spread;
         out.growth.clone_from(&base.growth);
+        out.offsets.clone_from(&base.offsets);
         out.track.sigma.clone_from(&base.track.sigma);
         let positions = &mut out.track.positions;
         positions.clear();

@@ -618,3 +618,44 @@ fn within_the_tolerance_of_a_goal_it_still_has_it_closes_in() {
         assert!(v.dot(&(goal - e.position)) > 0.0, "{:?}", d.command);
     }
 }
+
+/// `pnp-omni-across` spreads a walking person's samples across their way by `across_spread`
+/// and along it as before; a standing person and a robot keep the round spread, and so does
+/// every body under `pnp-omni`.
+#[test]
+fn samples_spread_across_a_walking_persons_way_by_the_across_share() {
+    let e = ego(vec2(0.0, 0.0), 0.0, 0.0);
+    let walking = vec2(0.6, 0.8);
+    let bodies = [
+        person(1, vec2(4.0, 1.0), walking * 1.2),
+        person(2, vec2(4.0, -1.0), vec2(0.1, 0.0)),
+        Neighbour::new(3, vec2(6.0, 0.0), walking, 0.3, AgentKind::Robot),
+    ];
+    let plan = |params: PnpParams| {
+        let mut pnp = Pnp::new(params);
+        pnp.plan(&e, &bodies, &StaticMap::empty(), vec2(50.0, 0.0), None);
+        pnp
+    };
+    let across = plan(PnpParams::omni_across(true));
+    let round = plan(PnpParams::omni(true));
+    let across_way = vec2(-walking.y, walking.x);
+    for (j, &(o, _)) in across.offsets.iter().enumerate() {
+        let shaped = across.predicted[0].offsets[j];
+        assert!(
+            (shaped.dot(&walking) - o.dot(&walking)).abs() < 1e-12,
+            "sample {j}"
+        );
+        assert!(
+            (shaped.dot(&across_way) - 0.5 * o.dot(&across_way)).abs() < 1e-12,
+            "sample {j}"
+        );
+        assert_eq!(
+            across.predicted[1].offsets[j], o,
+            "a standing person, sample {j}"
+        );
+        assert_eq!(across.predicted[2].offsets[j], o, "a robot, sample {j}");
+        for body in &round.predicted {
+            assert_eq!(body.offsets[j], o, "pnp-omni, sample {j}");
+        }
+    }
+}
