@@ -11,9 +11,9 @@
 use agent::map::LocalMap;
 use agent::math::Real;
 use agent::model::Command;
-use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::planner::{PlannerSpec, PlannerStack};
 use agent::safety::Zone;
-use world_sim::episode::guards;
+use world_sim::episode::{RobotPlan, guards, plan_robot};
 use world_sim::scenario::Scenario;
 use world_sim::world::World;
 
@@ -49,31 +49,19 @@ fn main() {
     let per_second = (1.0 / scenario.dt_s).round() as u64;
     let (mut changed, mut yielded) = (0u32, 0u32);
     for step in 0..steps {
-        let (ego, seen) = world.observe(0);
-        let profile = world.visibility(0, &mut local);
         let goal = world.robots[0].goal;
-        if (goal - ego.position).norm() <= world.robots[0].spec.goal_tolerance_m {
+        let robot = &world.robots[0];
+        if (goal - robot.state.position).norm() <= robot.spec.goal_tolerance_m {
             println!("t {:5.1} arrived", world.time);
             return;
         }
-        let input = PlanningInput {
-            ego: &ego,
-            neighbours: &seen,
-            map: &world.map,
-            goal,
-            dt: world.dt,
-            visibility: profile.as_ref(),
-            safety: None,
-        };
-        let command = match &mut guard {
-            Some(g) => {
-                let (_, guarded) = g.plan(&mut stack, &input);
-                changed += u32::from(guarded.zone != Zone::Clear);
-                yielded += u32::from(guarded.zone == Zone::Yield);
-                guarded.command
-            }
-            None => stack.plan(&input).command,
-        };
+        let RobotPlan { ego, seen, guarded } =
+            plan_robot(&mut world, 0, &mut stack, guard.as_mut(), &mut local);
+        if guard.is_some() {
+            changed += u32::from(guarded.zone != Zone::Clear);
+            yielded += u32::from(guarded.zone == Zone::Yield);
+        }
+        let command = guarded.command;
         let mut commands = vec![Command::STOP; robots];
         commands[0] = command;
         if step % per_second == 0 {

@@ -7,12 +7,57 @@ use crate::scenario::Scenario;
 use crate::world::World;
 use agent::guard::Guard;
 use agent::map::LocalMap;
-use agent::model::Command;
+use agent::model::{Command, EgoState, Neighbour};
 use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::safety::{Guarded, Zone};
 
 /// Windows of the human-impact measurement in episodes (s): short, so that few people change
 /// goal within one and drop out of it; the last, partial window is counted too.
 pub const EPISODE_IMPACT_WINDOW_S: agent::math::Real = 5.0;
+
+/// One robot's plan at one step of an episode: what it perceived and what it may execute.
+#[derive(Debug, Clone)]
+pub struct RobotPlan {
+    /// Its own state as observed.
+    pub ego: EgoState,
+    /// The bodies it perceived.
+    pub seen: Vec<Neighbour>,
+    /// Its command after its safety layer (clear, the planner's own, with the layer off).
+    pub guarded: Guarded,
+}
+
+/// Robot `i`'s plan at this step, as every episode makes it: its observation and, with body
+/// occlusion, its view, then its stack under its guard (the safety layer), or the stack alone
+/// when the layer is off. The examples that follow one run (`episode_probe`,
+/// `hallway_contacts`, `hallway_layer`) plan through this too, so they see the study's run.
+pub fn plan_robot(
+    world: &mut World,
+    i: usize,
+    stack: &mut PlannerStack,
+    guard: Option<&mut Guard>,
+    local: &mut LocalMap,
+) -> RobotPlan {
+    let (ego, seen) = world.observe(i);
+    let profile = world.visibility(i, local);
+    let input = PlanningInput {
+        ego: &ego,
+        neighbours: &seen,
+        map: &world.map,
+        goal: world.robots[i].goal,
+        dt: world.dt,
+        visibility: profile.as_ref(),
+        safety: None,
+    };
+    let guarded = match guard {
+        Some(g) => g.plan(stack, &input).1,
+        None => Guarded {
+            command: stack.plan(&input).command,
+            zone: Zone::Clear,
+            scale: 1.0,
+        },
+    };
+    RobotPlan { ego, seen, guarded }
+}
 
 /// Runs a scenario with every robot using `planner` (under `agent::safety` unless the
 /// scenario's `[robot] safety` is off) until all robots arrive or time runs out. Returns each
@@ -51,22 +96,9 @@ pub fn run_episode_with(
             commands[i] = if recorders[i].arrived() {
                 Command::STOP
             } else {
-                let (ego, seen) = world.observe(i);
-                let profile = world.visibility(i, &mut local);
-                let goal = world.robots[i].goal;
-                let input = PlanningInput {
-                    ego: &ego,
-                    neighbours: &seen,
-                    map: &world.map,
-                    goal,
-                    dt: world.dt,
-                    visibility: profile.as_ref(),
-                    safety: None,
-                };
-                match guard {
-                    Some(g) => g.plan(stack, &input).0.command,
-                    None => stack.plan(&input).command,
-                }
+                plan_robot(&mut world, i, stack, guard.as_mut(), &mut local)
+                    .guarded
+                    .command
             };
         }
         world.step(&commands);

@@ -12,15 +12,15 @@
 //!
 //! e.g. `orca 25 3 114`. LAYER changes the safety layer's parameters as `--safety-layer` does
 //! (`memory_time=0`). The run is the study's, step for step: the same scenario
-//! (`studies::hallway`) and the same loop as `world_sim::episode::run_episode`.
+//! (`studies::hallway`) and the same plan each step as `world_sim::episode::run_episode` (`plan_robot`).
 
 use agent::map::LocalMap;
 use agent::math::{Real, Vec2};
-use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::planner::{PlannerSpec, PlannerStack};
 use agent::safety::Zone;
 use std::collections::VecDeque;
 use studies::hallway::{HallwayStudy, hallway_scenario};
-use world_sim::episode::guards;
+use world_sim::episode::{RobotPlan, guards, plan_robot};
 use world_sim::metrics::{ContactCause, contact_cause};
 use world_sim::world::World;
 
@@ -87,7 +87,14 @@ fn main() -> Result<(), String> {
     let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
     let robot_radius = world.robots[0].state.radius;
     for _ in 0..steps {
-        let (ego, seen) = world.observe(0);
+        let robot = &world.robots[0];
+        if (robot.goal - robot.state.position).norm() <= robot.spec.goal_tolerance_m {
+            println!("t {:5.1} arrived", world.time);
+            break;
+        }
+        let RobotPlan { ego, seen, guarded } =
+            plan_robot(&mut world, 0, &mut stack, guard.as_mut(), &mut local);
+        let (command, zone) = (guarded.command, guarded.zone);
         for n in seen.iter().filter(|n| (n.id as usize) < people) {
             let i = n.id as usize;
             if world.time - last_seen[i] > unseen_for {
@@ -95,28 +102,6 @@ fn main() -> Result<(), String> {
             }
             last_seen[i] = world.time;
         }
-        let goal = world.robots[0].goal;
-        if (goal - ego.position).norm() <= world.robots[0].spec.goal_tolerance_m {
-            println!("t {:5.1} arrived", world.time);
-            break;
-        }
-        let profile = world.visibility(0, &mut local);
-        let input = PlanningInput {
-            ego: &ego,
-            neighbours: &seen,
-            map: &world.map,
-            goal,
-            dt: world.dt,
-            visibility: profile.as_ref(),
-            safety: None,
-        };
-        let (command, zone) = match &mut guard {
-            Some(g) => {
-                let (_, guarded) = g.plan(&mut stack, &input);
-                (guarded.command, guarded.zone)
-            }
-            None => (stack.plan(&input).command, Zone::Clear),
-        };
         let crowd = &world.humans.crowd;
         for (i, h) in history.iter_mut().enumerate() {
             let p = crowd.positions[i];

@@ -7,14 +7,15 @@
 //!
 //! e.g. `pnp-omni 100 2.5,3 101,102,103`. With `VERBOSE=1`, every 2 s of each run: the goal,
 //! the robot, its command and zone, and the people within 3 m. The run is the study's, step
-//! for step (`studies::hallway`, the loop of `world_sim::episode::run_episode`).
+//! for step (`studies::hallway`, each step planned by `world_sim::episode::plan_robot` as in
+//! `run_episode`).
 
 use agent::map::LocalMap;
 use agent::math::Real;
-use agent::planner::{PlannerSpec, PlannerStack, PlanningInput};
+use agent::planner::{PlannerSpec, PlannerStack};
 use agent::safety::Zone;
 use studies::hallway::{HallwayStudy, hallway_scenario};
-use world_sim::episode::guards;
+use world_sim::episode::{RobotPlan, guards, plan_robot};
 use world_sim::world::World;
 
 /// Plans per zone, backing and outside, in that order.
@@ -65,22 +66,13 @@ fn main() -> Result<(), String> {
             let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
             let mut tally: Tally = [0; 6];
             for k in 0..steps {
-                let (ego, seen) = world.observe(0);
                 let goal = world.robots[0].goal;
-                if (goal - ego.position).norm() <= world.robots[0].spec.goal_tolerance_m {
+                let robot = &world.robots[0];
+                if (goal - robot.state.position).norm() <= robot.spec.goal_tolerance_m {
                     break;
                 }
-                let profile = world.visibility(0, &mut local);
-                let input = PlanningInput {
-                    ego: &ego,
-                    neighbours: &seen,
-                    map: &world.map,
-                    goal,
-                    dt: world.dt,
-                    visibility: profile.as_ref(),
-                    safety: None,
-                };
-                let (_, guarded) = guard.plan(&mut stack, &input);
+                let RobotPlan { ego, seen, guarded } =
+                    plan_robot(&mut world, 0, &mut stack, Some(&mut guard), &mut local);
                 tally[match guarded.zone {
                     Zone::Warning => 1,
                     Zone::Protective => 2,
