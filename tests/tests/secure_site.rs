@@ -314,7 +314,9 @@ async fn forge_against_a_fleet(coordinator_session: Session, paths: &SitePaths) 
     let fleet = Fleet::new(&scenario).expect("a warehouse");
     let mut config = CoordinatorConfig::new(gapfleet_tests::keys(SITE));
     config.speed = 4.0;
-    config.seconds = Some(24.0);
+    // Ten wall seconds at 4×: with six, a slow machine saw the last forgery arrive after the
+    // coordinator had stopped (79 of 80 rejected).
+    config.seconds = Some(40.0);
     let seen = Arc::new(Mutex::new(Seen::default()));
     let seen_in = seen.clone();
     let coordinator = tokio::spawn(async move {
@@ -349,7 +351,7 @@ async fn forge_against_a_fleet(coordinator_session: Session, paths: &SitePaths) 
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     let mut forged_for_1 = 0;
-    // Four wall seconds of forgeries, well inside the coordinator's six.
+    // Four wall seconds of forgeries, well inside the coordinator's ten.
     for k in 0..80u64 {
         for (robot, seq) in [(1, 1u64 << 62), (0, 1u64 << 62), (0, k)] {
             attacker
