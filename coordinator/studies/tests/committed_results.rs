@@ -1,7 +1,7 @@
 //! The committed study results are what the code computes now: a smoke version of the
 //! open-space study reproduces its cells of `results/open-space/runs.csv` (the papers'
 //! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
-//! every planner) byte for byte, as does one of `asfm-crowd`'s, and small versions of the laned, hallway and traffic studies
+//! every planner) byte for byte, as do `asfm-crowd`'s and `pgp+asfm-crowd`'s, and small versions of the laned, hallway and traffic studies
 //! reproduce rows of `results/laned/runs.csv`, `results/hallway/runs.csv` and
 //! `results/traffic/runs.csv`. A change that moves any
 //! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
@@ -31,6 +31,17 @@ fn asfm_crowd_smoke_rows_are_the_committed_rows() {
         true,
         &["asfm-crowd"],
         &[0.2, 0.5],
+    );
+}
+
+/// `pgp+asfm-crowd`, PGP's subgoals in front of it (`results/open-space/pgp+asfm-crowd`).
+#[test]
+fn pgp_asfm_crowd_smoke_rows_are_the_committed_rows() {
+    smoke_rows_are_committed(
+        "open-space/pgp+asfm-crowd/seeds-1-100",
+        true,
+        &["pgp+asfm-crowd"],
+        &[0.3, 0.6],
     );
 }
 
