@@ -89,7 +89,8 @@ fn pnp(c: &mut Criterion) {
     // `pnp`; the same plan with predictions that react to each candidate (`pnp-react`); and
     // with the first segment's speed in sixths (`pnp-fine`); and with a 1.5 s horizon and the
     // first segment's speed in twelfths (`pnp-agile`); and with velocities in ten directions
-    // (`pnp-omni`), and samples spread across people's way half as far (`pnp-omni-across`).
+    // (`pnp-omni`), and samples spread across people's way half as far (`pnp-omni-across`),
+    // and keeping to the side (`pnp-side`).
     for (name, params) in [
         ("plan", PnpParams::default()),
         ("plan-reactive", PnpParams::reactive(true)),
@@ -97,6 +98,7 @@ fn pnp(c: &mut Criterion) {
         ("plan-agile", PnpParams::agile(true)),
         ("plan-omni", PnpParams::omni(true)),
         ("plan-omni-across", PnpParams::omni_across(true)),
+        ("plan-side", PnpParams::side(true)),
     ] {
         let mut planner = Pnp::new(PnpParams {
             v_max: 3.0,

@@ -171,22 +171,31 @@ impl LocalMap {
     /// `Real::INFINITY` when nothing was gathered). Exact for points whose true nearest edge
     /// was gathered.
     pub fn distance(&self, map: &StaticMap, p: &Vec2) -> Real {
-        if self.segments.is_empty() {
-            return Real::INFINITY;
-        }
-        let best = pulp::Arch::new().dispatch(NearestEdge {
-            columns: &self.columns,
-            p: *p,
-        });
-        if self
-            .polygons
-            .iter()
-            .any(|&i| in_polygon(&map.polygons[i], p))
+        let best = self.edge_distance(p);
+        if best.is_finite()
+            && self
+                .polygons
+                .iter()
+                .any(|&i| in_polygon(&map.polygons[i], p))
         {
             0.0
         } else {
-            best.sqrt()
+            best
         }
+    }
+
+    /// Distance from `p` to the nearest gathered edge, inside a polygon or not
+    /// (`Real::INFINITY` when nothing was gathered).
+    pub fn edge_distance(&self, p: &Vec2) -> Real {
+        if self.segments.is_empty() {
+            return Real::INFINITY;
+        }
+        pulp::Arch::new()
+            .dispatch(NearestEdge {
+                columns: &self.columns,
+                p: *p,
+            })
+            .sqrt()
     }
 }
 

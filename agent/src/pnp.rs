@@ -39,7 +39,7 @@ use crate::prediction::predict;
 use crate::visibility::Visibility;
 use candidates::Candidates;
 use hidden::{Hidden, halton, hidden_risk, sample_hidden};
-pub use params::{NO_PEEK_C3, PEEK_C3, PnpParams, Prediction, Severity};
+pub use params::{NO_PEEK_C3, PEEK_C3, PnpParams, Prediction, SIDE_WEIGHT, Severity};
 use predict::{Predicted, Scratch, Shared, body_risk, might_touch, social_force_rollout};
 use react::Reaction;
 pub use risk::cvar;
@@ -277,7 +277,13 @@ impl Pnp {
         let p = &self.params;
         let reach = p.goal_distance.unwrap_or(p.v_max * p.horizon);
         let local_goal = ego.position + clamp_norm(goal - ego.position, reach);
-        let r = vec2(reach + 1.0, reach + 1.0);
+        // Walls within 1 m of where any candidate ends, or within the side term's reach.
+        let margin = if p.side_weight > 0.0 {
+            p.side_reach.max(1.0)
+        } else {
+            1.0
+        };
+        let r = vec2(reach + margin, reach + margin);
         map.gather(
             ego.position - r,
             ego.position + r,
@@ -295,6 +301,11 @@ impl Pnp {
         // would scoring them in index order.
         self.goal_terms.clear();
         let there = (ego.position - goal).norm() < self.params.goal_tolerance;
+        let side_weight = if p.side_fade > 0.0 {
+            p.side_weight * ((goal - ego.position).norm() / p.side_fade).min(1.0)
+        } else {
+            p.side_weight
+        };
         for c in 0..self.candidates.primitives.len() {
             let path = self.candidates.path(c, n);
             // A candidate that arrives (within the tolerance of the goal itself) is done there:
@@ -319,7 +330,12 @@ impl Pnp {
             } else {
                 (path[n] - local_goal).norm_squared()
             };
-            let goal_term = terminal + p.progress_weight * running;
+            let side = if side_weight > 0.0 {
+                side_weight * self.local.edge_distance(&path[n]).min(p.side_reach)
+            } else {
+                0.0
+            };
+            let goal_term = terminal + p.progress_weight * running + side;
             self.goal_terms.push(goal_term);
         }
         self.order.clear();

@@ -59,6 +59,9 @@ pub enum PnpVariant {
     /// `pnp-omni` with the prediction samples spread across a walking person's way half as
     /// far as along it (`pnp-omni-across`): [`PnpParams::omni_across`].
     OmniAcross,
+    /// `pnp-omni-across` keeping to the side of a hallway or aisle (`pnp-side`):
+    /// [`PnpParams::side`].
+    Side,
 }
 
 impl PnpVariant {
@@ -72,6 +75,7 @@ impl PnpVariant {
             PnpVariant::Agile => PnpParams::agile(peek),
             PnpVariant::Omni => PnpParams::omni(peek),
             PnpVariant::OmniAcross => PnpParams::omni_across(peek),
+            PnpVariant::Side => PnpParams::side(peek),
         }
     }
 }
@@ -127,7 +131,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, pnp-side, pnp-side-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -170,6 +174,8 @@ impl FromStr for PlannerSpec {
             "pnp-omni-nopeek" => pnp(PnpVariant::Omni, false),
             "pnp-omni-across" => pnp(PnpVariant::OmniAcross, true),
             "pnp-omni-across-nopeek" => pnp(PnpVariant::OmniAcross, false),
+            "pnp-side" => pnp(PnpVariant::Side, true),
+            "pnp-side-nopeek" => pnp(PnpVariant::Side, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -222,6 +228,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Omni, false) => "pnp-omni-nopeek",
                 (PnpVariant::OmniAcross, true) => "pnp-omni-across",
                 (PnpVariant::OmniAcross, false) => "pnp-omni-across-nopeek",
+                (PnpVariant::Side, true) => "pnp-side",
+                (PnpVariant::Side, false) => "pnp-side-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -267,6 +275,8 @@ mod tests {
             "pnp-omni-nopeek",
             "pnp-omni-across",
             "pnp-omni-across-nopeek",
+            "pnp-side",
+            "pnp-side-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

@@ -659,3 +659,35 @@ fn samples_spread_across_a_walking_persons_way_by_the_across_share() {
         }
     }
 }
+
+/// `pnp-side` keeps to the nearer wall of a hallway with nobody about, where
+/// `pnp-omni-across` heads for a goal on the hallway's axis; in open ground, where no wall is
+/// within reach, the two decide alike; near its goal the side term has faded and it closes
+/// in.
+#[test]
+fn pnp_side_keeps_to_the_nearer_wall_and_still_reaches_a_goal_in_the_middle() {
+    let decide = |params: PnpParams, e: &EgoState, map: &StaticMap, goal: Vec2| {
+        let mut pnp = Pnp::new(params);
+        let d = pnp.plan(e, &[], map, goal, None);
+        match d.command {
+            Command::Velocity(v) => v,
+            Command::Unicycle { .. } => panic!("a holonomic variant: {:?}", d.command),
+        }
+    };
+    // 0.4 m below the axis of a 3 m hallway, the goal 40 m on along the axis.
+    let e = ego(vec2(0.0, -0.4), 0.0, 1.0);
+    let goal = vec2(40.0, 0.0);
+    let side = decide(PnpParams::side(true), &e, &hallway(), goal);
+    let across = decide(PnpParams::omni_across(true), &e, &hallway(), goal);
+    assert!(side.x > 0.0 && side.y < 0.0, "pnp-side: {side:?}");
+    assert!(across.y >= 0.0, "pnp-omni-across: {across:?}");
+    let open = StaticMap::empty();
+    assert_eq!(
+        decide(PnpParams::side(true), &e, &open, goal),
+        decide(PnpParams::omni_across(true), &e, &open, goal)
+    );
+    // 0.8 m from a goal on the axis, 0.6 m off it: it drives at the goal, not at the wall.
+    let near = ego(vec2(39.5, -0.6), 0.0, 0.5);
+    let v = decide(PnpParams::side(true), &near, &hallway(), goal);
+    assert!(v.dot(&(goal - near.position)) > 0.0 && v.y > 0.0, "{v:?}");
+}

@@ -1,7 +1,10 @@
 //! What the safety layer did in hallway-study runs, and where the robot went: per run, the
 //! plans by the layer's zone (clear, warning, protective, yield), the plans in which the robot
 //! moved away from its goal (backing), and the plans it spent outside the hallway's walls
-//! (behind its start, or beyond the side walls, which closed ends now prevent).
+//! (behind its start, or beyond the side walls, which closed ends now prevent). Over all
+//! runs: entries into personal space by how the person walked (standing, oncoming, the
+//! robot's way) and by who closed the gap faster at the onset, and where across the hallway
+//! the robot and the people within 5 m of it along the hallway were, in eighths of its width.
 //!
 //!     cargo run --release -p studies --example hallway_layer -- PLANNER LENGTH SPEEDS SEEDS
 //!
@@ -42,6 +45,10 @@ fn main() -> Result<(), String> {
     let verbose = std::env::var_os("VERBOSE").is_some();
     let base = hallway_scenario(3.0, true).map_err(|e| e.to_string())?;
     let mut total: Tally = [0; 6];
+    // Entries: standing / oncoming / same way, each person-led then robot-led.
+    let mut entries = [0u64; 6];
+    let mut ybins = [0u64; 8];
+    let mut pbins = [0u64; 8];
     for &speed in &speeds {
         for &seed in &seeds {
             let study = HallwayStudy {
@@ -65,6 +72,8 @@ fn main() -> Result<(), String> {
             let mut local = LocalMap::default();
             let steps = (scenario.max_time_s / scenario.dt_s).round() as u64;
             let mut tally: Tally = [0; 6];
+            let n_people = world.humans.crowd.len();
+            let mut inside = vec![false; n_people];
             for k in 0..steps {
                 let goal = world.robots[0].goal;
                 let robot = &world.robots[0];
@@ -83,6 +92,7 @@ fn main() -> Result<(), String> {
                     tally[4] += 1;
                 }
                 let p = ego.position;
+                ybins[((p.y / width * 8.0).floor().clamp(0.0, 7.0)) as usize] += 1;
                 if p.x < 0.0 || p.x > length || p.y < 0.0 || p.y > width {
                     tally[5] += 1;
                 }
@@ -110,6 +120,35 @@ fn main() -> Result<(), String> {
                         guarded.zone,
                         near.join(" ")
                     );
+                }
+                // Entries into personal space (metrics::PERSONAL_SPACE_ENTRY_GAP), by who closed
+                // the gap at the onset and how the person was walking.
+                let crowd = &world.humans.crowd;
+                let reach =
+                    ego.radius + world.humans.radius + world_sim::metrics::PERSONAL_SPACE_ENTRY_GAP;
+                let people = crowd.positions.iter().zip(&crowd.velocities);
+                for ((&q, &v), was) in people.zip(inside.iter_mut()) {
+                    if (q.x - p.x).abs() < 5.0 {
+                        pbins[((q.y / width * 8.0).floor().clamp(0.0, 7.0)) as usize] += 1;
+                    }
+                    let d = q - p;
+                    let now = d.norm() < reach;
+                    if now && !*was {
+                        let u = d / d.norm();
+                        let robot_closing = ego.velocity.dot(&u);
+                        let person_closing = -v.dot(&u);
+                        let along = v.dot(&(goal - p).normalize());
+                        let way = if v.norm() < 0.3 {
+                            0
+                        } else if along < 0.0 {
+                            1
+                        } else {
+                            2
+                        };
+                        let led = usize::from(robot_closing > person_closing);
+                        entries[way * 2 + led] += 1;
+                    }
+                    *was = now;
                 }
                 world.step(&[guarded.command]);
             }
@@ -140,5 +179,11 @@ fn main() -> Result<(), String> {
         share(total[4]),
         share(total[5])
     );
+    println!(
+        "personal-space entries: standing {} + {} | oncoming {} + {} | same way {} + {} (person-led + robot-led)",
+        entries[0], entries[1], entries[2], entries[3], entries[4], entries[5]
+    );
+    println!("robot across the hallway (8 bins): {ybins:?}");
+    println!("people within 5 m along, across the hallway: {pbins:?}");
     Ok(())
 }

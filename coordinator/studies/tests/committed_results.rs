@@ -2,7 +2,8 @@
 //! open-space study reproduces its cells of `results/open-space/runs.csv` (the papers'
 //! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
 //! every planner) byte for byte, as do `asfm-crowd`'s and `pgp+asfm-crowd`'s, and small versions of the laned, hallway and traffic studies
-//! reproduce rows of `results/laned/runs.csv`, `results/hallway/runs.csv` and
+//! reproduce rows of `results/laned/runs.csv`, `results/hallway/runs.csv` (and of
+//! `pnp-side` under the layer in `results/hallway-layer-heldout/pnp-side`) and
 //! `results/traffic/runs.csv`. A change that moves any
 //! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
 //! re-run the study and commit its results (each study's REPORT.md has the command).
@@ -115,6 +116,24 @@ fn hallway_smoke_rows_are_the_committed_rows() {
     };
     let Ok(rows) = study.execute(&|| {});
     rows_are_committed("hallway", &to_csv(rows), 2 * 2 * 2);
+}
+
+/// `pnp-side` in the hallway under the layer (`results/hallway-layer-heldout/pnp-side`): its
+/// first held-out seed at 25 m with people at 1 and 2.5 m/s.
+#[test]
+fn pnp_side_hallway_rows_are_the_committed_rows() {
+    use studies::hallway::{HallwayStudy, hallway_scenario};
+    let study = HallwayStudy {
+        scenario: hallway_scenario(3.0, true).expect("valid"),
+        planners: vec!["pnp-side".parse().expect("known")],
+        lengths: vec![25.0],
+        width_m: 4.0,
+        speeds: vec![1.0, 2.5],
+        first_seed: 101,
+        seeds: 1,
+    };
+    let Ok(rows) = study.execute(&|| {});
+    rows_are_committed("hallway-layer-heldout/pnp-side", &to_csv(rows), 2);
 }
 
 /// The fleet traffic study (`results/traffic`): seed 1 of the 10-robot fleets in both sites,
