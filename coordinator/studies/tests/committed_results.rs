@@ -101,39 +101,33 @@ fn laned_smoke_rows_are_the_committed_rows() {
 /// speeds, two seeds, re-run as the command runs them, are the committed rows.
 #[test]
 fn hallway_smoke_rows_are_the_committed_rows() {
-    use studies::hallway::{HallwayStudy, hallway_scenario};
-    let study = HallwayStudy {
-        scenario: hallway_scenario(3.0, false).expect("valid"),
-        planners: ["pnp", "orca"]
-            .iter()
-            .map(|p| p.parse().expect("known"))
-            .collect(),
-        lengths: vec![25.0],
-        width_m: 4.0,
-        speeds: vec![1.0, 2.5],
-        first_seed: 1,
-        seeds: 2,
-    };
-    let Ok(rows) = study.execute(&|| {});
-    rows_are_committed("hallway", &to_csv(rows), 2 * 2 * 2);
+    let rows = hallway_rows(false, &["pnp", "orca"], 1, 2);
+    rows_are_committed("hallway", &rows, 2 * 2 * 2);
 }
 
 /// `pnp-side` in the hallway under the layer (`results/hallway-layer-heldout/pnp-side`): its
 /// first held-out seed at 25 m with people at 1 and 2.5 m/s.
 #[test]
 fn pnp_side_hallway_rows_are_the_committed_rows() {
+    let rows = hallway_rows(true, &["pnp-side"], 101, 1);
+    rows_are_committed("hallway-layer-heldout/pnp-side", &rows, 2);
+}
+
+/// The hallway study's runs.csv for `planners` in the 25 m hallway with people at 1 and
+/// 2.5 m/s, `seeds` seeds from `first_seed`, the layer on or off.
+fn hallway_rows(safety: bool, planners: &[&str], first_seed: u64, seeds: u64) -> String {
     use studies::hallway::{HallwayStudy, hallway_scenario};
     let study = HallwayStudy {
-        scenario: hallway_scenario(3.0, true).expect("valid"),
-        planners: vec!["pnp-side".parse().expect("known")],
+        scenario: hallway_scenario(3.0, safety).expect("valid"),
+        planners: planners.iter().map(|p| p.parse().expect("known")).collect(),
         lengths: vec![25.0],
         width_m: 4.0,
         speeds: vec![1.0, 2.5],
-        first_seed: 101,
-        seeds: 1,
+        first_seed,
+        seeds,
     };
     let Ok(rows) = study.execute(&|| {});
-    rows_are_committed("hallway-layer-heldout/pnp-side", &to_csv(rows), 2);
+    to_csv(rows)
 }
 
 /// The fleet traffic study (`results/traffic`): seed 1 of the 10-robot fleets in both sites,
