@@ -16,7 +16,7 @@
 use agent::map::LocalMap;
 use agent::math::Real;
 use agent::planner::{PlannerSpec, PlannerStack};
-use agent::safety::Zone;
+use agent::safety::{ACROSS_MIN_SPEED, Zone};
 use studies::hallway::{HallwayStudy, hallway_scenario};
 use world_sim::episode::{RobotPlan, guards, plan_robot};
 use world_sim::world::World;
@@ -92,7 +92,9 @@ fn main() -> Result<(), String> {
                     tally[4] += 1;
                 }
                 let p = ego.position;
-                ybins[((p.y / width * 8.0).floor().clamp(0.0, 7.0)) as usize] += 1;
+                // Which eighth of the hallway's width a point lies in.
+                let eighth = |y: Real| (y / width * 8.0).floor().clamp(0.0, 7.0) as usize;
+                ybins[eighth(p.y)] += 1;
                 if p.x < 0.0 || p.x > length || p.y < 0.0 || p.y > width {
                     tally[5] += 1;
                 }
@@ -126,10 +128,11 @@ fn main() -> Result<(), String> {
                 let crowd = &world.humans.crowd;
                 let reach =
                     ego.radius + world.humans.radius + world_sim::metrics::PERSONAL_SPACE_ENTRY_GAP;
+                let way_on = (goal - p).normalize();
                 let people = crowd.positions.iter().zip(&crowd.velocities);
                 for ((&q, &v), was) in people.zip(inside.iter_mut()) {
                     if (q.x - p.x).abs() < 5.0 {
-                        pbins[((q.y / width * 8.0).floor().clamp(0.0, 7.0)) as usize] += 1;
+                        pbins[eighth(q.y)] += 1;
                     }
                     let d = q - p;
                     let now = d.norm() < reach;
@@ -137,10 +140,9 @@ fn main() -> Result<(), String> {
                         let u = d / d.norm();
                         let robot_closing = ego.velocity.dot(&u);
                         let person_closing = -v.dot(&u);
-                        let along = v.dot(&(goal - p).normalize());
-                        let way = if v.norm() < 0.3 {
+                        let way = if v.norm() < ACROSS_MIN_SPEED {
                             0
-                        } else if along < 0.0 {
+                        } else if v.dot(&way_on) < 0.0 {
                             1
                         } else {
                             2
