@@ -78,6 +78,11 @@ pub struct StaticMap {
     sampled: std::sync::OnceLock<ObstaclePoints>,
 }
 
+/// How near an edge (m) a point along a wall must lie for the wall to run on there
+/// ([`LocalMap::nearest_wall_runs_on`]): a wall traced from an occupancy grid zigzags by
+/// half a cell (2.5 cm at Nav2's usual 5 cm).
+pub const RUNS_ON_TOLERANCE: Real = 0.05;
+
 /// The edges and polygons near a region, gathered once so that a planner can query many
 /// points cheaply. Reuse one across plans to avoid allocation.
 #[derive(Debug, Clone, Default)]
@@ -182,6 +187,43 @@ impl LocalMap {
         } else {
             best
         }
+    }
+
+    /// Whether the gathered wall or shelf face nearest `p` runs on for `length` both ways
+    /// along itself. Four points, `length` and `length`/2 either side of the nearest point
+    /// along the nearest edge, are looked at from just off that point, on `p`'s side: each
+    /// lies within [`RUNS_ON_TOLERANCE`] of a gathered edge (the wall goes on), or another
+    /// wall cuts the way to it (the wall turns a concave corner). A hallway's walls run on;
+    /// shelves' end faces broken by aisle mouths, or a wall beside a doorway, do not. False
+    /// when nothing was gathered.
+    pub fn nearest_wall_runs_on(&self, map: &StaticMap, p: &Vec2, length: Real) -> bool {
+        let mut nearest: Option<(Real, Vec2, Vec2)> = None;
+        for (a, b) in &self.segments {
+            let ab = b - a;
+            let len_sq = ab.norm_squared();
+            if len_sq <= 0.0 {
+                continue;
+            }
+            let t = ((p - a).dot(&ab) / len_sq).clamp(0.0, 1.0);
+            let q = a + ab * t;
+            let d_sq = (p - q).norm_squared();
+            if nearest.is_none_or(|(best, _, _)| d_sq < best) {
+                nearest = Some((d_sq, q, ab / len_sq.sqrt()));
+            }
+        }
+        let Some((d_sq, at, along)) = nearest else {
+            return false;
+        };
+        let off = if d_sq > 0.0 {
+            (p - at) * (RUNS_ON_TOLERANCE.min(d_sq.sqrt()) / d_sq.sqrt())
+        } else {
+            Vec2::zeros()
+        };
+        [-1.0, -0.5, 0.5, 1.0].iter().all(|s| {
+            let step = along * (s * length);
+            self.edge_distance(&(at + step)) <= RUNS_ON_TOLERANCE
+                || !map.line_of_sight(at + off, at + off + step)
+        })
     }
 
     /// Distance from `p` to the nearest gathered edge, inside a polygon or not
@@ -515,6 +557,42 @@ mod tests {
             StaticMap::new(vec![flat]).unwrap_err(),
             MapError::Degenerate { index: 0 }
         );
+    }
+
+    #[test]
+    fn a_wall_runs_on_and_shelf_ends_broken_by_aisle_mouths_do_not() {
+        // A hallway wall along y = 0, and across from it shelf ends 1.2 m wide along y = 3
+        // with 1.5 m mouths between them (the narrow warehouse's cross-aisle).
+        let mut obstacles = vec![Obstacle::Wall(vec2(-10.0, 0.0), vec2(10.0, 0.0))];
+        for k in 0..6 {
+            let x = -8.0 + 2.7 * Real::from(k);
+            obstacles.push(Obstacle::Polygon(vec![
+                vec2(x, 3.0),
+                vec2(x + 1.2, 3.0),
+                vec2(x + 1.2, 10.0),
+                vec2(x, 10.0),
+            ]));
+        }
+        let map = StaticMap::new(obstacles).expect("valid map");
+        let mut local = LocalMap::default();
+        map.gather(vec2(-6.0, -1.0), vec2(6.0, 4.0), 0.4, &mut local);
+        let runs_on = |p: Vec2| local.nearest_wall_runs_on(&map, &p, 1.5);
+        assert!(runs_on(vec2(0.0, 0.6)));
+        // Beside a shelf end's middle, and beside a mouth.
+        assert!(!runs_on(vec2(-2.0, 2.4)));
+        assert!(!runs_on(vec2(-0.05, 2.4)));
+        // Near the wall's open end it no longer runs on.
+        assert!(!runs_on(vec2(9.5, 0.6)));
+        assert!(!LocalMap::default().nearest_wall_runs_on(&map, &vec2(0.0, 0.0), 1.5));
+        // Into a concave corner it runs on: the wall turns, it does not open.
+        let mut corner = LocalMap::default();
+        let room = StaticMap::new(vec![
+            Obstacle::Wall(vec2(-10.0, 0.0), vec2(10.0, 0.0)),
+            Obstacle::Wall(vec2(10.0, 0.0), vec2(10.0, 3.0)),
+        ])
+        .expect("valid map");
+        room.gather(vec2(6.0, -1.0), vec2(11.0, 4.0), 0.4, &mut corner);
+        assert!(corner.nearest_wall_runs_on(&room, &vec2(9.5, 0.4), 1.5));
     }
 
     #[test]

@@ -39,7 +39,7 @@ use crate::prediction::predict;
 use crate::visibility::Visibility;
 use candidates::Candidates;
 use hidden::{Hidden, halton, hidden_risk, sample_hidden};
-pub use params::{NO_PEEK_C3, PEEK_C3, PnpParams, Prediction, SIDE_WEIGHT, Severity};
+pub use params::{NO_PEEK_C3, PEEK_C3, PnpParams, Prediction, SIDE_RUNS_ON, SIDE_WEIGHT, Severity};
 use predict::{Predicted, Scratch, Shared, body_risk, might_touch, social_force_rollout};
 use react::Reaction;
 pub use risk::cvar;
@@ -301,7 +301,14 @@ impl Pnp {
         // would scoring them in index order.
         self.goal_terms.clear();
         let there = (ego.position - goal).norm() < self.params.goal_tolerance;
-        let side_weight = if p.side_fade > 0.0 {
+        let side_weight = if p.side_weight > 0.0
+            && p.side_runs_on > 0.0
+            && !self
+                .local
+                .nearest_wall_runs_on(map, &ego.position, p.side_runs_on)
+        {
+            0.0
+        } else if p.side_fade > 0.0 {
             p.side_weight * ((goal - ego.position).norm() / p.side_fade).min(1.0)
         } else {
             p.side_weight

@@ -59,8 +59,8 @@ pub enum PnpVariant {
     /// `pnp-omni` with the prediction samples spread across a walking person's way half as
     /// far as along it (`pnp-omni-across`): [`PnpParams::omni_across`].
     OmniAcross,
-    /// `pnp-omni-across` keeping to the side of a hallway or aisle (`pnp-side`):
-    /// [`PnpParams::side`].
+    /// `pnp-omni-across` keeping to the side of a hallway or aisle, beside walls that run on
+    /// (`pnp-side`): [`PnpParams::side`].
     Side,
 }
 

@@ -691,3 +691,44 @@ fn pnp_side_keeps_to_the_nearer_wall_and_still_reaches_a_goal_in_the_middle() {
     let v = decide(PnpParams::side(true), &near, &hallway(), goal);
     assert!(v.dot(&(goal - near.position)) > 0.0 && v.y > 0.0, "{v:?}");
 }
+
+/// Beside shelves' end faces broken by aisle mouths (a cross-aisle), `pnp-side` leaves the
+/// side term out and decides as `pnp-omni-across` does: keeping to such a "wall" would drive
+/// it past blind corners. Beside a wall that runs on it keeps to the side.
+#[test]
+fn pnp_side_keeps_to_walls_that_run_on_not_to_shelf_ends() {
+    let decide = |params: PnpParams, e: &EgoState, map: &StaticMap, goal: Vec2| {
+        let mut pnp = Pnp::new(params);
+        pnp.plan(e, &[], map, goal, None).command
+    };
+    // A 3 m cross-aisle along +x: shelf ends 1.2 m wide with 1.5 m mouths along y = −1.5,
+    // the same along y = +1.5.
+    let mut shelves = Vec::new();
+    for k in 0..12 {
+        let x = -6.0 + 2.7 * Real::from(k);
+        for (near, far) in [(-1.5, -8.0), (1.5, 8.0)] {
+            shelves.push(Obstacle::Polygon(vec![
+                vec2(x, near),
+                vec2(x + 1.2, near),
+                vec2(x + 1.2, far),
+                vec2(x, far),
+            ]));
+        }
+    }
+    let cross_aisle = StaticMap::new(shelves).expect("valid shelves");
+    // 0.4 m below the axis, beside a shelf end, the goal 20 m on along the axis.
+    let e = ego(vec2(-1.0, -0.4), 0.0, 1.0);
+    let goal = vec2(20.0, 0.0);
+    assert_eq!(
+        decide(PnpParams::side(true), &e, &cross_aisle, goal),
+        decide(PnpParams::omni_across(true), &e, &cross_aisle, goal)
+    );
+    // With the shelves' side joined into one wall, it keeps to that wall.
+    let mut walled = cross_aisle.obstacles().to_vec();
+    walled.push(Obstacle::Wall(vec2(-6.0, -1.5), vec2(30.0, -1.5)));
+    let walled = StaticMap::new(walled).expect("valid map");
+    let Command::Velocity(v) = decide(PnpParams::side(true), &e, &walled, goal) else {
+        panic!("a holonomic variant");
+    };
+    assert!(v.x > 0.0 && v.y < 0.0, "pnp-side beside a wall: {v:?}");
+}
