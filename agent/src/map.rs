@@ -7,7 +7,7 @@
 //! vertex `i`.
 
 use crate::fastmath::LANES;
-use crate::math::{Real, Vec2, det};
+use crate::math::{Real, Vec2, closest_on_segment, det, dist_sq_point_segment};
 use crate::obstacle_points::ObstaclePoints;
 use parry2d_f64::bounding_volume::Aabb;
 use parry2d_f64::math::{Isometry, Point, Vector};
@@ -197,23 +197,18 @@ impl LocalMap {
     /// shelves' end faces broken by aisle mouths, or a wall beside a doorway, do not. False
     /// when nothing was gathered.
     pub fn nearest_wall_runs_on(&self, map: &StaticMap, p: &Vec2, length: Real) -> bool {
-        let mut nearest: Option<(Real, Vec2, Vec2)> = None;
-        for (a, b) in &self.segments {
-            let ab = b - a;
-            let len_sq = ab.norm_squared();
-            if len_sq <= 0.0 {
-                continue;
-            }
-            let t = ((p - a).dot(&ab) / len_sq).clamp(0.0, 1.0);
-            let q = a + ab * t;
-            let d_sq = (p - q).norm_squared();
-            if nearest.is_none_or(|(best, _, _)| d_sq < best) {
-                nearest = Some((d_sq, q, ab / len_sq.sqrt()));
-            }
-        }
-        let Some((d_sq, at, along)) = nearest else {
+        // The first of the nearest edges of non-zero length.
+        let Some((d_sq, (a, b))) = self
+            .segments
+            .iter()
+            .filter(|(a, b)| (b - a).norm_squared() > 0.0)
+            .map(|ab| (dist_sq_point_segment(&ab.0, &ab.1, p), ab))
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+        else {
             return false;
         };
+        let at = closest_on_segment(*a, *b, *p);
+        let along = (b - a).normalize();
         let off = if d_sq > 0.0 {
             (p - at) * (RUNS_ON_TOLERANCE.min(d_sq.sqrt()) / d_sq.sqrt())
         } else {

@@ -660,20 +660,21 @@ fn samples_spread_across_a_walking_persons_way_by_the_across_share() {
     }
 }
 
+/// The velocity a holonomic variant commands with nobody about.
+fn decide(params: PnpParams, e: &EgoState, map: &StaticMap, goal: Vec2) -> Vec2 {
+    let d = Pnp::new(params).plan(e, &[], map, goal, None);
+    match d.command {
+        Command::Velocity(v) => v,
+        Command::Unicycle { .. } => panic!("a holonomic variant: {:?}", d.command),
+    }
+}
+
 /// `pnp-side` keeps to the nearer wall of a hallway with nobody about, where
 /// `pnp-omni-across` heads for a goal on the hallway's axis; in open ground, where no wall is
 /// within reach, the two decide alike; near its goal the side term has faded and it closes
 /// in.
 #[test]
 fn pnp_side_keeps_to_the_nearer_wall_and_still_reaches_a_goal_in_the_middle() {
-    let decide = |params: PnpParams, e: &EgoState, map: &StaticMap, goal: Vec2| {
-        let mut pnp = Pnp::new(params);
-        let d = pnp.plan(e, &[], map, goal, None);
-        match d.command {
-            Command::Velocity(v) => v,
-            Command::Unicycle { .. } => panic!("a holonomic variant: {:?}", d.command),
-        }
-    };
     // 0.4 m below the axis of a 3 m hallway, the goal 40 m on along the axis.
     let e = ego(vec2(0.0, -0.4), 0.0, 1.0);
     let goal = vec2(40.0, 0.0);
@@ -697,10 +698,6 @@ fn pnp_side_keeps_to_the_nearer_wall_and_still_reaches_a_goal_in_the_middle() {
 /// it past blind corners. Beside a wall that runs on it keeps to the side.
 #[test]
 fn pnp_side_keeps_to_walls_that_run_on_not_to_shelf_ends() {
-    let decide = |params: PnpParams, e: &EgoState, map: &StaticMap, goal: Vec2| {
-        let mut pnp = Pnp::new(params);
-        pnp.plan(e, &[], map, goal, None).command
-    };
     // A 3 m cross-aisle along +x: shelf ends 1.2 m wide with 1.5 m mouths along y = −1.5,
     // the same along y = +1.5.
     let mut shelves = Vec::new();
@@ -727,8 +724,6 @@ fn pnp_side_keeps_to_walls_that_run_on_not_to_shelf_ends() {
     let mut walled = cross_aisle.obstacles().to_vec();
     walled.push(Obstacle::Wall(vec2(-6.0, -1.5), vec2(30.0, -1.5)));
     let walled = StaticMap::new(walled).expect("valid map");
-    let Command::Velocity(v) = decide(PnpParams::side(true), &e, &walled, goal) else {
-        panic!("a holonomic variant");
-    };
+    let v = decide(PnpParams::side(true), &e, &walled, goal);
     assert!(v.x > 0.0 && v.y < 0.0, "pnp-side beside a wall: {v:?}");
 }
