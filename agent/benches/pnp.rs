@@ -90,7 +90,8 @@ fn pnp(c: &mut Criterion) {
     // with the first segment's speed in sixths (`pnp-fine`); and with a 1.5 s horizon and the
     // first segment's speed in twelfths (`pnp-agile`); and with velocities in ten directions
     // (`pnp-omni`), and samples spread across people's way half as far (`pnp-omni-across`),
-    // and keeping to the side (`pnp-side`).
+    // and keeping to the side (`pnp-side`), scoring hidden people against braking once they
+    // step out (`pnp-side-brake`).
     for (name, params) in [
         ("plan", PnpParams::default()),
         ("plan-reactive", PnpParams::reactive(true)),
@@ -99,6 +100,7 @@ fn pnp(c: &mut Criterion) {
         ("plan-omni", PnpParams::omni(true)),
         ("plan-omni-across", PnpParams::omni_across(true)),
         ("plan-side", PnpParams::side(true)),
+        ("plan-side-brake", PnpParams::side_brake(true)),
     ] {
         let mut planner = Pnp::new(PnpParams {
             v_max: 3.0,

@@ -38,7 +38,7 @@ use crate::model::{Command, EgoState, Neighbour, TrajectorySample};
 use crate::prediction::predict;
 use crate::visibility::Visibility;
 use candidates::Candidates;
-use hidden::{Hidden, halton, hidden_risk, sample_hidden};
+use hidden::{Hidden, braking_path, halton, hidden_risk, sample_hidden};
 pub use params::{NO_PEEK_C3, PEEK_C3, PnpParams, Prediction, SIDE_RUNS_ON, SIDE_WEIGHT, Severity};
 use predict::{Predicted, Scratch, Shared, body_risk, might_touch, social_force_rollout};
 use react::Reaction;
@@ -98,6 +98,8 @@ pub struct Pnp {
     reaction: Reaction,
     reacting: Predicted,
     hidden: Vec<Hidden>,
+    /// A candidate's path braking as a hidden person steps out (`hidden_braking`).
+    braking: Vec<Vec2>,
     scratch: Scratch,
     /// Per candidate, its goal term in this plan.
     goal_terms: Vec<Real>,
@@ -156,6 +158,7 @@ impl Pnp {
             reaction: Reaction::default(),
             reacting: Predicted::default(),
             hidden: Vec::new(),
+            braking: Vec::new(),
             scratch: Scratch::default(),
             goal_terms: Vec::new(),
             order: Vec::new(),
@@ -485,6 +488,12 @@ impl Pnp {
                 continue;
             }
             let contact = ego.radius + p.hidden_radius + p.clearance;
+            let swept = if p.hidden_braking {
+                braking_path(path, dt, p.a_max, &mut self.braking);
+                Path::new(&self.braking)
+            } else {
+                swept
+            };
             let psi = hidden_risk(
                 swept,
                 &self.hidden,

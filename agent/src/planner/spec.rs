@@ -62,6 +62,9 @@ pub enum PnpVariant {
     /// `pnp-omni-across` keeping to the side of a hallway or aisle, beside walls that run on
     /// (`pnp-side`): [`PnpParams::side`].
     Side,
+    /// `pnp-side` scoring its hidden people against braking once they step out
+    /// (`pnp-side-brake`): [`PnpParams::side_brake`].
+    SideBrake,
 }
 
 impl PnpVariant {
@@ -76,6 +79,7 @@ impl PnpVariant {
             PnpVariant::Omni => PnpParams::omni(peek),
             PnpVariant::OmniAcross => PnpParams::omni_across(peek),
             PnpVariant::Side => PnpParams::side(peek),
+            PnpVariant::SideBrake => PnpParams::side_brake(peek),
         }
     }
 }
@@ -131,7 +135,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, pnp-side, pnp-side-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, pnp-side, pnp-side-nopeek, pnp-side-brake, pnp-side-brake-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -176,6 +180,8 @@ impl FromStr for PlannerSpec {
             "pnp-omni-across-nopeek" => pnp(PnpVariant::OmniAcross, false),
             "pnp-side" => pnp(PnpVariant::Side, true),
             "pnp-side-nopeek" => pnp(PnpVariant::Side, false),
+            "pnp-side-brake" => pnp(PnpVariant::SideBrake, true),
+            "pnp-side-brake-nopeek" => pnp(PnpVariant::SideBrake, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -230,6 +236,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::OmniAcross, false) => "pnp-omni-across-nopeek",
                 (PnpVariant::Side, true) => "pnp-side",
                 (PnpVariant::Side, false) => "pnp-side-nopeek",
+                (PnpVariant::SideBrake, true) => "pnp-side-brake",
+                (PnpVariant::SideBrake, false) => "pnp-side-brake-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -277,6 +285,8 @@ mod tests {
             "pnp-omni-across-nopeek",
             "pnp-side",
             "pnp-side-nopeek",
+            "pnp-side-brake",
+            "pnp-side-brake-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

@@ -53,6 +53,26 @@ pub(super) fn hidden_risk(
     cvar(losses, alpha)
 }
 
+/// Where the robot goes on `path` (on a grid of `dt`) if a hidden person steps out as it
+/// starts: it drives the path for one grid step (seeing them and reacting), then brakes at
+/// `a_max` to a stop, straight on at the velocity it holds over the path's next step. Fills
+/// `out` with as many points as `path`.
+pub(super) fn braking_path(path: &[Vec2], dt: Real, a_max: Real, out: &mut Vec<Vec2>) {
+    out.clear();
+    out.extend(path.iter().take(2));
+    let (Some(&seen), Some(&next)) = (path.get(1), path.get(2).or(path.get(1))) else {
+        return;
+    };
+    let from = if path.len() > 2 { seen } else { path[0] };
+    let velocity = (next - from) / dt;
+    let speed = velocity.norm();
+    let stop = if a_max > 0.0 { speed / a_max } else { 0.0 };
+    for k in 2..path.len() {
+        let t = ((k - 1) as Real * dt).min(stop);
+        out.push(seen + velocity * t - velocity * (0.5 * a_max * t * t / speed.max(1e-12)));
+    }
+}
+
 /// Fills `out` with Ψ: hypothetical people stepping out of the shadows of `visibility`,
 /// spread uniformly over the occlusion edges within reach (their length), headings into view
 /// (uniform over the half-plane facing away from the shadow), speeds uniform up to the

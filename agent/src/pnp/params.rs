@@ -123,6 +123,15 @@ pub struct PnpParams {
     /// 0 counts every wall. Beside walls broken by openings (shelves' end faces between aisle
     /// mouths) keeping to the side drives the robot past blind corners.
     pub side_runs_on: Real,
+    /// Whether Ψ's hidden people are scored against the robot braking once they step out
+    /// (`pnp::hidden::braking_path`) instead of against the candidate
+    /// driven to its end. Not in the paper. A hidden person steps out of a shadow into view:
+    /// a robot that can stop before they reach it is passively safe toward them whatever it
+    /// meant to do next. Scored against the whole candidate, a hypothetical person crossing
+    /// the robot's way costs every candidate that drives on, and nothing the robot does while
+    /// standing changes what it sees, so it stands for good (on the real floor plan a robot
+    /// alone stood 288 s at a pick face).
+    pub hidden_braking: bool,
 }
 
 /// How a predicted contact is scored: by which speed its loss is scaled, if any.
@@ -197,6 +206,7 @@ impl Default for PnpParams {
             side_reach: 2.0,
             side_fade: 3.0,
             side_runs_on: 0.0,
+            hidden_braking: false,
         }
     }
 }
@@ -333,6 +343,23 @@ impl PnpParams {
             side_weight: SIDE_WEIGHT,
             side_runs_on: SIDE_RUNS_ON,
             ..Self::omni_across(peek)
+        }
+    }
+
+    /// `pnp-side` scoring Ψ against the robot braking once a hidden person steps out
+    /// (`pnp-side-brake`, [`PnpParams::hidden_braking`]). On the real floor plan
+    /// (`aws-small-warehouse`, tuning seeds 1–10) one robot alone with `pnp-side` did 0 tasks
+    /// in 300 s on seed 6 and 76 over the ten seeds: at a pick face in a bay, one hypothetical
+    /// person crossing the way out cost every candidate that drove on 20 times the goal term.
+    /// With braking it did 99 (`pgp+orca` 97). Elsewhere, on tuning seeds, the same within
+    /// what seeds vary by: the hallway (1–36, 50 and 100 m, people at 0.5–3 m/s) 58.0 and
+    /// 112.1 s against 57.6 and 112.1 s, 13.1 and 24.9 personal-space entries per run
+    /// against 12.9 and 25.1; the default warehouse (1–30) 24.9 tasks per run against 24.7
+    /// (results/fleet-pnp/REPORT.md).
+    pub fn side_brake(peek: bool) -> Self {
+        Self {
+            hidden_braking: true,
+            ..Self::side(peek)
         }
     }
 

@@ -727,3 +727,27 @@ fn pnp_side_keeps_to_walls_that_run_on_not_to_shelf_ends() {
     let v = decide(PnpParams::side(true), &e, &walled, goal);
     assert!(v.x > 0.0 && v.y < 0.0, "pnp-side beside a wall: {v:?}");
 }
+
+/// `braking_path`: one grid step on the candidate, then braking straight on to a stop.
+#[test]
+fn the_braking_path_drives_one_grid_step_then_stops_within_the_acceleration_limit() {
+    // 1 m/s along x on a 0.25 s grid.
+    let path: Vec<Vec2> = (0..7).map(|k| vec2(0.25 * Real::from(k), 0.0)).collect();
+    let mut out = Vec::new();
+    super::hidden::braking_path(&path, 0.25, 1.5, &mut out);
+    assert_eq!(out.len(), path.len());
+    assert_eq!(&out[..2], &path[..2]);
+    // From 1 m/s at 1.5 m/s²: stopped after 2/3 s, 1/3 m on.
+    let stop = 0.25 + 1.0 / 3.0;
+    for w in out.windows(2) {
+        assert!(w[1].x >= w[0].x - 1e-12 && w[1].y == 0.0, "{out:?}");
+    }
+    assert!((out[6].x - stop).abs() < 1e-9, "{out:?}");
+    assert!((out[4].x - stop).abs() < 1e-9, "stopped by 1 s: {out:?}");
+    assert!(out[3].x < stop, "not yet at 0.75 s: {out:?}");
+    assert!(out[2].x < stop && out[2].x > 0.25 + 0.25 * 0.5, "{out:?}");
+    // Standing still it stays.
+    let still = vec![vec2(1.0, 2.0); 7];
+    super::hidden::braking_path(&still, 0.25, 1.5, &mut out);
+    assert_eq!(out, still);
+}

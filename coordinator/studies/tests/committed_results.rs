@@ -3,7 +3,7 @@
 //! protocol: no safety layer) and of `results/open-space-safety/runs.csv` (the layer under
 //! every planner) byte for byte, as do `asfm-crowd`'s and `pgp+asfm-crowd`'s, and small versions of the laned, hallway and traffic studies
 //! reproduce rows of `results/laned/runs.csv`, `results/hallway/runs.csv` (and of
-//! `pnp-side` under the layer in `results/hallway-layer-heldout/pnp-side`) and
+//! `pnp-side` and `pnp-side-brake` under the layer in `results/hallway-layer-heldout`) and
 //! `results/traffic/runs.csv`. A change that moves any
 //! bit of any planner, of the layer or of the crowd fails here; if the change is meant to,
 //! re-run the study and commit its results (each study's REPORT.md has the command).
@@ -111,6 +111,14 @@ fn hallway_smoke_rows_are_the_committed_rows() {
 fn pnp_side_hallway_rows_are_the_committed_rows() {
     let rows = hallway_rows(true, &["pnp-side"], 101, 1);
     rows_are_committed("hallway-layer-heldout/pnp-side", &rows, 2);
+}
+
+/// `pnp-side-brake` in the hallway under the layer
+/// (`results/hallway-layer-heldout/pnp-side-brake`): the same seed, lengths and speeds.
+#[test]
+fn pnp_side_brake_hallway_rows_are_the_committed_rows() {
+    let rows = hallway_rows(true, &["pnp-side-brake"], 101, 1);
+    rows_are_committed("hallway-layer-heldout/pnp-side-brake", &rows, 2);
 }
 
 /// The hallway study's runs.csv for `planners` in the 25 m hallway with people at 1 and

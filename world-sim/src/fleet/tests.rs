@@ -404,3 +404,29 @@ fn routes_go_round_people_coming_the_other_way() {
     fleet.set_traffic_policy(Some(params));
     assert_eq!(fleet.route_among_people(from, to), shortest);
 }
+
+/// On the real floor plan a robot alone (seed 6) reaches a pick face in a bay 12 s in; its
+/// way out passes a blind opening. `pnp-side` scores a hypothetical person stepping out of it
+/// across that way against every candidate that drives on, and stands there for good.
+/// `pnp-side-brake` scores them against braking once they step out, and goes on working.
+#[test]
+fn pnp_side_brake_leaves_the_pick_face_where_pnp_side_stands_for_good() {
+    let mut s = Scenario::builtin("aws-small-warehouse").expect("valid");
+    s.seed = 6;
+    s.set_fleet_size(Some(1), Some(0));
+    let run = |planner: &str| {
+        let options = FleetOptions {
+            share_intents: true,
+            policy: Some(PolicyParams::default()),
+            human_impact_window_s: None,
+        };
+        let spec = planner.parse().expect("known");
+        run_fleet_with(&s, spec, 90.0, options).expect("a floor plan")
+    };
+    let standing = run("pnp-side");
+    let braking = run("pnp-side-brake");
+    // 11 m to the pick face, then nothing: no task in 90 s.
+    assert_eq!(standing.tasks_done, vec![0], "{standing:?}");
+    assert!(standing.robots[0].path_length_m < 12.0, "{standing:?}");
+    assert!(braking.tasks_done[0] >= 3, "{braking:?}");
+}
