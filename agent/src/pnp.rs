@@ -98,8 +98,10 @@ pub struct Pnp {
     reaction: Reaction,
     reacting: Predicted,
     hidden: Vec<Hidden>,
-    /// A candidate's path braking as a hidden person steps out (`hidden_braking`).
+    /// A candidate's path braking as a hidden person steps out (`hidden_braking`), and per
+    /// prefix of siblings Ψ's risk against it, once asked in this plan.
     braking: Vec<Vec2>,
+    braking_psi: Vec<Option<Real>>,
     scratch: Scratch,
     /// Per candidate, its goal term in this plan.
     goal_terms: Vec<Real>,
@@ -159,6 +161,7 @@ impl Pnp {
             reacting: Predicted::default(),
             hidden: Vec::new(),
             braking: Vec::new(),
+            braking_psi: Vec::new(),
             scratch: Scratch::default(),
             goal_terms: Vec::new(),
             order: Vec::new(),
@@ -389,6 +392,8 @@ impl Pnp {
         };
         self.walled.clear();
         self.walled.resize(self.candidates.prefixes(), None);
+        self.braking_psi.clear();
+        self.braking_psi.resize(self.candidates.prefixes(), None);
         self.plans += 1;
         let entries = self.candidates.prefixes() * self.predicted.len();
         if self.shared.len() < entries {
@@ -488,21 +493,31 @@ impl Pnp {
                 continue;
             }
             let contact = ego.radius + p.hidden_radius + p.clearance;
-            let swept = if p.hidden_braking {
-                braking_path(path, dt, p.a_max, &mut self.braking);
-                Path::new(&self.braking)
+            let (hidden, losses) = (&self.hidden, &mut self.scratch.losses);
+            let psi = if p.hidden_braking {
+                // The braking path follows the path's first two grid steps alone: once for
+                // siblings that share them.
+                let braking = &mut self.braking;
+                let mut risk = || {
+                    braking_path(path, dt, p.a_max, braking);
+                    hidden_risk(
+                        Path::new(braking),
+                        hidden,
+                        dt,
+                        contact,
+                        p.alpha_peek,
+                        scoring,
+                        losses,
+                    )
+                };
+                if tail >= 2 {
+                    *self.braking_psi[prefix].get_or_insert_with(risk)
+                } else {
+                    risk()
+                }
             } else {
-                swept
+                hidden_risk(swept, hidden, dt, contact, p.alpha_peek, scoring, losses)
             };
-            let psi = hidden_risk(
-                swept,
-                &self.hidden,
-                dt,
-                contact,
-                p.alpha_peek,
-                scoring,
-                &mut self.scratch.losses,
-            );
             let peek = (psi - p.epsilon_peek).max(0.0);
             let total = p.c1 * goal_term + p.c2 * collision + p.c3 * peek;
             if !loses(total, c, &best) {

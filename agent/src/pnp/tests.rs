@@ -49,7 +49,8 @@ proptest::proptest! {
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
     /// Cutting candidates short (by the best total so far, and by a risk budget inside a
-    /// body's samples) and scoring the last plan's choice first change no decision: a planner
+    /// body's samples), scoring the last plan's choice first and sharing siblings' braking
+    /// paths change no decision: a planner
     /// that has just planned another crowd decides, bit for bit, as one scoring every
     /// candidate in full.
     #[test]
@@ -59,7 +60,7 @@ proptest::proptest! {
             0..20,
         ),
         speed in 0.0..3.0f64,
-        variant in 0usize..6,
+        variant in 0usize..7,
     ) {
         let params = [
             PnpParams::peeking(true),
@@ -68,6 +69,7 @@ proptest::proptest! {
             PnpParams::reactive(true),
             PnpParams::fine(false),
             PnpParams::omni(true),
+            PnpParams::side_brake(true),
         ][variant]
             .clone();
         let people: Vec<Neighbour> = crowd
@@ -750,4 +752,36 @@ fn the_braking_path_drives_one_grid_step_then_stops_within_the_acceleration_limi
     let still = vec![vec2(1.0, 2.0); 7];
     super::hidden::braking_path(&still, 0.25, 1.5, &mut out);
     assert_eq!(out, still);
+}
+
+/// Siblings share one braking path's Ψ (`hidden_braking`): by a blind side passage, where Ψ
+/// costs, a planner sharing it and cutting candidates short decides bit for bit as one
+/// scoring every candidate in full.
+#[test]
+fn sharing_siblings_braking_risk_changes_no_decision_by_a_blind_passage() {
+    // A 2 m corridor along y, closed at y = 1, with a 1 m passage leaving its west wall at
+    // y = −1.5 to −0.5.
+    let map = StaticMap::new(vec![
+        Obstacle::Wall(vec2(-1.0, 1.0), vec2(1.0, 1.0)),
+        Obstacle::Wall(vec2(1.0, 1.0), vec2(1.0, -10.0)),
+        Obstacle::Wall(vec2(-1.0, 1.0), vec2(-1.0, -0.5)),
+        Obstacle::Wall(vec2(-1.0, -1.5), vec2(-1.0, -10.0)),
+        Obstacle::Wall(vec2(-1.0, -0.5), vec2(-8.0, -0.5)),
+        Obstacle::Wall(vec2(-1.0, -1.5), vec2(-8.0, -1.5)),
+    ])
+    .expect("valid walls");
+    let goal = vec2(0.0, -5.0);
+    let mut peeked = 0;
+    for x in [-0.6, -0.3, 0.0, 0.3] {
+        for y in [0.4, 0.0] {
+            let e = ego(vec2(x, y), std::f64::consts::FRAC_PI_2, 0.0);
+            let mut full = Pnp::new(PnpParams::side_brake(true));
+            full.exhaustive = true;
+            let want = full.plan(&e, &[], &map, goal, None);
+            let got = Pnp::new(PnpParams::side_brake(true)).plan(&e, &[], &map, goal, None);
+            assert_eq!(got, want, "at ({x}, {y})");
+            peeked += usize::from(want.cost.peek > 0.0);
+        }
+    }
+    assert!(peeked > 0, "Ψ costs somewhere by the passage");
 }
