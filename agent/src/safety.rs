@@ -9,8 +9,10 @@
 //! checked along the commanded motion itself (the "equivalent braking-distance check along the
 //! commanded arc"): the robot is rolled out as its base executes the command, for the reaction
 //! time T_r, then braking at its guaranteed deceleration until it stands; every perceived body
-//! either moves on at its perceived velocity meanwhile (v_h·(T_r + T_s)) or stops dead where
-//! it is (a robot ahead braking hard), whichever comes closer, and walls stand still.
+//! either moves on at its perceived velocity meanwhile (v_h·(T_r + T_s)) or halts, whichever
+//! comes closer, and walls stand still. A robot ahead halts by stopping dead where it is
+//! (braking hard); a person walking at up to [`HALTING_MAX_SPEED`] halts no harder than a_h,
+//! the bound on how hard people change their motion ([`SafetyParams::people_stop_dead`]).
 //!
 //! **The predicate.** A command is *admissible* ([`SafeSet::admits`]) when, at every instant
 //! of that rollout at which the robot is moving toward a body, the gap stays above the margin
@@ -20,7 +22,7 @@
 //!
 //! **The guarantee: passive safety** (Macek, Fraichard et al.): every command the layer lets
 //! through is admissible, so the robot can always still brake to a stop before it moves into
-//! anything it perceives and that keeps within the motion model (walking on, stopping dead,
+//! anything it perceives and that keeps within the motion model (walking on, halting as above,
 //! swerving at ≤ a_h); if a contact happens, the robot is not moving toward the other body at
 //! its onset. This is the guarantee behind "robot-caused" contacts
 //! (`world_sim::metrics::contact_cause`). It is not *passive-friendly* safety (the other body
@@ -59,7 +61,7 @@ use crate::model::{AgentKind, Command, EgoState, Neighbour};
 use std::cell::RefCell;
 
 mod params;
-pub use params::{ACROSS_MIN_SPEED, SafetyLimits, SafetyParams};
+pub use params::{ACROSS_MIN_SPEED, HALTING_MAX_SPEED, SafetyLimits, SafetyParams};
 
 /// Which field acted on a command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,7 +103,7 @@ pub struct SafetyLayer {
     walkers: Vec<Walker>,
     /// Walls and shelves within reach.
     local: LocalMap,
-    /// Per body of `near` and hypothesis (walking on, stopping dead): if it has come within
+    /// Per body of `near` and hypothesis (walking on, halting): if it has come within
     /// the margin of the robot in this rollout without the robot moving toward it, where and
     /// when, and how it goes on. A body that walks into the robot does not walk through it
     /// (its straight line through the robot afterwards means nothing): it slides along,
@@ -139,13 +141,35 @@ struct Body {
     along: Vec2,
     /// How hard it may swerve across `along`.
     accel_across: Real,
-    /// Per check (warning, protective) and hypothesis (walking on, stopping dead): whether it
-    /// can come within `within` of the robot at all in that check's rollout. Those that
-    /// cannot are skipped; the result is the same.
+    /// How hard it halts on the second hypothesis (m/s²): infinite for stopping dead where it
+    /// is; a_h for a person without [`SafetyParams::people_stop_dead`].
+    halting: Real,
+    /// Per check (warning, protective) and hypothesis (walking on, halting): whether it can
+    /// come within `within` of the robot at all in that check's rollout, and whether the check
+    /// holds that hypothesis at all (a person halting at a_h adds nothing to the protective
+    /// check's swerve). Those that cannot, or need not, are skipped.
     relevant: [[bool; 2]; 2],
 }
 
 impl Body {
+    /// Where the body stands on the halting hypothesis `t` s on, and its velocity then:
+    /// braking along its way at [`Body::halting`] (stopping dead where it is when that is
+    /// infinite).
+    fn halt(&self, t: Real) -> (Vec2, Vec2) {
+        if !self.halting.is_finite() {
+            return (self.position, vec2(0.0, 0.0));
+        }
+        let speed = self.velocity.norm();
+        if speed == 0.0 {
+            return (self.position, self.velocity);
+        }
+        let braking = t.min(speed / self.halting);
+        let way = speed * braking - 0.5 * self.halting * braking * braking;
+        let left = (speed - self.halting * t).max(0.0);
+        let along = self.velocity / speed;
+        (self.position + along * way, along * left)
+    }
+
     /// Whether `d` (from the robot to where the body would be) is within `within` of the
     /// ellipse the body may stray in after a time whose ½·t² is `half_tt`: ½·a_h·t² along its
     /// way, ½·a_⊥·t² across. Conservative: it tests the ellipse's extent toward the robot
@@ -343,6 +367,15 @@ impl SafetyLayer {
                         .params
                         .person_accel_across
                         .min(self.params.person_accel),
+                    halting: if b.kind == AgentKind::Human
+                        && !self.params.people_stop_dead
+                        && self.params.person_accel > 0.0
+                        && b.velocity.norm() <= HALTING_MAX_SPEED
+                    {
+                        self.params.person_accel
+                    } else {
+                        Real::INFINITY
+                    },
                     relevant: [[true; 2]; 2],
                 }),
         );
@@ -406,7 +439,15 @@ impl SafetyLayer {
                 };
                 let (walking, standing) = closest(b, duration);
                 let reach = robot_reach + b.within + stray;
-                b.relevant[check] = [walking < reach, standing < reach];
+                // Halting at a finite rate, it stands at most its stopping distance on.
+                let halt_way = (b.halt(Real::INFINITY).0 - b.position).norm();
+                // A person who halts no harder than a_h stays within the swerve's reach of
+                // walking on: in the protective check halting adds nothing to it.
+                let halts_within_swerve = swerve && b.halting.is_finite();
+                b.relevant[check] = [
+                    walking < reach,
+                    standing - halt_way < reach && !halts_within_swerve,
+                ];
             }
         }
         let yield_time = self.params.yield_time;
@@ -457,16 +498,13 @@ impl SafetyLayer {
                 break;
             }
             // Bodies the robot moves toward: walking on at their velocity (v_h·(T_r + T_s)), or
-            // stopping dead where they are (a robot ahead that brakes, a person who halts).
+            // halting (a robot ahead that brakes stops dead; a person brakes at ≤ a_h).
             // People may swerve in the protective check (a_h, `person_accel`); the warning field
             // looks ahead on the hypotheses alone.
             let half_tt = if swerve { 0.5 * t * t } else { 0.0 };
             for (b, arrived) in self.near.iter().zip(arrived.iter_mut()) {
                 let within_sq = (b.within + b.accel * half_tt).powi(2);
-                let hypotheses = [
-                    (b.position + b.velocity * t, b.velocity),
-                    (b.position, vec2(0.0, 0.0)),
-                ];
+                let hypotheses = [(b.position + b.velocity * t, b.velocity), b.halt(t)];
                 for (((at, moving), arrival), relevant) in
                     hypotheses.into_iter().zip(arrived).zip(b.relevant[check])
                 {

@@ -110,6 +110,19 @@ pub struct SafetyParams {
     /// robot-caused contacts fell from 25 to 12 at 0.5 s and to 5 at 1 s, with median times
     /// within 2–6 % (results/safety/REPORT.md, "Memory").
     pub memory_time: Real,
+    /// Whether a perceived *person* may stop dead, from walking to a standstill at once, as a
+    /// robot ahead may (its hypothesis: braking hard). `false`, the default: a person walking
+    /// at up to [`HALTING_MAX_SPEED`] changes their motion only as `person_accel` allows,
+    /// braking included. In the protective check that is ½·a_h·t² from walking on, which
+    /// holds every way of halting at ≤ a_h; the warning field looks at them braking at a_h.
+    /// Faster people, robots, and people when `person_accel` is 0 may still stop dead.
+    /// Stopping dead sat outside the layer's own motion model (people change their motion at
+    /// ≤ a_h, the simulated and recorded people's p99.9 stray at the stop's horizon) and held
+    /// robots a second's walk behind anyone walking their way: on the tuning seeds (fleets
+    /// 1–10, the hallway study 1–12, open space 1–20, seq_eth) `false` did more work in every
+    /// fleet cell with fewer person-caused contacts and no robot-caused contact
+    /// (results/halting/REPORT.md, with the held-out seeds). `true` is the layer before.
+    pub people_stop_dead: bool,
 }
 
 impl SafetyParams {
@@ -137,16 +150,21 @@ impl SafetyParams {
 
 impl SafetyParams {
     /// These parameters with some changed, as `key=value,key=value` (the field names,
-    /// `yielding` taking `true` or `false`), validated; an empty text changes nothing.
+    /// `yielding` and `people_stop_dead` taking `true` or `false`), validated; an empty text changes nothing.
     pub fn with_overrides(mut self, text: &str) -> Result<Self, String> {
         for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let (key, value) = pair
                 .split_once('=')
                 .ok_or_else(|| format!("`{pair}`: expected key=value"))?;
-            if key == "yielding" {
-                self.yielding = value
+            if key == "yielding" || key == "people_stop_dead" {
+                let flag = value
                     .parse()
-                    .map_err(|_| format!("`{pair}`: yielding is true or false"))?;
+                    .map_err(|_| format!("`{pair}`: {key} is true or false"))?;
+                if key == "yielding" {
+                    self.yielding = flag;
+                } else {
+                    self.people_stop_dead = flag;
+                }
                 continue;
             }
             let field = match key {
@@ -184,6 +202,7 @@ impl Default for SafetyParams {
             yield_clearance: 0.2,
             yielding: true,
             memory_time: 1.0,
+            people_stop_dead: false,
         }
     }
 }
@@ -191,3 +210,10 @@ impl Default for SafetyParams {
 /// A person walking at least this fast (m/s) has a way to stray across
 /// ([`SafetyParams::person_accel_across`]); a slower one's is not known.
 pub const ACROSS_MIN_SPEED: Real = 0.3;
+
+/// The fastest a person may walk (m/s) and still be taken to halt no harder than a_h
+/// ([`SafetyParams::people_stop_dead`]); a faster one may still stop dead. a_h was measured on
+/// people walking about 1 m/s (the simulated warehouse and hallway fleets, ETH and UCY:
+/// results/fleet-one-robot/layer-sensitivity); simulated people at 2–3 m/s brake at up to
+/// 15 m/s² when they run into others (results/halting).
+pub const HALTING_MAX_SPEED: Real = 1.5;

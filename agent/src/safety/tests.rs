@@ -452,6 +452,7 @@ proptest::proptest! {
             accel: a,
             along,
             accel_across: across,
+            halting: Real::INFINITY,
             relevant: [[true; 2]; 2],
         };
         let half_tt = 0.5 * t * t;
@@ -464,6 +465,34 @@ proptest::proptest! {
 
     /// Passive safety holds with the candidate bound too: every command out of the layer is
     /// admissible under it, or a stop.
+    /// Without `people_stop_dead`, a person's halting hypothesis (braking along their way at
+    /// a_h) is always within the swerve's reach ½·a_h·t² of walking on, which is why the
+    /// protective check may skip it.
+    #[test]
+    fn halting_at_a_h_is_within_the_swerves_reach_of_walking_on(
+        heading in -3.2..3.2f64,
+        speed in 0.0..3.0f64,
+        t in 0.0..3.0f64,
+    ) {
+        let a = 3.0;
+        let velocity = vec2(heading.cos(), heading.sin()) * speed;
+        let body = Body {
+            position: vec2(1.0, -2.0),
+            velocity,
+            within: 0.7,
+            accel: a,
+            along: vec2(0.0, 0.0),
+            accel_across: a,
+            halting: a,
+            relevant: [[true; 2]; 2],
+        };
+        let (at, moving) = body.halt(t);
+        let walking_on = body.position + velocity * t;
+        proptest::prop_assert!((at - walking_on).norm() <= 0.5 * a * t * t + 1e-9);
+        proptest::prop_assert!(moving.norm() <= speed + 1e-12);
+        proptest::prop_assert!(moving.dot(&velocity) >= 0.0);
+    }
+
     #[test]
     fn every_command_out_is_admissible_with_the_across_bound(
         v in (-1.5..1.5f64, -1.5..1.5f64),
@@ -487,7 +516,9 @@ proptest::proptest! {
 }
 
 /// Beside a person walking past, the across bound lets the robot drive on where the round one
-/// stops it; ahead of the person both stop it.
+/// stops it; ahead of the person both stop it. (With the person allowed to stop dead where
+/// they are, as before `people_stop_dead` turned off: walking on, they pass the robot before
+/// any swerve reaches it.)
 #[test]
 fn a_person_walking_past_strays_less_across_than_along() {
     let robot = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
@@ -504,6 +535,7 @@ fn a_person_walking_past_strays_less_across_than_along() {
     let admits = |across: Real, bodies: &[Neighbour]| {
         let mut layer = SafetyLayer::new(SafetyParams {
             person_accel_across: across,
+            people_stop_dead: true,
             ..SafetyParams::default()
         });
         layer
@@ -591,6 +623,92 @@ fn a_person_swerving_across_from_beside_the_robot_is_never_hit() {
         sim.onsets
     );
     assert!(sim.zones.contains(&Zone::Protective));
+}
+
+/// A robot wanting full speed follows a person walking its way at 1 m/s, `gap` m apart
+/// (surface to surface); after 2 s the person brakes at `braking` m/s² to a standstill and
+/// stays. The person's velocity is the mean over each 0.1 s step, so that their path is the
+/// continuous one of braking at that rate.
+fn follow_a_person_who_halts(params: SafetyParams, gap: Real, braking: Real) -> Loop {
+    let walker = person(1, vec2(0.65 + gap, 0.0), vec2(1.0, 0.0));
+    let mut sim = Loop::new(
+        vec2(0.0, 0.0),
+        vec2(1.0, 0.0),
+        vec![walker],
+        StaticMap::empty(),
+    );
+    sim.layer = SafetyLayer::new(params);
+    let mut speed: Real = 1.0;
+    for k in 0..60 {
+        if k >= 20 {
+            let next = (speed - braking * 0.1).max(0.0);
+            // Mean velocity over the step (braking ends within it at most once).
+            let moving = if braking > 0.0 {
+                (speed / braking).min(0.1)
+            } else {
+                0.1
+            };
+            let mean = (speed * moving - 0.5 * braking * moving * moving) / 0.1;
+            sim.bodies[0].velocity = vec2(mean, 0.0);
+            speed = next;
+        }
+        sim.step(vec2(1.0, 0.0), |_| true);
+    }
+    sim
+}
+
+#[test]
+fn without_people_stopping_dead_a_robot_follows_closer_and_never_hits_one_who_halts() {
+    let within_a_h = SafetyParams::default();
+    let stopping_dead = SafetyParams {
+        people_stop_dead: true,
+        ..within_a_h
+    };
+    for gap in [0.1, 0.3, 0.6, 1.0, 1.5] {
+        for braking in [1.0, 2.0, 3.0] {
+            for params in [stopping_dead, within_a_h] {
+                let sim = follow_a_person_who_halts(params, gap, braking);
+                assert!(
+                    !sim.onsets.contains(&Onset::RobotCaused),
+                    "gap {gap}, braking {braking}, {params:?}: {:?}",
+                    sim.onsets
+                );
+            }
+        }
+    }
+    // A person who walks on (braking 0): the robot keeps closer behind them when they may
+    // halt no harder than a_h. It is held back by how far they can come back at it, not by a
+    // standstill they cannot reach at once.
+    let behind = |params| {
+        let sim = follow_a_person_who_halts(params, 1.0, 0.0);
+        (sim.bodies[0].position - sim.robot.position).norm() - 0.65
+    };
+    let (before, after) = (behind(stopping_dead), behind(within_a_h));
+    assert!(after < before - 0.3, "{after} m behind against {before} m");
+}
+
+#[test]
+fn only_people_at_walking_pace_are_taken_to_halt_no_harder_than_a_h() {
+    let params = SafetyParams::default();
+    let stopping_dead = SafetyParams {
+        people_stop_dead: true,
+        ..params
+    };
+    let full = Command::Velocity(vec2(1.0, 0.0));
+    // 1 m (surface to surface) behind a person walking on, at full speed.
+    let admits = |params: SafetyParams, speed: Real| {
+        let mut layer = SafetyLayer::new(params);
+        let ahead = [person(1, vec2(1.65, 0.0), vec2(speed, 0.0))];
+        let at = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
+        let map = StaticMap::empty();
+        layer.prepare(&at, &limits(), &ahead, &map).admits(full)
+    };
+    // At walking pace the robot may keep following; a person who may stop dead holds it back.
+    assert!(admits(params, 1.0));
+    assert!(!admits(stopping_dead, 1.0));
+    // A person faster than `HALTING_MAX_SPEED` may still stop dead, with or without it.
+    assert!(!admits(params, 2.0));
+    assert!(!admits(stopping_dead, 2.0));
 }
 
 #[test]
@@ -744,6 +862,8 @@ fn parameters_are_changed_by_name_and_checked() {
         (3.0, 0.6, false)
     );
     assert_eq!(p.person_accel, d.person_accel);
+    let before = d.with_overrides("people_stop_dead=true").expect("valid");
+    assert!(before.people_stop_dead && !d.people_stop_dead);
     for (text, named) in [
         ("yield_tme=3", "yield_tme"),
         ("yield_time", "expected key=value"),
@@ -751,6 +871,7 @@ fn parameters_are_changed_by_name_and_checked() {
         ("margin=-1", "margin"),
         ("person_accel=nan", "person_accel"),
         ("yielding=maybe", "true or false"),
+        ("people_stop_dead=1", "true or false"),
     ] {
         let e = d.with_overrides(text).expect_err(text);
         assert!(e.contains(named), "{text}: {e}");

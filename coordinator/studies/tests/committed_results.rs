@@ -54,6 +54,7 @@ fn smoke_rows_are_committed(dir: &str, safety: bool, planners: &[&str], densitie
     let committed = std::fs::read_to_string(&path).expect("the committed study");
     let mut scenario = Scenario::builtin("open-space").expect("built-in");
     scenario.robot.safety = safety;
+    stopping_dead(&mut scenario);
     let plan = StudyPlan {
         scenario,
         algorithms: planners.iter().map(|a| a.parse().expect("known")).collect(),
@@ -125,8 +126,10 @@ fn pnp_side_brake_hallway_rows_are_the_committed_rows() {
 /// 2.5 m/s, `seeds` seeds from `first_seed`, the layer on or off.
 fn hallway_rows(safety: bool, planners: &[&str], first_seed: u64, seeds: u64) -> String {
     use studies::hallway::{HallwayStudy, hallway_scenario};
+    let mut scenario = hallway_scenario(3.0, safety).expect("valid");
+    stopping_dead(&mut scenario);
     let study = HallwayStudy {
-        scenario: hallway_scenario(3.0, safety).expect("valid"),
+        scenario,
         planners: planners.iter().map(|p| p.parse().expect("known")).collect(),
         lengths: vec![25.0],
         width_m: 4.0,
@@ -143,9 +146,13 @@ fn hallway_rows(safety: bool, planners: &[&str], first_seed: u64, seeds: u64) ->
 #[test]
 fn traffic_rows_are_the_committed_rows() {
     use studies::traffic::{Site, TrafficStudy};
-    let site = |name: &str| Site {
-        scenario: Scenario::builtin(name).expect("built-in"),
-        fleets: vec![10],
+    let site = |name: &str| {
+        let mut scenario = Scenario::builtin(name).expect("built-in");
+        stopping_dead(&mut scenario);
+        Site {
+            scenario,
+            fleets: vec![10],
+        }
     };
     let study = TrafficStudy {
         sites: vec![site("warehouse-narrow"), site("hallway-fleet")],
@@ -159,6 +166,13 @@ fn traffic_rows_are_the_committed_rows() {
     };
     let runs = study.execute(&|| {}).expect("fleet sites");
     rows_are_committed("traffic", &to_csv(&runs), 4);
+}
+
+/// These studies were committed while the safety layer let people stop dead from walking
+/// speed (`SafetyParams::people_stop_dead`, on until results/halting): their runs reproduce
+/// with it on.
+fn stopping_dead(scenario: &mut Scenario) {
+    scenario.robot.safety_layer.people_stop_dead = true;
 }
 
 /// Every row of `ours` (a runs.csv with its header) is a line of `results/<dir>/runs.csv`,

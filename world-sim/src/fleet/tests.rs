@@ -302,14 +302,16 @@ fn resumes_bit_for_bit(s: &Scenario, policy_acts: bool) {
     );
     let done_before: u64 = fleet.tasks_done.iter().sum();
     for _ in 0..600 {
-        // The original plans; the restored one gets its dispatch, intents and commands, as a
-        // coordinator's journal replays them.
+        // The original plans; the restored one gets its dispatch, intents, commands and the
+        // layer's holds, as a coordinator's journal replays them.
         restored.dispatch();
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
         for i in 0..fleet.robots() {
             if let Some((stamp, samples)) = fleet.intent(i) {
                 restored.set_intent(i, stamp, samples.to_vec());
             }
+            // Which robots the layer held, as the journal records it.
+            restored.set_layer_held(i, fleet.is_layer_held(i));
         }
         restored.step(&commands);
     }
