@@ -144,6 +144,8 @@ struct Body {
     /// How hard it halts on the second hypothesis (m/s²): infinite for stopping dead where it
     /// is; a_h for a person without [`SafetyParams::people_stop_dead`].
     halting: Real,
+    /// Its speed (m/s), for halting.
+    speed: Real,
     /// Per check (warning, protective) and hypothesis (walking on, halting): whether it can
     /// come within `within` of the robot at all in that check's rollout, and whether the check
     /// holds that hypothesis at all (a person halting at a_h adds nothing to the protective
@@ -159,7 +161,7 @@ impl Body {
         if !self.halting.is_finite() {
             return (self.position, vec2(0.0, 0.0));
         }
-        let speed = self.velocity.norm();
+        let speed = self.speed;
         if speed == 0.0 {
             return (self.position, self.velocity);
         }
@@ -376,6 +378,7 @@ impl SafetyLayer {
                     } else {
                         Real::INFINITY
                     },
+                    speed: b.velocity.norm(),
                     relevant: [[true; 2]; 2],
                 }),
         );
@@ -504,13 +507,17 @@ impl SafetyLayer {
             let half_tt = if swerve { 0.5 * t * t } else { 0.0 };
             for (b, arrived) in self.near.iter().zip(arrived.iter_mut()) {
                 let within_sq = (b.within + b.accel * half_tt).powi(2);
-                let hypotheses = [(b.position + b.velocity * t, b.velocity), b.halt(t)];
-                for (((at, moving), arrival), relevant) in
-                    hypotheses.into_iter().zip(arrived).zip(b.relevant[check])
+                for (k, (arrival, relevant)) in
+                    arrived.iter_mut().zip(b.relevant[check]).enumerate()
                 {
                     if !relevant {
                         continue;
                     }
+                    let (at, moving) = if k == 0 {
+                        (b.position + b.velocity * t, b.velocity)
+                    } else {
+                        b.halt(t)
+                    };
                     let at = arrival.map_or(at, |a| a.at + a.sliding * (t - a.t));
                     let d = at - m.position;
                     // The gap is under the margin: no square root needed (and, for a

@@ -453,6 +453,7 @@ proptest::proptest! {
             along,
             accel_across: across,
             halting: Real::INFINITY,
+            speed: 1.0,
             relevant: [[true; 2]; 2],
         };
         let half_tt = 0.5 * t * t;
@@ -484,6 +485,7 @@ proptest::proptest! {
             along: vec2(0.0, 0.0),
             accel_across: a,
             halting: a,
+            speed,
             relevant: [[true; 2]; 2],
         };
         let (at, moving) = body.halt(t);
