@@ -1,17 +1,23 @@
 //! What stuck robots are doing: runs one fleet (policy on, layer as the scenario says) and,
 //! every 5 s, prints each stuck robot's cause, place, speed, distance to the point it drives
-//! to, the nearest person and robot, and its traffic constraint; then the totals by cause.
+//! to, the nearest person and robot, and its traffic constraint; each gridlock and deadlock
+//! as it begins (its robots, where they stand, what holds each); then the totals by cause,
+//! and the stuck time held by a person split by place and by whether the nearest person
+//! heads through the robot (their goal lies beyond it: a standoff).
 //!
 //!     cargo run --release -p world-sim --example stuck_probe -- warehouse-narrow 20 1 \
-//!         [300 [ROBOT [PLANNER [PEOPLE]]]]
+//!         [300 [ROBOT [PLANNER [PEOPLE [POLICY]]]]]
 //!
-//! The scenario is a built-in's name or a scenario file (`….toml`). With ROBOT, also that robot's position, velocity, goal, waypoint and route left every
-//! second (`-` for none). PLANNER defaults to `pgp+orca`, PEOPLE to the scenario's.
+//! The scenario is a built-in's name or a scenario file (`….toml`). With ROBOT, also that
+//! robot's position, velocity, goal, waypoint and route left every second (`-` for none).
+//! PLANNER defaults to `pgp+orca`, PEOPLE to the scenario's (`-`), POLICY (traffic-policy
+//! parameters as `key=value,…`) to the defaults.
 
 use agent::model::Command;
 use agent::planner::PlannerSpec;
 use world_sim::fleet::{Fleet, Stalls, drive, stacks};
 use world_sim::scenario::Scenario;
+use world_sim::traffic::TrafficEvent;
 use world_sim::traffic_policy::PolicyParams;
 
 fn main() {
@@ -37,12 +43,17 @@ fn main() {
     scenario.seed = seed;
     scenario.set_fleet_size(Some(robots), people);
     let mut fleet = Fleet::new(&scenario).expect("a fleet site");
-    fleet.set_traffic_policy(Some(PolicyParams::default()));
+    let policy = PolicyParams::default()
+        .with_overrides(args.get(7).map_or("", String::as_str))
+        .expect("traffic-policy parameters as key=value,…");
+    fleet.set_traffic_policy(Some(policy));
     let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
     let mut guards = world_sim::episode::guards(&scenario, robots);
     let mut commands = vec![Command::STOP; robots];
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut stalls = Stalls::new(&fleet, 60.0);
+    let mut standoff_s = [[0.0_f64; 4]; 2];
+    let places = world_sim::stuck::Places::new(fleet.site());
     for k in 1..=steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
         if let Some(i) = watch
@@ -86,6 +97,40 @@ fn main() {
                 fleet.job(i).map_or(0.0, |j| j.remaining(r.state.position)),
                 fleet.reroutes(),
             );
+        }
+        for event in fleet.traffic_events() {
+            let (kind, members) = match event {
+                TrafficEvent::Gridlock { robots } => ("gridlock", robots),
+                TrafficEvent::Deadlock { robots } => ("deadlock", robots),
+                _ => continue,
+            };
+            let members: Vec<String> = members
+                .iter()
+                .map(|&j| {
+                    let p = fleet.world.robots[j].state.position;
+                    format!("R{j} ({:.1},{:.1}) {:?}", p.x, p.y, fleet.stuck_hold(j))
+                })
+                .collect();
+            println!("t {:5.1} {kind}: {}", fleet.world.time, members.join(" "));
+        }
+        // Stuck robot-seconds held by a person, split by whether the nearest person within
+        // 1.5 m heads through the robot (their goal lies beyond it: a standoff) or not.
+        for i in 0..robots {
+            if fleet.stuck_hold(i) != Some(world_sim::stuck::Hold::Person) {
+                continue;
+            }
+            let p = fleet.world.robots[i].state.position;
+            let crowd = &fleet.world.humans.crowd;
+            let nearest = (0..crowd.len())
+                .map(|h| (h, (crowd.positions[h] - p).norm()))
+                .filter(|&(_, d)| d <= 1.5)
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            if let Some((h, _)) = nearest {
+                let (q, g) = (crowd.positions[h], crowd.goals[h]);
+                let through = (g - q).dot(&(p - q)) > 0.0 && (g - q).norm() > (p - q).norm();
+                let place = places.of(p) as usize;
+                standoff_s[usize::from(through)][place] += fleet.world.dt;
+            }
         }
         if let Some(still) = stalls.record(&fleet) {
             // People who moved less than 1 m in the last minute.
@@ -149,5 +194,9 @@ fn main() {
         c.layer_s,
         c.planner_s,
         fleet.traffic().totals().gridlocks
+    );
+    println!(
+        "held by a person, robot-s in aisle / cross-aisle / near a station / corridor: nearest person heading through the robot (a standoff) {:.0?}, otherwise {:.0?}",
+        standoff_s[1], standoff_s[0]
     );
 }

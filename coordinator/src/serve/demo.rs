@@ -375,7 +375,7 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             "traffic policy: {} one-way aisle segments granted, {} waits for one, {} stations \
              granted, {} waits in a station's line, {} retreats, {} two-way knots given way in, \
              {} robots sent round a blocked segment, {} robots found against a segment's \
-             direction\n",
+             direction, {} segments' robots turned round from people in their way\n",
             p.grants,
             p.waits,
             p.station_grants,
@@ -383,7 +383,8 @@ pub fn summary(report: &DemoReport, planner: PlannerSpec) -> String {
             p.retreats,
             p.give_ways,
             p.detours,
-            p.intrusions
+            p.intrusions,
+            p.people_turns
         ),
         None => "traffic policy: off\n".to_owned(),
     });

@@ -191,6 +191,11 @@ pub struct TrafficRun {
     /// jam or short of a goal (`FleetReport::people_stalled_share`).
     #[serde(default)]
     pub people_stalled_share: f64,
+    /// Times a segment's robots were turned round from people in their way
+    /// (`world_sim::traffic_policy::PolicyParams::people_turn_after_s`; 0 in runs.csv files
+    /// older than this column).
+    #[serde(default)]
+    pub people_turns: u64,
 }
 
 fn layer_on() -> bool {
@@ -252,6 +257,7 @@ impl TrafficRun {
             stuck_by_layer_s: fleet.stuck_causes.layer_s,
             stuck_by_planner_s: fleet.stuck_causes.planner_s,
             people_stalled_share: report.people_stalled_share,
+            people_turns: policy.people_turns,
         }
     }
 }

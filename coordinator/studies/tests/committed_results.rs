@@ -162,7 +162,11 @@ fn traffic_rows_are_the_committed_rows() {
         policies: vec![false, true],
         layers: vec![true],
         seconds: 300.0,
-        policy_params: world_sim::traffic_policy::PolicyParams::default(),
+        // Committed before robots turned round from people in their way (results/people-turn).
+        policy_params: world_sim::traffic_policy::PolicyParams {
+            people_turn_after_s: 0.0,
+            ..Default::default()
+        },
     };
     let runs = study.execute(&|| {}).expect("fleet sites");
     rows_are_committed("traffic", &to_csv(&runs), 4);

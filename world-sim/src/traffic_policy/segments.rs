@@ -2,7 +2,7 @@
 //! ([`Want`]), segments released once empty, requests granted oldest first with the direction
 //! following demand, and robots found against a segment's flow turned round.
 
-use super::{PolicyEvent, PolicyRobot, TrafficPolicy};
+use super::{PEOPLE_TURN_AWAY_SPEED, PEOPLE_TURN_REACH_M, PolicyEvent, PolicyRobot, TrafficPolicy};
 use agent::math::Real;
 
 /// Where a robot is with respect to one segment.
@@ -202,6 +202,76 @@ impl TrafficPolicy {
                     self.totals.turns += 1;
                 }
             }
+        }
+    }
+
+    /// The robots inside a segment whose leading robot inside has had a person in its way
+    /// for [`PolicyParams::people_turn_after_s`](super::PolicyParams::people_turn_after_s)
+    /// turn round: each gets the cross-aisle it came in from, to leave by.
+    pub(super) fn turn_from_people(&mut self, now: Real, robots: &[PolicyRobot<'_>]) {
+        let after = self.params.people_turn_after_s;
+        if after <= 0.0 {
+            return;
+        }
+        self.people_in_way_since.resize(self.segments.len(), None);
+        for s in 0..self.segments.len() {
+            let (res, seg) = (&self.reservations[s], &self.segments[s]);
+            let lead = res
+                .dir
+                .filter(|_| !res.against)
+                .and_then(|flow| {
+                    let ahead = |i: usize| robots[i].position.x * Real::from(flow);
+                    let lead = res
+                        .holders
+                        .iter()
+                        .copied()
+                        .filter(|&i| seg.contains(robots[i].position))
+                        .max_by(|&a, &b| ahead(a).total_cmp(&ahead(b)))?;
+                    Some((lead, flow))
+                })
+                .filter(|&(lead, _)| {
+                    let station = robots[lead].station;
+                    !station.is_some_and(|st| seg.contains(self.lanes.site.stations[st].position))
+                });
+            let blocked = lead.is_some_and(|(lead, flow)| {
+                let p = robots[lead].position;
+                let dir = Real::from(flow);
+                self.people.iter().any(|&(q, v)| {
+                    let along = (q.x - p.x) * dir;
+                    along > 0.0
+                        && along <= PEOPLE_TURN_REACH_M
+                        && (q.y - seg.y).abs() <= seg.half_width
+                        && v.x * dir < PEOPLE_TURN_AWAY_SPEED
+                })
+            });
+            if !blocked {
+                self.people_in_way_since[s] = None;
+                continue;
+            }
+            let since = *self.people_in_way_since[s].get_or_insert(now);
+            if now - since < after {
+                continue;
+            }
+            let Some((_, flow)) = lead else { continue };
+            let back = if flow > 0 { seg.ends.0 } else { seg.ends.1 };
+            // The robots inside turn; those granted on their way in wait again for the
+            // segment to drain and turn back (else the way they still want would count as the
+            // flow, and the robots inside as against it, to be turned back).
+            let res = &mut self.reservations[s];
+            let (inside, outside): (Vec<usize>, Vec<usize>) = res
+                .holders
+                .iter()
+                .partition(|&&i| seg.contains(robots[i].position));
+            for &i in &inside {
+                self.turns[i] = Some(back);
+            }
+            res.holders = inside;
+            res.dir = Some(-flow);
+            for i in outside {
+                res.waiting.push((i, flow, now));
+            }
+            self.totals.people_turns += 1;
+            self.people_in_way_since[s] = None;
         }
     }
 }

@@ -807,3 +807,116 @@ fn a_robot_waits_at_the_mouth_while_someone_walks_out_toward_it() {
     // Off by default.
     assert!(!held(PolicyParams::default(), (middle, vec2(-1.0, 0.0))));
 }
+
+/// Turning round from people: two robots in a segment, eastbound, with a person standing
+/// in the leading robot's way turn round together, both to leave by the west end, once the
+/// person has been there `people_turn_after_s`; not before, not when the person walks on
+/// eastward ahead of them, not when the person is beside the aisle, not when the leading
+/// robot's station is in the segment, and not with the rule off.
+#[test]
+fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
+    let (site, radius) = narrow();
+    let params = PolicyParams {
+        people_turn_after_s: 10.0,
+        ..PolicyParams::default()
+    };
+    let s = TrafficPolicy::new(&site, 1, radius, params).segments()[0];
+    let route = [vec2(s.x1 + 1.5, s.y)];
+    let lead = vec2(s.x0 + 6.0, s.y);
+    let robots = [
+        PolicyRobot {
+            position: vec2(s.x0 + 4.5, s.y),
+            route: &route,
+            station: None,
+        },
+        PolicyRobot {
+            position: lead,
+            route: &route,
+            station: None,
+        },
+    ];
+    // The turns robot 0 and robot 1 were given at each of the steps 0, 5, 10 s.
+    let turns = |params: PolicyParams, robots: &[PolicyRobot<'_>], person: (Vec2, Vec2)| {
+        let mut policy = TrafficPolicy::new(&site, robots.len(), radius, params);
+        [0.0, 5.0, 10.0]
+            .map(|now| {
+                policy.set_people([person]);
+                step(&mut policy, now, robots);
+                (policy.turned(0), policy.turned(1))
+            })
+            .to_vec()
+    };
+    let standing = (lead + vec2(1.2, 0.0), vec2(0.0, 0.0));
+    let back = Some(s.ends.0);
+    assert_eq!(
+        turns(params, &robots, standing),
+        vec![(None, None), (None, None), (back, back)]
+    );
+    let never = vec![(None, None); 3];
+    // Walking on eastward at 0.6 m/s, ahead of them: they follow.
+    let walking_on = (standing.0, vec2(0.6, 0.0));
+    assert_eq!(turns(params, &robots, walking_on), never);
+    // Coming at them: they turn round.
+    let coming = (standing.0, vec2(-0.6, 0.0));
+    assert_eq!(turns(params, &robots, coming)[2], (back, back));
+    // Beside the aisle (behind a shelf), or farther ahead than the reach.
+    let beside = (standing.0 + vec2(0.0, 1.5), vec2(0.0, 0.0));
+    assert_eq!(turns(params, &robots, beside), never);
+    let far = (lead + vec2(PEOPLE_TURN_REACH_M + 0.1, 0.0), vec2(0.0, 0.0));
+    assert_eq!(turns(params, &robots, far), never);
+    // The leading robot's station is in the segment: it waits for it.
+    let station = site
+        .stations
+        .iter()
+        .position(|st| s.contains(st.position))
+        .expect("a pick face in the first aisle");
+    let bound_for_station = [
+        robots[0],
+        PolicyRobot {
+            station: Some(station),
+            ..robots[1]
+        },
+    ];
+    assert_eq!(turns(params, &bound_for_station, standing), never);
+    // On by default; off at 0.
+    assert_eq!(PolicyParams::default().people_turn_after_s, 10.0);
+    let off = PolicyParams {
+        people_turn_after_s: 0.0,
+        ..PolicyParams::default()
+    };
+    assert_eq!(turns(off, &robots, standing), never);
+    assert!(!TrafficPolicy::new(&site, 2, radius, off).watches_people());
+    // A third robot granted the segment on its way in, still outside: it is not turned, it
+    // waits again at its hold point, and the segment now runs the turned robots' way.
+    let mut three = robots.to_vec();
+    three.push(PolicyRobot {
+        position: vec2(s.x0 - 2.0, s.y),
+        route: &route,
+        station: None,
+    });
+    let mut policy = TrafficPolicy::new(&site, 3, radius, params);
+    for now in [0.0, 5.0, 10.0] {
+        policy.set_people([standing]);
+        step(&mut policy, now, &three);
+    }
+    assert_eq!(
+        (policy.turned(0), policy.turned(1), policy.turned(2)),
+        (back, back, None)
+    );
+    let res = policy.reservation(s.id);
+    assert_eq!((res.dir, res.holders.clone()), (Some(-1), vec![0, 1]));
+    assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
+    assert_eq!(policy.totals().people_turns, 1);
+    // A robot granted the segment, not yet in, with someone standing at the mouth: nobody
+    // inside to turn, and its grant stands.
+    let outside = [three[2]];
+    let mut policy = TrafficPolicy::new(&site, 1, radius, params);
+    let at_mouth = (vec2(s.x0 - 0.8, s.y), vec2(0.0, 0.0));
+    for now in [0.0, 5.0, 10.0, 15.0] {
+        policy.set_people([at_mouth]);
+        step(&mut policy, now, &outside);
+    }
+    let res = policy.reservation(s.id);
+    assert_eq!((res.dir, res.holders.clone()), (Some(1), vec![0]));
+    assert_eq!(policy.totals().people_turns, 0);
+}

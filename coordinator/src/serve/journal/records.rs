@@ -98,8 +98,8 @@ pub struct Header {
     pub share_intents: bool,
     /// Whether the traffic policy ran.
     pub traffic_policy: bool,
-    /// Its parameters, where it ran; journals older than this field ran the defaults
-    /// ([`Header::policy`]).
+    /// Its parameters, where it ran; journals older than this field ran the defaults of
+    /// their day, before robots turned round from people ([`Header::policy`]).
     #[serde(default)]
     pub policy_params: Option<PolicyParams>,
     /// The real robots the coordinator did not simulate: their bodies moved only where their
@@ -127,10 +127,16 @@ impl Header {
         }
     }
 
-    /// The traffic policy the run ran: its parameters, or `None` where it was off.
+    /// The traffic policy the run ran: its parameters, or `None` where it was off. A journal
+    /// older than `policy_params` ran the defaults of its day: those of now without
+    /// [`PolicyParams::people_turn_after_s`], the one default changed since.
     pub fn policy(&self) -> Option<PolicyParams> {
-        self.traffic_policy
-            .then(|| self.policy_params.unwrap_or_default())
+        self.traffic_policy.then(|| {
+            self.policy_params.unwrap_or(PolicyParams {
+                people_turn_after_s: 0.0,
+                ..PolicyParams::default()
+            })
+        })
     }
 
     /// The traffic policy in words: off, on with the defaults, or on with the parameters
@@ -263,7 +269,7 @@ mod tests {
     }
 
     #[test]
-    fn a_header_from_before_the_parameters_ran_the_defaults() {
+    fn a_header_from_before_the_parameters_ran_the_defaults_of_its_day() {
         /// The header as journals wrote it before `policy_params`.
         #[derive(Serialize)]
         struct Older {
@@ -285,10 +291,18 @@ mod tests {
         };
         let h: Header = unpack(&pack(&older)).expect("an older header reads");
         assert_eq!(h.policy_params, None);
-        assert_eq!(h.policy(), Some(PolicyParams::default()));
+        let of_its_day = PolicyParams {
+            people_turn_after_s: 0.0,
+            ..PolicyParams::default()
+        };
+        assert_eq!(h.policy(), Some(of_its_day));
         assert!(
-            h.same_run(&now),
-            "an older journal of the default policy goes on"
+            h.same_run(&header(Some(of_its_day))),
+            "an older journal of the default policy goes on as it ran"
+        );
+        assert!(
+            !h.same_run(&now),
+            "today's defaults turn robots round from people; that journal's run did not"
         );
     }
 }
