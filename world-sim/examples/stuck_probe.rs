@@ -9,7 +9,8 @@
 //!         [300 [ROBOT [PLANNER [PEOPLE [POLICY]]]]]
 //!
 //! The scenario is a built-in's name or a scenario file (`….toml`). With ROBOT, also that
-//! robot's position, velocity, goal, waypoint and route left every second (`-` for none).
+//! robot's position, velocity, goal, waypoint and route left every second, and each time
+//! the policy turns it round (`-` for none).
 //! PLANNER defaults to `pgp+orca`, PEOPLE to the scenario's (`-`), POLICY (traffic-policy
 //! parameters as `key=value,…`) to the defaults.
 
@@ -56,6 +57,15 @@ fn main() {
     let places = world_sim::stuck::Places::new(fleet.site());
     for k in 1..=steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
+        if let (Some(i), Some(policy)) = (watch, fleet.traffic_policy())
+            && let Some(exit) = policy.turned(i)
+        {
+            println!(
+                "t {:5.1} robot {i} turned round to leave by cross-aisle {exit} (people turns so far: {})",
+                fleet.world.time,
+                policy.totals().people_turns
+            );
+        }
         if let Some(i) = watch
             && k % 10 == 0
         {

@@ -189,7 +189,9 @@ pub struct PolicyParams {
     /// the end they came in at. In an aisle too narrow for two robots a robot and a person
     /// cannot pass each other, and neither gives way: a person heading through the robot
     /// stands where the robot would step, and the robot's layer lets it step toward no one.
-    /// Not when the leading robot's station is in the segment (it waits for it). 10 s, chosen
+    /// Not when the leading robot's station is in the segment (it waits for it), nor when a
+    /// robot inside is bound for a station farther along the same aisle row (the end behind
+    /// it is no way out: turned, it would stay against the flow). 10 s, chosen
     /// on `warehouse-narrow` seeds 1–30 at 20 and 40 robots among 3, 5, 10 and 20 s: the
     /// most tasks over both (results/people-turn). 0 turns it off. (Absent from snapshots and
     /// journals written before it: 0, as they ran.)

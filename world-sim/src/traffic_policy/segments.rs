@@ -207,7 +207,8 @@ impl TrafficPolicy {
 
     /// The robots inside a segment whose leading robot inside has had a person in its way
     /// for [`PolicyParams::people_turn_after_s`](super::PolicyParams::people_turn_after_s)
-    /// turn round: each gets the cross-aisle it came in from, to leave by.
+    /// turn round: each gets the cross-aisle it came in from, to leave by. Not while one of
+    /// them is bound for a station ahead along the same aisle row.
     pub(super) fn turn_from_people(&mut self, now: Real, robots: &[PolicyRobot<'_>]) {
         let after = self.params.people_turn_after_s;
         if after <= 0.0 {
@@ -232,6 +233,20 @@ impl TrafficPolicy {
                 .filter(|&(lead, _)| {
                     let station = robots[lead].station;
                     !station.is_some_and(|st| seg.contains(self.lanes.site.stations[st].position))
+                })
+                // A robot whose station lies ahead along the same aisle row has no way out
+                // by the end behind it (its route there would lead straight back in): turned,
+                // it would stay against the flow.
+                .filter(|&(_, flow)| {
+                    !res.holders.iter().any(|&i| {
+                        let p = robots[i].position;
+                        robots[i].station.is_some_and(|st| {
+                            let q = self.lanes.site.stations[st].position;
+                            seg.contains(p)
+                                && (q.y - seg.y).abs() <= seg.half_width
+                                && (q.x - p.x) * Real::from(flow) > 0.0
+                        })
+                    })
                 });
             let blocked = lead.is_some_and(|(lead, flow)| {
                 let p = robots[lead].position;

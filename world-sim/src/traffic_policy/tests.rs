@@ -812,7 +812,8 @@ fn a_robot_waits_at_the_mouth_while_someone_walks_out_toward_it() {
 /// in the leading robot's way turn round together, both to leave by the west end, once the
 /// person has been there `people_turn_after_s`; not before, not when the person walks on
 /// eastward ahead of them, not when the person is beside the aisle, not when the leading
-/// robot's station is in the segment, and not with the rule off.
+/// robot's station is in the segment or a robot's lies farther along the row, and not with
+/// the rule off.
 #[test]
 fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
     let (site, radius) = narrow();
@@ -878,6 +879,21 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
         },
     ];
     assert_eq!(turns(params, &bound_for_station, standing), never);
+    // The robot behind is bound for a station farther along the same aisle row, beyond the
+    // segment: the end behind them is no way out for it, so neither turns.
+    let further = site
+        .stations
+        .iter()
+        .position(|st| (st.position.y - s.y).abs() <= s.half_width && st.position.x > s.x1)
+        .expect("a pick face farther along the row");
+    let bound_further = [
+        PolicyRobot {
+            station: Some(further),
+            ..robots[0]
+        },
+        robots[1],
+    ];
+    assert_eq!(turns(params, &bound_further, standing), never);
     // On by default; off at 0.
     assert_eq!(PolicyParams::default().people_turn_after_s, 10.0);
     let off = PolicyParams {
