@@ -9,11 +9,15 @@ import os
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def runs(folder, robots=None):
+def runs(folder, robots=None, scenario="warehouse-narrow"):
     path = os.path.join(HERE, folder, "runs.csv")
     if not os.path.exists(path):
         path = os.path.join(HERE, "..", folder, "runs.csv")
-    rows = [r for r in csv.DictReader(open(path)) if r["safety"] == "true"]
+    rows = [
+        r
+        for r in csv.DictReader(open(path))
+        if r["safety"] == "true" and r["scenario"] == scenario
+    ]
     if robots is not None:
         rows = [r for r in rows if r["robots"] == str(robots)]
     return {int(r["seed"]): r for r in rows}
@@ -37,6 +41,9 @@ def row(name, r, base=None):
     hours = robots * 300.0 / 3600.0
     grid = sum(1 for x in r.values() if float(x["gridlocks"]) > 0)
     dl = sum(1 for x in r.values() if float(x["deadlocks"]) > 0)
+    # The first development build wrote no people_turns column.
+    has_turns = all("people_turns" in x for x in r.values())
+    turns = f"{mean(r, 'people_turns'):.1f}" if has_turns else "–"
     pair = ""
     if base is not None:
         m, se = paired(base, r, "tasks")
@@ -47,7 +54,7 @@ def row(name, r, base=None):
         f"| {mean(r, 'person_caused_contacts') / hours:.1f} | {mean(r, 'robot_robot_contacts'):.2f} "
         f"| {mean(r, 'total_contacts'):.1f} | {mean(r, 'min_human_distance_m'):.2f} "
         f"| {mean(r, 'human_delay_s'):.1f} | {100 * mean(r, 'stuck_robot_s') / (robots * 300):.1f} % "
-        f"| {grid} | {dl} | {mean(r, 'people_turns'):.1f} |"
+        f"| {grid} | {dl} | {turns} |"
     )
 
 
@@ -86,9 +93,22 @@ def main():
         for site, off, t5, t10 in group:
             base = runs(off)
             print(row(f"{site}, off", base))
-            print(row(f"{site}, 5 s", runs(t5), base))
-            print(row(f"{site}, 10 s", runs(t10), base))
+            for name, folder in ((f"{site}, 5 s", t5), (f"{site}, 10 s (the default)", t10)):
+                if os.path.exists(os.path.join(HERE, folder, "runs.csv")):
+                    print(row(name, runs(folder), base))
         print()
+    print("### development builds, tuning seeds 1–30 (how the rule and its 10 s were arrived at)\n")
+    print(HEAD)
+    dev = [
+        ("first build", "first-build", [(20, t) for t in (5, 10, 20)]),
+        ("second build", "second-build", [(20, t) for t in (3, 5, 10)] + [(40, t) for t in (5, 10)]),
+        ("third build", "third-build", [(n, t) for n in (20, 40) for t in (5, 10)]),
+    ]
+    for name, prefix, cells_ in dev:
+        for n, t in cells_:
+            base = runs(f"seeds-1-30/narrow-{n}-off")
+            print(row(f"{name}, {n} robots, {t} s", runs(f"development/{prefix}-narrow-{n}-t{t}"), base))
+    print()
     held = [
         ("`warehouse-narrow`, 20 robots", "halting/fleets-seeds-101-130", 20, "seeds-101-130", 20),
         ("`warehouse-narrow`, 40 robots", "halting/fleets-seeds-101-130", 40, "seeds-101-130", 40),

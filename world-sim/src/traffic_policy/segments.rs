@@ -1,6 +1,7 @@
 //! One way at a time in narrow aisles: where each robot stands with respect to the segments
 //! ([`Want`]), segments released once empty, requests granted oldest first with the direction
-//! following demand, and robots found against a segment's flow turned round.
+//! following demand, robots found against a segment's flow turned round, and a segment's
+//! robots turned round from people standing in their way.
 
 use super::{PEOPLE_TURN_AWAY_SPEED, PEOPLE_TURN_REACH_M, PolicyEvent, PolicyRobot, TrafficPolicy};
 use agent::math::Real;
