@@ -184,7 +184,7 @@ pub struct PolicyParams {
     pub people_hold_speed_m_s: Real,
     /// Turn round from people in the way: when a person has stood or walked at the leading
     /// robot of a segment's robots for this long (s), in its way inside the aisle or at the
-    /// mouth it makes for ([`PEOPLE_TURN_REACH_M`], not walking away at
+    /// mouth it makes for ([`TrafficPolicy::people_turn_reach`], not walking away at
     /// [`PEOPLE_TURN_AWAY_SPEED`] or more), the robots inside are turned round to leave by
     /// the end they came in at. In an aisle too narrow for two robots a robot and a person
     /// cannot pass each other, and neither gives way: a person heading through the robot
@@ -199,10 +199,12 @@ pub struct PolicyParams {
     pub people_turn_after_s: Real,
 }
 
-/// A person this far ahead of a segment's leading robot (m, centre to centre, along the
-/// aisle) and within the aisle's width is in its way: the robot's and a person's radii and
-/// the traffic monitor's 1 m blocking gap ([`crate::traffic::TrafficParams::blocking_gap_m`]).
-pub const PEOPLE_TURN_REACH_M: Real = 0.4 + 0.3 + 1.0;
+/// A person's radius as the turn from people counts it (m): the built-in scenarios' 0.3 m.
+/// A person within the robot's radius, this and the traffic monitor's blocking gap
+/// ([`crate::traffic::TrafficParams::blocking_gap_m`]) ahead of a segment's leading robot
+/// (centre to centre, along the aisle) and within the aisle's width is in its way
+/// ([`TrafficPolicy::people_turn_reach`]).
+pub const PEOPLE_TURN_PERSON_RADIUS_M: Real = 0.3;
 
 /// ... unless they walk away along the aisle at least this fast (m/s): half a robot's top
 /// speed, a person the robot can follow.
@@ -642,6 +644,15 @@ impl TrafficPolicy {
         let d = self.reservations[s].dir?;
         let ends = self.segments[s].ends;
         Some(if d < 0 { ends.0 } else { ends.1 })
+    }
+
+    /// How far ahead of a segment's leading robot a person is in its way (m, centre to
+    /// centre, along the aisle): its radius, a person's ([`PEOPLE_TURN_PERSON_RADIUS_M`]) and
+    /// the traffic monitor's blocking gap; 1.7 m for the built-in scenarios' robots.
+    pub fn people_turn_reach(&self) -> Real {
+        self.robot_radius
+            + PEOPLE_TURN_PERSON_RADIUS_M
+            + crate::traffic::TrafficParams::default().blocking_gap_m
     }
 
     /// Whether the policy looks at people ([`PolicyParams::people_hold_speed_m_s`],

@@ -3,7 +3,7 @@
 //! following demand, robots found against a segment's flow turned round, and a segment's
 //! robots turned round from people standing in their way.
 
-use super::{PEOPLE_TURN_AWAY_SPEED, PEOPLE_TURN_REACH_M, PolicyEvent, PolicyRobot, TrafficPolicy};
+use super::{PEOPLE_TURN_AWAY_SPEED, PolicyEvent, PolicyRobot, TrafficPolicy};
 use agent::math::Real;
 
 /// Where a robot is with respect to one segment.
@@ -249,13 +249,14 @@ impl TrafficPolicy {
                         })
                     })
                 });
+            let reach = self.people_turn_reach();
             let blocked = lead.is_some_and(|(lead, flow)| {
                 let p = robots[lead].position;
                 let dir = Real::from(flow);
                 self.people.iter().any(|&(q, v)| {
                     let along = (q.x - p.x) * dir;
                     along > 0.0
-                        && along <= PEOPLE_TURN_REACH_M
+                        && along <= reach
                         && (q.y - seg.y).abs() <= seg.half_width
                         && v.x * dir < PEOPLE_TURN_AWAY_SPEED
                 })

@@ -863,7 +863,12 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
     // Beside the aisle (behind a shelf), or farther ahead than the reach.
     let beside = (standing.0 + vec2(0.0, 1.5), vec2(0.0, 0.0));
     assert_eq!(turns(params, &robots, beside), never);
-    let far = (lead + vec2(PEOPLE_TURN_REACH_M + 0.1, 0.0), vec2(0.0, 0.0));
+    let reach = TrafficPolicy::new(&site, 1, radius, params).people_turn_reach();
+    assert_eq!(
+        reach, 1.7,
+        "a 0.4 m robot, a 0.3 m person, the 1 m blocking gap"
+    );
+    let far = (lead + vec2(reach + 0.1, 0.0), vec2(0.0, 0.0));
     assert_eq!(turns(params, &robots, far), never);
     // The leading robot's station is in the segment: it waits for it.
     let station = site
