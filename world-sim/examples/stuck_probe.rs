@@ -54,6 +54,17 @@ fn main() {
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut stalls = Stalls::new(&fleet, 60.0);
     let mut standoff_s = [[0.0_f64; 4]; 2];
+    // "Nothing visible" robot-seconds by place, split by speed: standing (< 0.1 m/s) or
+    // driving (a detour that lengthened the route shows no progress while driving).
+    let mut unseen_s = [[0.0_f64; 4]; 2];
+    // Every robot-second: without a task, or by the policy's constraint (free or lane,
+    // held for a segment, queued for a station, backing off or giving way) and speed
+    // (standing < 0.1 m/s, slow < 0.7 m/s, fast).
+    let mut budget = [[0.0_f64; 3]; 4];
+    let mut idle_s = 0.0_f64;
+    // Robot-seconds with a task below 0.7 m/s, by place, and of those with a person within
+    // 2 m.
+    let mut slow_s = [[0.0_f64; 4]; 2];
     let places = world_sim::stuck::Places::new(fleet.site());
     for k in 1..=steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
@@ -142,6 +153,46 @@ fn main() {
                 standoff_s[usize::from(through)][place] += fleet.world.dt;
             }
         }
+        for i in 0..robots {
+            let r = &fleet.world.robots[i];
+            if fleet.job(i).is_none() {
+                idle_s += fleet.world.dt;
+            } else {
+                use world_sim::traffic_policy::Constraint;
+                let kind = match fleet.traffic_policy().map(|t| t.constraint(i)) {
+                    Some(Constraint::Hold { .. }) => 1,
+                    Some(Constraint::Queue { .. }) => 2,
+                    Some(Constraint::Retreat(_) | Constraint::GiveWay(_)) => 3,
+                    _ => 0,
+                };
+                let v = r.state.velocity.norm();
+                let pace = if v < 0.1 {
+                    0
+                } else if v < 0.7 {
+                    1
+                } else {
+                    2
+                };
+                budget[kind][pace] += fleet.world.dt;
+                if pace < 2 {
+                    let p = r.state.position;
+                    let near = fleet
+                        .world
+                        .humans
+                        .crowd
+                        .positions
+                        .iter()
+                        .any(|q| (q - p).norm() <= 2.0);
+                    slow_s[usize::from(near)][places.of(p) as usize] += fleet.world.dt;
+                }
+            }
+            if fleet.stuck_hold(i) == Some(world_sim::stuck::Hold::Planner) {
+                let r = &fleet.world.robots[i];
+                let driving = r.state.velocity.norm() >= 0.1;
+                unseen_s[usize::from(driving)][places.of(r.state.position) as usize] +=
+                    fleet.world.dt;
+            }
+        }
         if let Some(still) = stalls.record(&fleet) {
             // People who moved less than 1 m in the last minute.
             let crowd = &fleet.world.humans.crowd;
@@ -208,5 +259,17 @@ fn main() {
     println!(
         "held by a person, robot-s in aisle / cross-aisle / near a station / corridor: nearest person heading through the robot (a standoff) {:.0?}, otherwise {:.0?}",
         standoff_s[1], standoff_s[0]
+    );
+    println!(
+        "nothing visible, robot-s in aisle / cross-aisle / near a station / corridor: standing {:.0?}, driving {:.0?}",
+        unseen_s[0], unseen_s[1]
+    );
+    println!(
+        "robot-s without a task {idle_s:.0}; with one, standing / slow / fast: free or lane {:.0?}, held for a segment {:.0?}, queued for a station {:.0?}, backing off or giving way {:.0?}",
+        budget[0], budget[1], budget[2], budget[3]
+    );
+    println!(
+        "robot-s with a task below 0.7 m/s, in aisle / cross-aisle / near a station / corridor: a person within 2 m {:.0?}, nobody {:.0?}",
+        slow_s[1], slow_s[0]
     );
 }

@@ -155,6 +155,18 @@ pub struct Fleet {
 #[error("scenario {0:?} has no [warehouse] table; a fleet needs a warehouse")]
 pub struct NotAWarehouse(pub String);
 
+/// How [`Fleet::reroute`] leads a robot's new route.
+#[derive(Debug, Clone, Copy)]
+enum Through {
+    /// The site's shortest route (weighed by people when the policy asks).
+    Shortest,
+    /// Into the station's one-way segment through this cross-aisle ([`Site::route_via`]).
+    Entry(usize),
+    /// Out of the robot's one-way segment through this cross-aisle, round through another
+    /// corridor when the station lies behind it in the same row ([`Site::route_out`]).
+    Exit(usize),
+}
+
 impl Fleet {
     /// The fleet of a warehouse scenario, every robot idle.
     pub fn new(scenario: &Scenario) -> Result<Self, NotAWarehouse> {
@@ -514,22 +526,30 @@ impl Fleet {
                 Stage::ToPick => self.pick_entry(here, station),
                 Stage::ToDrop => None,
             };
-            self.reroute(i, exit.or(entry));
+            let through = match (exit, entry) {
+                (Some(j), _) => Through::Exit(j),
+                (None, Some(j)) => Through::Entry(j),
+                (None, None) => Through::Shortest,
+            };
+            self.reroute(i, through);
             self.reroutes += 1;
         }
     }
 
-    /// Gives robot `i` a new route from where it is to its job's station, through cross-aisle
-    /// `via` when given ([`Site::route_via`]).
-    fn reroute(&mut self, i: usize, via: Option<usize>) {
+    /// Gives robot `i` a new route from where it is to its job's station.
+    fn reroute(&mut self, i: usize, through: Through) {
         let here = self.world.robots[i].state.position;
         let Some(job) = &self.jobs[i] else {
             return;
         };
         let station = self.site.stations[job.station()].position;
-        let route = match via {
-            Some(j) => self.site.route_via(here, station, j),
-            None => self.route_among_people(here, station),
+        let route = match (through, &self.policy) {
+            (Through::Exit(j), Some(policy)) => {
+                self.site
+                    .route_out(here, station, j, policy.passing_width())
+            }
+            (Through::Exit(j) | Through::Entry(j), _) => self.site.route_via(here, station, j),
+            (Through::Shortest, _) => self.route_among_people(here, station),
         };
         if let Some(job) = &mut self.jobs[i] {
             job.waypoints = route.into();
@@ -627,7 +647,7 @@ impl Fleet {
         self.policy_events = policy.step(self.world.time, &robots, &self.traffic);
         for i in 0..self.robots() {
             if let Some(exit) = self.policy.as_ref().and_then(|p| p.turned(i)) {
-                self.reroute(i, Some(exit));
+                self.reroute(i, Through::Exit(exit));
             }
             let round = self.policy.as_ref().and_then(|p| p.detour(i));
             if let (Some(round), Some(job)) = (round, &mut self.jobs[i]) {

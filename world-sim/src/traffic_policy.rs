@@ -566,6 +566,12 @@ impl TrafficPolicy {
         self.lanes.site.adopt_router(site);
     }
 
+    /// How wide a corridor must be for two robots to pass (m): aisles narrower are one-way
+    /// segments.
+    pub fn passing_width(&self) -> Real {
+        self.lanes.min_width
+    }
+
     /// The one-way segments.
     pub fn segments(&self) -> &[Segment] {
         &self.segments

@@ -429,6 +429,53 @@ impl Site {
         ]
     }
 
+    /// A route that leaves `from`'s aisle through cross-aisle `j` (the one way out of a
+    /// one-way segment) on its way to `to`. When `to` lies in the same aisle row on the other
+    /// side of `from`, the route goes out by `j`, along the nearest other corridor at least
+    /// `min_width` wide (m), and back into the row through the cross-aisle next to `to` on
+    /// the side away from `j`, or the nearer one when it is not `j`. Otherwise as
+    /// [`Site::route_via`]; also when no corridor is that wide.
+    pub fn route_out(&self, from: Vec2, to: Vec2, j: usize, min_width: Real) -> Vec<Vec2> {
+        let (Some(k), Some(k_to)) = (self.corridor_of(from), self.corridor_of(to)) else {
+            return self.route_via(from, to, j);
+        };
+        let Some(&(x_j, _)) = self.cross_aisles.get(j) else {
+            return self.route_via(from, to, j);
+        };
+        // Elsewhere, or on the way out (or beyond it): the usual route.
+        if k != k_to || (to.x - from.x) * (x_j - from.x) >= 0.0 {
+            return self.route_via(from, to, j);
+        }
+        let cost = |e: usize| {
+            let x_e = self.cross_aisles[e].0;
+            (x_j - x_e).abs() + (x_e - to.x).abs()
+        };
+        let entry = self.cross_aisles_around(to).and_then(|(left, right)| {
+            [left, right]
+                .into_iter()
+                .filter(|&e| e != j)
+                .min_by(|&a, &b| cost(a).total_cmp(&cost(b)))
+        });
+        let y_k = self.corridors[k].0;
+        let corridor = self
+            .corridors
+            .iter()
+            .enumerate()
+            .filter(|&(c, &(_, half))| c != k && 2.0 * half >= min_width)
+            .min_by(|(_, p), (_, q)| (p.0 - y_k).abs().total_cmp(&(q.0 - y_k).abs()));
+        let (Some(e), Some((_, &(y_c, _)))) = (entry, corridor) else {
+            return self.route_via(from, to, j);
+        };
+        let x_e = self.cross_aisles[e].0;
+        vec![
+            vec2(x_j, y_k),
+            vec2(x_j, y_c),
+            vec2(x_e, y_c),
+            vec2(x_e, y_k),
+            to,
+        ]
+    }
+
     /// A way round: from `from` in a cross-aisle to `to` in an aisle, entering the aisle
     /// through cross-aisle `j` and getting there along the corridor at least `min_width` wide
     /// (m) with the least climb (so through no narrow aisle). `None` when `from` is not in a
@@ -550,6 +597,23 @@ mod tests {
         }
     }
 
+    /// Every point of `route` from `from`, every 5 cm, is in free space with `radius` of
+    /// clearance.
+    fn assert_clear(map: &StaticMap, from: Vec2, route: &[Vec2], radius: Real) {
+        let mut at = from;
+        for &w in route {
+            let steps = ((w - at).norm() / 0.05).ceil().max(1.0) as usize;
+            for s in 0..=steps {
+                let p = at + (w - at) * (s as Real / steps as Real);
+                assert!(
+                    !map.is_inside(&p) && map.distance(&p) > radius,
+                    "{p:?} on {route:?}"
+                );
+            }
+            at = w;
+        }
+    }
+
     /// The way round to a pick in a narrow aisle's far end: down its cross-aisle to the
     /// nearest wide corridor, along it, and up the far cross-aisle into the aisle; every leg
     /// in free space with a robot's clearance, and through no narrow aisle.
@@ -577,21 +641,68 @@ mod tests {
         assert_eq!(round[2], vec2(site.cross_aisles[j].0, site.corridors[k].0));
         let wide = site.corridor_of(round[0]).expect("on a corridor");
         assert!(2.0 * site.corridors[wide].1 >= min_width, "{round:?}");
-        let mut at = from;
-        for &w in &round {
-            let steps = ((w - at).norm() / 0.05).ceil().max(1.0) as usize;
-            for s in 0..=steps {
-                let p = at + (w - at) * (s as Real / steps as Real);
-                assert!(!map.is_inside(&p) && map.distance(&p) > narrow.robot.radius_m);
-            }
-            at = w;
-        }
+        assert_clear(&map, from, &round, narrow.robot.radius_m);
         // Not from inside an aisle, and not when no other corridor is wide enough.
         assert!(
             site.route_round(pick.position, from, j, min_width)
                 .is_none()
         );
         assert!(site.route_round(from, pick.position, j, 10.0).is_none());
+    }
+
+    /// Out of a narrow aisle through the end behind a robot, to a pick farther along the same
+    /// row: out by that end, along the nearest wide corridor, and back into the row next to
+    /// the pick on the far side (the same segment) or the near side (a later one); every leg
+    /// in free space with a robot's clearance, through no narrow aisle. A pick on the way out,
+    /// or in another row, keeps `route_via`'s route.
+    #[test]
+    fn the_way_out_to_a_pick_farther_along_the_row_goes_round() {
+        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
+        let site = Site::generate(&narrow.warehouse.expect("layout"));
+        let map = site.map();
+        let min_width = 4.0 * narrow.robot.radius_m + 0.2;
+        let k = 2;
+        let y_k = site.corridors[k].0;
+        let pick_between = |j: usize| {
+            site.stations
+                .iter()
+                .filter(|s| {
+                    site.corridor_of(s.position) == Some(k)
+                        && site.cross_aisles_around(s.position) == Some((j, j + 1))
+                })
+                .max_by(|a, b| a.position.x.total_cmp(&b.position.x))
+                .expect("a pick between two cross-aisles")
+                .position
+        };
+        let x = |j: usize| site.cross_aisles[j].0;
+        // In segment 1–2, west of the pick, leaving west by cross-aisle 1.
+        let from = vec2(x(1) + 2.0, y_k);
+        for (pick, entry) in [
+            (pick_between(1), 2),
+            (pick_between(2), 2),
+            (pick_between(3), 3),
+        ] {
+            let out = site.route_out(from, pick, 1, min_width);
+            assert_eq!(out.len(), 5, "{out:?}");
+            assert_eq!(out[0], vec2(x(1), y_k));
+            assert_eq!(out[3], vec2(x(entry), y_k), "{out:?}");
+            assert_eq!(out[4], pick);
+            let wide = site.corridor_of(out[1]).expect("on a corridor");
+            assert_ne!(wide, k);
+            assert!(2.0 * site.corridors[wide].1 >= min_width, "{out:?}");
+            assert_clear(&map, from, &out, narrow.robot.radius_m);
+        }
+        // A pick on the way out (west), or in another row: route_via's route.
+        let west = vec2(x(1) - 3.0, y_k);
+        assert_eq!(site.route_out(from, west, 1, min_width), vec![west]);
+        let other_row = pick_between(0) + vec2(0.0, site.corridors[k + 1].0 - y_k);
+        assert_eq!(
+            site.route_out(from, other_row, 1, min_width),
+            site.route_via(from, other_row, 1)
+        );
+        // No corridor wide enough: route_via's straight route back in.
+        let pick = pick_between(1);
+        assert_eq!(site.route_out(from, pick, 1, 100.0), vec![pick]);
     }
 
     /// Corners on an aisle too narrow for two robots must be reached closely (cutting them

@@ -245,6 +245,71 @@ fn a_robot_against_the_flow_is_routed_out_with_it() {
     assert_eq!(first, agent::math::vec2(east, seg.y));
 }
 
+/// The same, with the turned robot bound for a pick farther west along the same row: out
+/// by the east end all the same, then round through a corridor wide enough for two robots
+/// and back into the row next to the pick (before `Site::route_out`, its new route led
+/// straight back west, against the flow, and it was turned again at every step).
+#[test]
+fn a_robot_against_the_flow_bound_farther_along_its_row_goes_round() {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(2), Some(0));
+    let mut fleet = Fleet::new(&s).expect("warehouse");
+    fleet.set_traffic_policy(Some(PolicyParams::default()));
+    fleet.dispatch();
+    let policy = fleet.traffic_policy().expect("on");
+    let width = policy.passing_width();
+    // A segment with a pick face farther west along its row, in the segment before it.
+    let (seg, pick) = policy
+        .segments()
+        .iter()
+        .find_map(|seg| {
+            let pick = fleet.site().stations.iter().position(|st| {
+                st.kind == crate::warehouse::StationKind::Pick
+                    && (st.position.y - seg.y).abs() <= seg.half_width
+                    && st.position.x < seg.x0 - 3.0
+            })?;
+            Some((*seg, pick))
+        })
+        .expect("a pick west of a segment in its row");
+    let (east, half) = fleet.site().cross_aisle(seg.ends.1);
+    for (i, x, to) in [(0, seg.x0 + 2.0, east), (1, seg.x0 + 6.0, seg.x0 - 3.0)] {
+        fleet.world.robots[i].state.position = agent::math::vec2(x, seg.y);
+        let job = fleet.jobs[i].as_mut().expect("dispatched");
+        job.stage = Stage::ToPick;
+        job.waypoints = [agent::math::vec2(to, seg.y)].into();
+    }
+    fleet.jobs[1].as_mut().expect("dispatched").task.pick = pick;
+    fleet.step(&[Command::STOP; 2]);
+    assert_eq!(fleet.traffic_policy().expect("on").totals().turns, 1);
+    let route: Vec<_> = fleet.jobs[1]
+        .as_ref()
+        .expect("a job")
+        .waypoints
+        .iter()
+        .copied()
+        .collect();
+    let to = fleet.site().stations[pick].position;
+    assert_eq!(route.len(), 5, "{route:?}");
+    assert!(
+        (route[0].x - east).abs() <= half && (route[0].y - seg.y).abs() < 1e-9,
+        "out by the east end: {route:?}"
+    );
+    let (y_c, half_c) = fleet
+        .site()
+        .lane_axis(route[1], true)
+        .expect("on a corridor");
+    assert!(
+        (y_c - seg.y).abs() > 1.0 && 2.0 * half_c >= width,
+        "{route:?}"
+    );
+    assert_eq!(route[4], to);
+    // Three steps on it is still on that way round, not turned again.
+    for _ in 0..3 {
+        fleet.step(&[Command::STOP; 2]);
+    }
+    assert_eq!(fleet.traffic_policy().expect("on").totals().turns, 1);
+}
+
 /// Two snapshots are the same bytes (else where they part).
 fn same_bytes(a: &[u8], b: &[u8], what: &str) {
     if a != b {
