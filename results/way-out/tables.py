@@ -45,6 +45,11 @@ def main():
             ("either end", here("development/alone-either-end-narrow-40")),
         ]),
     ])
+    table("probe, tuning seeds 1–30: a robot turned round from people at most once a visit", [
+        ("`warehouse-narrow`, 20 robots", here("development/round-narrow-20"), [
+            ("at most once a visit", here("development/turn-once-narrow-20")),
+        ]),
+    ], "committed")
     empty = "warehouse-narrow-empty"
     far = here("development/no-people-far-end", 20, empty)
     table("probe, tuning seeds 1–30, no people: a robot alone in its segment leaves by either end", [
