@@ -8,7 +8,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "people-turn"))
-from tables import HEAD, STUCK_HEAD, row, runs, stuck  # noqa: E402
+from tables import HEAD, STUCK_HEAD, mean, row, runs, stuck  # noqa: E402
 
 HEAD = HEAD.replace("against off, paired", "against the build before, paired")
 
@@ -32,19 +32,23 @@ def main():
     table("tuning seeds 1–30: the choice", [
         (f"`warehouse-narrow`, {n} robots", before[n], [
             ("way out round, no exception", here(f"development/round-no-exception-narrow-{n}")),
-            ("way out round, exception kept (committed)", here(f"development/round-narrow-{n}")),
+            ("way out round, exception kept (8263ecd)", here(f"development/round-narrow-{n}")),
         ])
         for n in (20, 40)
     ])
-    table("probe, tuning seeds 1–30: a robot alone in its segment leaves by either end", [
-        ("`warehouse-narrow`, 20 robots", before[20], [
+    way_out = {n: here(f"development/round-narrow-{n}") for n in (20, 40)}
+    table("tuning seeds 1–30: a robot alone in its segment leaves by either end", [
+        ("`warehouse-narrow`, 20 robots", way_out[20], [
             ("either end", here("development/alone-either-end-narrow-20")),
-            ("either end while nobody is near", here("development/alone-either-end-nobody-near-narrow-20")),
+            ("either end while nobody is near (committed)",
+             here("development/alone-either-end-nobody-near-narrow-20")),
         ]),
-        ("`warehouse-narrow`, 40 robots", before[40], [
+        ("`warehouse-narrow`, 40 robots", way_out[40], [
             ("either end", here("development/alone-either-end-narrow-40")),
+            ("either end while nobody is near (committed)",
+             here("development/alone-either-end-nobody-near-narrow-40")),
         ]),
-    ])
+    ], "way out round")
     table("probe, tuning seeds 1–30: a robot turned round from people at most once a visit", [
         ("`warehouse-narrow`, 20 robots", here("development/round-narrow-20"), [
             ("at most once a visit", here("development/turn-once-narrow-20")),
@@ -57,11 +61,26 @@ def main():
             ("either end", here("development/no-people-either-end", 20, empty)),
         ]),
     ], "by the far end (committed)")
+    alone = os.path.join(HERE, "seeds-101-130-alone-exit", "narrow-40", "runs.csv")
+    if os.path.exists(alone):
+        table("held-out seeds 101–130: a robot alone in its segment with nobody near leaves by either end", [
+            (f"`warehouse-narrow`, {n} robots", here(f"seeds-101-130/narrow-{n}"),
+             [("alone, either end (committed)", here(f"seeds-101-130-alone-exit/narrow-{n}"))])
+            for n in (20, 40)
+        ], "way out round")
+        print("### one robot alone, no people (the free flow efficiency divides by): tasks in 300 s, mean over seeds\n")
+        print("| seeds | way out round | alone, either end |\n|---|---:|---:|")
+        for name, a, b in [
+            ("1–30", way_out[20], here("development/alone-either-end-nobody-near-narrow-20")),
+            ("101–130", here("seeds-101-130/narrow-20"), here("seeds-101-130-alone-exit/narrow-20")),
+        ]:
+            print(f"| {name} | {mean(a, 'free_flow_tasks'):.2f} | {mean(b, 'free_flow_tasks'):.2f} |")
+        print()
     held = os.path.join(HERE, "seeds-101-130", "narrow-40", "runs.csv")
     if os.path.exists(held):
         table("held-out seeds 101–130", [
             (f"`warehouse-narrow`, {n} robots", runs("people-turn/seeds-101-130", n),
-             [("way out round (committed)", here(f"seeds-101-130/narrow-{n}"))])
+             [("way out round (8263ecd)", here(f"seeds-101-130/narrow-{n}"))])
             for n in (20, 40)
         ])
         print("### where the stuck robot-seconds went, held out (means per run)\n")

@@ -162,9 +162,11 @@ fn traffic_rows_are_the_committed_rows() {
         policies: vec![false, true],
         layers: vec![true],
         seconds: 300.0,
-        // Committed before robots turned round from people in their way (results/people-turn).
+        // Committed before robots turned round from people in their way (results/people-turn)
+        // and left an aisle they were alone in by either end (results/way-out).
         policy_params: world_sim::traffic_policy::PolicyParams {
             people_turn_after_s: 0.0,
+            alone_exit_clear_m: 0.0,
             ..Default::default()
         },
     };

@@ -121,7 +121,61 @@ fn one_direction_at_a_time_and_the_waiting_side_goes_next() {
         dir: -1
     }));
     assert!(matches!(policy.constraint(2), Constraint::Hold { .. }));
-    assert_eq!(policy.exit_of(1), Some(s.ends.0));
+    // Alone in it with nobody near, robot 1 may leave by either end (`alone_exit_clear_m`).
+    assert_eq!(policy.exit_of(1), None);
+}
+
+/// After a pick, a robot leaves its segment by the far end of the flow; when it is the
+/// segment's only holder and nobody is within `alone_exit_clear_m` of the segment or its
+/// mouths, by either end (its shortest route); not with the rule off.
+#[test]
+fn a_robot_alone_in_its_aisle_with_nobody_near_may_leave_by_either_end() {
+    let (site, radius) = narrow();
+    let s = TrafficPolicy::new(&site, 1, radius, PolicyParams::default()).segments()[0];
+    let route = [vec2(s.x1 + 1.5, s.y)];
+    let inside = |x: Real| PolicyRobot {
+        position: vec2(x, s.y),
+        route: &route,
+        station: None,
+    };
+    // The way out of robot 0 at x0 + 6 m, eastbound, with `others` in the segment behind it
+    // and `people` about.
+    let exit = |params: PolicyParams, others: usize, people: &[Vec2]| {
+        let robots: Vec<_> = (0..=others)
+            .map(|k| inside(s.x0 + 6.0 - 2.0 * k as Real))
+            .collect();
+        let mut policy = TrafficPolicy::new(&site, robots.len(), radius, params);
+        policy.set_people(people.iter().map(|&q| (q, vec2(0.0, 0.0))));
+        step(&mut policy, 0.0, &robots);
+        policy.exit_of(0)
+    };
+    let params = PolicyParams::default();
+    assert_eq!(params.alone_exit_clear_m, 3.0);
+    let flow_end = Some(s.ends.1);
+    assert_eq!(exit(params, 0, &[]), None);
+    assert_eq!(exit(params, 1, &[]), flow_end, "another robot holds it too");
+    // Someone 2.5 m beyond the west mouth, or in the aisle: by the far end.
+    assert_eq!(exit(params, 0, &[vec2(s.x0 - 2.5, s.y)]), flow_end);
+    assert_eq!(exit(params, 0, &[vec2(s.x0 + 9.0, s.y)]), flow_end);
+    // Someone 3.5 m beyond the east mouth: nobody near.
+    assert_eq!(exit(params, 0, &[vec2(s.x1 + 3.5, s.y)]), None);
+    let off = PolicyParams {
+        alone_exit_clear_m: 0.0,
+        ..params
+    };
+    assert_eq!(exit(off, 0, &[]), flow_end);
+    assert!(
+        TrafficPolicy::new(
+            &site,
+            1,
+            radius,
+            PolicyParams {
+                people_turn_after_s: 0.0,
+                ..params
+            }
+        )
+        .watches_people()
+    );
 }
 
 /// One robot at a time at a station: the first to ask (lower index on a tie) drives to
@@ -906,7 +960,11 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
         ..PolicyParams::default()
     };
     assert_eq!(turns(off, &robots, standing), never);
-    assert!(!TrafficPolicy::new(&site, 2, radius, off).watches_people());
+    let blind = PolicyParams {
+        alone_exit_clear_m: 0.0,
+        ..off
+    };
+    assert!(!TrafficPolicy::new(&site, 2, radius, blind).watches_people());
     // A third robot granted the segment on its way in, still outside: it is not turned, it
     // waits again at its hold point, and the segment now runs the turned robots' way.
     let mut three = robots.to_vec();

@@ -129,11 +129,13 @@ impl Header {
 
     /// The traffic policy the run ran: its parameters, or `None` where it was off. A journal
     /// older than `policy_params` ran the defaults of its day: those of now without
-    /// [`PolicyParams::people_turn_after_s`], the one default changed since.
+    /// [`PolicyParams::people_turn_after_s`] and [`PolicyParams::alone_exit_clear_m`], the
+    /// defaults changed since.
     pub fn policy(&self) -> Option<PolicyParams> {
         self.traffic_policy.then(|| {
             self.policy_params.unwrap_or(PolicyParams {
                 people_turn_after_s: 0.0,
+                alone_exit_clear_m: 0.0,
                 ..PolicyParams::default()
             })
         })
@@ -293,6 +295,7 @@ mod tests {
         assert_eq!(h.policy_params, None);
         let of_its_day = PolicyParams {
             people_turn_after_s: 0.0,
+            alone_exit_clear_m: 0.0,
             ..PolicyParams::default()
         };
         assert_eq!(h.policy(), Some(of_its_day));
