@@ -33,6 +33,9 @@
 //! - **In at one end, out at the other.** A robot that picks inside a segment leaves it by the
 //!   far end (the fleet routes its next leg through that end's cross-aisle), and a robot bound
 //!   for a station in an aisle enters it from the cross-aisle nearer to where it comes from.
+//!   The segment's only holder, with nobody near ([`PolicyParams::alone_exit_clear_m`]),
+//!   leaves by either end, and the segment turns to its way: no other robot holds it, so none
+//!   meets it there.
 //! - **Keep right** in corridors and cross-aisles wide enough for two robots: the goal leads
 //!   the robot [`PolicyParams::lane_lookahead_m`] along the lane right of the centre line
 //!   ([`PolicyParams::lane_change_lookahead_m`] from the oncoming lane: change lanes first).
