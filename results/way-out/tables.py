@@ -76,6 +76,13 @@ def main():
         ]:
             print(f"| {name} | {mean(a, 'free_flow_tasks'):.2f} | {mean(b, 'free_flow_tasks'):.2f} |")
         print()
+    if os.path.exists(os.path.join(HERE, "seeds-101-130-no-people", "either-end", "runs.csv")):
+        table("held-out seeds 101–130, no people: a robot alone in its segment leaves by either end", [
+            ("`warehouse-narrow` without people, 20 robots",
+             here("seeds-101-130-no-people/far-end", 20, empty), [
+                 ("either end (committed)", here("seeds-101-130-no-people/either-end", 20, empty)),
+             ]),
+        ], "by the far end (`alone_exit_clear_m=0`)")
     held = os.path.join(HERE, "seeds-101-130", "narrow-40", "runs.csv")
     if os.path.exists(held):
         table("held-out seeds 101–130", [

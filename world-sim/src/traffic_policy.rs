@@ -203,8 +203,9 @@ pub struct PolicyParams {
     /// A robot that picks in a one-way segment leaves it by the far end of the flow, unless it
     /// is the segment's only holder and nobody is within this distance (m) of the segment or
     /// its mouths: then it takes its shortest route to the dock, by either end, and the
-    /// segment turns to its way. Without people this gives 8 % more tasks
-    /// (`warehouse-narrow`, 20 robots, seeds 1–30); among 40 people it seldom acts. 3 m, set
+    /// segment turns to its way. Without people this gives 7–8 % more tasks
+    /// (`warehouse-narrow`, 20 robots, seeds 1–30 and 101–130); among 40 people it seldom
+    /// acts. 3 m, set
     /// before any run and not tuned (results/way-out). 0 turns it off. (Absent from snapshots
     /// and journals written before it: 0, as they ran.)
     #[serde(default)]
