@@ -205,9 +205,8 @@ pub struct PolicyParams {
     /// its mouths: then it takes its shortest route to the dock, by either end, and the
     /// segment turns to its way. Without people this gives 7–8 % more tasks
     /// (`warehouse-narrow`, 20 robots, seeds 1–30 and 101–130); among 40 people it seldom
-    /// acts. 3 m, set
-    /// before any run and not tuned (results/way-out). 0 turns it off. (Absent from snapshots
-    /// and journals written before it: 0, as they ran.)
+    /// acts. 3 m, set before any run and not tuned (results/way-out). 0 turns it off. (Absent
+    /// from snapshots and journals written before it: 0, as they ran.)
     #[serde(default)]
     pub alone_exit_clear_m: Real,
 }
@@ -521,12 +520,14 @@ pub struct TrafficPolicy {
     map: StaticMap,
     robot_radius: Real,
     totals: PolicyTotals,
-    /// The people's positions and velocities this step ([`TrafficPolicy::set_people`]).
-    #[serde(skip)]
-    people: Vec<(Vec2, Vec2)>,
     /// Per segment: since when (s) a person has been in its leading robot's way.
     #[serde(default)]
     people_in_way_since: Vec<Option<Real>>,
+    /// The people's positions and velocities this step ([`TrafficPolicy::set_people`]). In a
+    /// snapshot (last, so that older snapshots read: none), since
+    /// [`TrafficPolicy::exit_of`] reads them between steps, before the next `set_people`.
+    #[serde(default)]
+    people: Vec<(Vec2, Vec2)>,
 }
 
 /// What keep-right needs of the site: wide corridors' axes.

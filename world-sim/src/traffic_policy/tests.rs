@@ -164,6 +164,14 @@ fn a_robot_alone_in_its_aisle_with_nobody_near_may_leave_by_either_end() {
         ..params
     };
     assert_eq!(exit(off, 0, &[]), flow_end);
+    // A snapshot keeps the people it saw: a pick just after a restore leaves the same way.
+    let mut policy = TrafficPolicy::new(&site, 1, radius, params);
+    policy.set_people([(vec2(s.x0 - 2.5, s.y), vec2(0.0, 0.0))]);
+    step(&mut policy, 0.0, &[inside(s.x0 + 6.0)]);
+    let mut bytes = Vec::new();
+    rmp_serde::encode::write(&mut bytes, &policy).expect("encodes");
+    let restored: TrafficPolicy = rmp_serde::from_slice(&bytes).expect("decodes");
+    assert_eq!(restored.exit_of(0), flow_end);
     assert!(
         TrafficPolicy::new(
             &site,
