@@ -457,16 +457,11 @@ impl Site {
                 .min_by(|&a, &b| cost(a).total_cmp(&cost(b)))
         });
         let y_k = self.corridors[k].0;
-        let corridor = self
-            .corridors
-            .iter()
-            .enumerate()
-            .filter(|&(c, &(_, half))| c != k && 2.0 * half >= min_width)
-            .min_by(|(_, p), (_, q)| (p.0 - y_k).abs().total_cmp(&(q.0 - y_k).abs()));
-        let (Some(e), Some((_, &(y_c, _)))) = (entry, corridor) else {
+        let corridor = self.wide_corridor(k, min_width, |y| (y - y_k).abs());
+        let (Some(e), Some(c)) = (entry, corridor) else {
             return self.route_via(from, to, j);
         };
-        let x_e = self.cross_aisles[e].0;
+        let (x_e, y_c) = (self.cross_aisles[e].0, self.corridors[c].0);
         vec![
             vec2(x_j, y_k),
             vec2(x_j, y_c),
@@ -490,16 +485,25 @@ impl Site {
         let a = self.cross_aisle_of(from)?;
         let k = self.corridor_of(to)?;
         let (x_a, x_j) = (self.cross_aisles[a].0, self.cross_aisles.get(j)?.0);
-        let climb = |y: Real| (from.y - y).abs() + (y - to.y).abs();
-        let c = self
-            .corridors
+        let c = self.wide_corridor(k, min_width, |y| (from.y - y).abs() + (y - to.y).abs())?;
+        let (y_c, y_k) = (self.corridors[c].0, self.corridors[k].0);
+        Some(vec![vec2(x_a, y_c), vec2(x_j, y_c), vec2(x_j, y_k), to])
+    }
+
+    /// The corridor other than `k` at least `min_width` wide (m) whose centre line `y` has the
+    /// least `climb(y)`, if any.
+    fn wide_corridor(
+        &self,
+        k: usize,
+        min_width: Real,
+        climb: impl Fn(Real) -> Real,
+    ) -> Option<usize> {
+        self.corridors
             .iter()
             .enumerate()
             .filter(|&(c, &(_, half))| c != k && 2.0 * half >= min_width)
-            .min_by(|(_, p), (_, q)| climb(p.0).total_cmp(&climb(q.0)))?
-            .0;
-        let (y_c, y_k) = (self.corridors[c].0, self.corridors[k].0);
-        Some(vec![vec2(x_a, y_c), vec2(x_j, y_c), vec2(x_j, y_k), to])
+            .min_by(|(_, p), (_, q)| climb(p.0).total_cmp(&climb(q.0)))
+            .map(|(c, _)| c)
     }
 
     /// How close a robot of `radius` must come to route corner `p` before it heads for the
@@ -597,6 +601,15 @@ mod tests {
         }
     }
 
+    /// `warehouse-narrow`'s site, its map, its robots' radius and the width two of them pass in.
+    fn narrow_site() -> (Site, StaticMap, Real, Real) {
+        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
+        let site = Site::generate(&narrow.warehouse.expect("layout"));
+        let map = site.map();
+        let radius = narrow.robot.radius_m;
+        (site, map, radius, 4.0 * radius + 0.2)
+    }
+
     /// Every point of `route` from `from`, every 5 cm, is in free space with `radius` of
     /// clearance.
     fn assert_clear(map: &StaticMap, from: Vec2, route: &[Vec2], radius: Real) {
@@ -619,10 +632,7 @@ mod tests {
     /// in free space with a robot's clearance, and through no narrow aisle.
     #[test]
     fn the_way_round_to_an_aisles_far_end_keeps_to_wide_corridors() {
-        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
-        let site = Site::generate(&narrow.warehouse.expect("layout"));
-        let map = site.map();
-        let min_width = 4.0 * narrow.robot.radius_m + 0.2;
+        let (site, map, radius, min_width) = narrow_site();
         let (k, j) = (2, 1);
         let pick = site
             .stations
@@ -641,7 +651,7 @@ mod tests {
         assert_eq!(round[2], vec2(site.cross_aisles[j].0, site.corridors[k].0));
         let wide = site.corridor_of(round[0]).expect("on a corridor");
         assert!(2.0 * site.corridors[wide].1 >= min_width, "{round:?}");
-        assert_clear(&map, from, &round, narrow.robot.radius_m);
+        assert_clear(&map, from, &round, radius);
         // Not from inside an aisle, and not when no other corridor is wide enough.
         assert!(
             site.route_round(pick.position, from, j, min_width)
@@ -657,10 +667,7 @@ mod tests {
     /// or in another row, keeps `route_via`'s route.
     #[test]
     fn the_way_out_to_a_pick_farther_along_the_row_goes_round() {
-        let narrow = Scenario::builtin("warehouse-narrow").expect("valid");
-        let site = Site::generate(&narrow.warehouse.expect("layout"));
-        let map = site.map();
-        let min_width = 4.0 * narrow.robot.radius_m + 0.2;
+        let (site, map, radius, min_width) = narrow_site();
         let k = 2;
         let y_k = site.corridors[k].0;
         let pick_between = |j: usize| {
@@ -690,7 +697,7 @@ mod tests {
             let wide = site.corridor_of(out[1]).expect("on a corridor");
             assert_ne!(wide, k);
             assert!(2.0 * site.corridors[wide].1 >= min_width, "{out:?}");
-            assert_clear(&map, from, &out, narrow.robot.radius_m);
+            assert_clear(&map, from, &out, radius);
         }
         // A pick on the way out (west), or in another row: route_via's route.
         let west = vec2(x(1) - 3.0, y_k);

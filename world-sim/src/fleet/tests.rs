@@ -206,15 +206,21 @@ fn a_robot_pushed_into_the_wrong_aisle_gets_a_new_route() {
     assert_eq!(waypoint(&fleet, 1), before);
 }
 
-/// A robot inside a one-way segment against its flow, with a robot of the flow coming at it,
-/// gets a route out by the end the flow leads to (rather than pushing on face to face).
-#[test]
-fn a_robot_against_the_flow_is_routed_out_with_it() {
+/// Two robots in `warehouse-narrow` without people, the traffic policy on, tasks given.
+fn two_in_narrow_aisles() -> Fleet {
     let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
     s.set_fleet_size(Some(2), Some(0));
     let mut fleet = Fleet::new(&s).expect("warehouse");
     fleet.set_traffic_policy(Some(PolicyParams::default()));
     fleet.dispatch();
+    fleet
+}
+
+/// A robot inside a one-way segment against its flow, with a robot of the flow coming at it,
+/// gets a route out by the end the flow leads to (rather than pushing on face to face).
+#[test]
+fn a_robot_against_the_flow_is_routed_out_with_it() {
+    let mut fleet = two_in_narrow_aisles();
     // A segment in another aisle than robot 1's station.
     let station = fleet.site().stations[fleet.job(1).expect("a job").station()].position;
     let seg = *fleet
@@ -252,11 +258,7 @@ fn a_robot_against_the_flow_is_routed_out_with_it() {
 /// straight back west, against the flow, and it was turned again at every step).
 #[test]
 fn a_robot_against_the_flow_bound_farther_along_its_row_goes_round() {
-    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
-    s.set_fleet_size(Some(2), Some(0));
-    let mut fleet = Fleet::new(&s).expect("warehouse");
-    fleet.set_traffic_policy(Some(PolicyParams::default()));
-    fleet.dispatch();
+    let mut fleet = two_in_narrow_aisles();
     let policy = fleet.traffic_policy().expect("on");
     let width = policy.passing_width();
     // A segment with a pick face farther west along its row, in the segment before it.
