@@ -3,7 +3,12 @@
 //! to, the nearest person and robot, and its traffic constraint; each gridlock and deadlock
 //! as it begins (its robots, where they stand, what holds each); then the totals by cause,
 //! and the stuck time held by a person split by place and by whether the nearest person
-//! heads through the robot (their goal lies beyond it: a standoff).
+//! heads through the robot (their goal lies beyond it: a standoff). Then where the time and
+//! the metres of robots with a task went: a time budget by the policy's constraint and speed;
+//! slow seconds by place, and next to a person by where that person is and how they walk;
+//! metres driven against metres of progress along the route (its length left falling), split
+//! by whether the safety layer held the command back (its protective check or a yield) and
+//! whether a person was within 2 m.
 //!
 //!     cargo run --release -p world-sim --example stuck_probe -- warehouse-narrow 20 1 \
 //!         [300 [ROBOT [PLANNER [PEOPLE [POLICY]]]]]
@@ -65,6 +70,21 @@ fn main() {
     // Robot-seconds with a task below 0.7 m/s, by place, and of those with a person within
     // 2 m.
     let mut slow_s = [[0.0_f64; 4]; 2];
+    // Of those with a person within 2 m, by where the nearest person is and how they walk
+    // relative to the robot's way to its goal (ahead: within 60° of that way): ahead and
+    // oncoming / walking its way / crossing / standing, or beside or behind; each split by
+    // whether the safety layer held the robot's last command back.
+    let mut slow_by_person = [[0.0_f64; 5]; 2];
+    // Metres driven with a task, and robot-seconds with one.
+    let mut driven_m = 0.0_f64;
+    let mut task_s = 0.0_f64;
+    // Progress along the route (its length left falling), routes lengthened by a re-route
+    // (jumps up of over 1 m), and each robot's leg and length left at the last step.
+    let mut progress_m = 0.0_f64;
+    let mut rerouted_m = 0.0_f64;
+    let mut last_leg: Vec<Option<(u64, f64)>> = vec![None; robots];
+    // Metres driven and metres of progress, by [layer held back the command][a person within 2 m].
+    let mut split_m = [[[0.0_f64; 2]; 2]; 2];
     let places = world_sim::stuck::Places::new(fleet.site());
     for k in 1..=steps {
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
@@ -166,6 +186,31 @@ fn main() {
                     _ => 0,
                 };
                 let v = r.state.velocity.norm();
+                driven_m += v * fleet.world.dt;
+                task_s += fleet.world.dt;
+                let job = fleet.job(i).expect("a task");
+                let left = job.remaining(r.state.position);
+                if let Some((leg, before)) = last_leg[i]
+                    && leg == job.leg()
+                {
+                    let fell = before - left;
+                    let near = fleet
+                        .world
+                        .humans
+                        .crowd
+                        .positions
+                        .iter()
+                        .any(|q| (q - r.state.position).norm() <= 2.0);
+                    let cell = &mut split_m[usize::from(fleet.is_layer_held(i))][usize::from(near)];
+                    cell[0] += v * fleet.world.dt;
+                    if fell < -1.0 {
+                        rerouted_m -= fell;
+                    } else {
+                        progress_m += fell;
+                        cell[1] += fell;
+                    }
+                }
+                last_leg[i] = Some((job.leg(), left));
                 let pace = if v < 0.1 {
                     0
                 } else if v < 0.7 {
@@ -184,6 +229,31 @@ fn main() {
                         .iter()
                         .any(|q| (q - p).norm() <= 2.0);
                     slow_s[usize::from(near)][places.of(p) as usize] += fleet.world.dt;
+                    let crowd = &fleet.world.humans.crowd;
+                    let nearest = (0..crowd.len())
+                        .map(|h| (h, (crowd.positions[h] - p).norm()))
+                        .filter(|&(_, d)| d <= 2.0)
+                        .min_by(|a, b| a.1.total_cmp(&b.1));
+                    if let Some((h, d)) = nearest {
+                        let way = (r.goal - p).try_normalize(1e-9).unwrap_or_default();
+                        let to = (crowd.positions[h] - p) / d.max(1e-9);
+                        let hv = crowd.velocities[h];
+                        let kind = if to.dot(&way) < 0.5 {
+                            4
+                        } else if hv.norm() < 0.3 {
+                            3
+                        } else {
+                            let along = hv.dot(&way) / hv.norm();
+                            if along < -0.5 {
+                                0
+                            } else if along > 0.5 {
+                                1
+                            } else {
+                                2
+                            }
+                        };
+                        slow_by_person[usize::from(fleet.is_layer_held(i))][kind] += fleet.world.dt;
+                    }
                 }
             }
             if fleet.stuck_hold(i) == Some(world_sim::stuck::Hold::Planner) {
@@ -271,5 +341,29 @@ fn main() {
     println!(
         "robot-s with a task below 0.7 m/s, in aisle / cross-aisle / near a station / corridor: a person within 2 m {:.0?}, nobody {:.0?}",
         slow_s[1], slow_s[0]
+    );
+    let done: u64 = (0..robots).map(|i| fleet.tasks_done(i)).sum();
+    println!(
+        "with a task: {driven_m:.0} m driven, mean speed {:.2} m/s, {:.1} m per task done",
+        driven_m / task_s.max(1e-9),
+        driven_m / (done as f64).max(1.0)
+    );
+    println!(
+        "of it {progress_m:.0} m along the route, {:.0} m not ({:.0} %); re-routes added {rerouted_m:.0} m",
+        driven_m - progress_m,
+        100.0 * (driven_m - progress_m) / driven_m.max(1e-9)
+    );
+    for (held, name) in [(0, "layer passed"), (1, "layer held back")] {
+        for (near, who) in [(0, "nobody within 2 m"), (1, "a person within 2 m")] {
+            let [d, p] = split_m[held][near];
+            println!(
+                "  {name}, {who}: driven {d:.0} m, progress {p:.0} m, not {:.0} m",
+                d - p
+            );
+        }
+    }
+    println!(
+        "of those next to a person, the nearest ahead oncoming / walking its way / crossing / standing, or beside or behind: layer held back the command {:.0?}, not {:.0?}",
+        slow_by_person[1], slow_by_person[0]
     );
 }
