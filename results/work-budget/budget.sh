@@ -1,7 +1,10 @@
 #!/bin/bash
-# budget.sh SCENARIO PLANNER SEEDS... : the probe's distance and time lines for each seed
-sc=$1; pl=$2; shift 2
+# budget.sh SCENARIO ROBOTS PLANNER SEED... : stuck_probe's time and metre lines for each seed
+# (300 s, the traffic policy on, the layer as the scenario says). PROBE overrides the binary.
+probe=${PROBE:-${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}/release/examples/stuck_probe}
+sc=$1; robots=$2; pl=$3; shift 3
 for s in "$@"; do
   echo "## seed $s"
-  nice -n 5 ${PROBE:-${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}/release/examples/stuck_probe} $sc 8 $s 300 - $pl | grep -E "^tasks|with a task:|along the route|^  layer|^robot-s without"
+  "$probe" "$sc" "$robots" "$s" 300 - "$pl" \
+    | grep -E "^tasks|with a task:|along the route|^  layer|^robot-s without|^robot-s with a task|^of those"
 done
