@@ -186,6 +186,14 @@ fn main() {
                     _ => 0,
                 };
                 let v = r.state.velocity.norm();
+                let p = r.state.position;
+                // The nearest person within 2 m, and how far.
+                let crowd = &fleet.world.humans.crowd;
+                let nearest = (0..crowd.len())
+                    .map(|h| (h, (crowd.positions[h] - p).norm()))
+                    .filter(|&(_, d)| d <= 2.0)
+                    .min_by(|a, b| a.1.total_cmp(&b.1));
+                let near = nearest.is_some();
                 driven_m += v * fleet.world.dt;
                 task_s += fleet.world.dt;
                 let job = fleet.job(i).expect("a task");
@@ -194,13 +202,6 @@ fn main() {
                     && leg == job.leg()
                 {
                     let fell = before - left;
-                    let near = fleet
-                        .world
-                        .humans
-                        .crowd
-                        .positions
-                        .iter()
-                        .any(|q| (q - r.state.position).norm() <= 2.0);
                     let cell = &mut split_m[usize::from(fleet.is_layer_held(i))][usize::from(near)];
                     cell[0] += v * fleet.world.dt;
                     if fell < -1.0 {
@@ -220,20 +221,7 @@ fn main() {
                 };
                 budget[kind][pace] += fleet.world.dt;
                 if pace < 2 {
-                    let p = r.state.position;
-                    let near = fleet
-                        .world
-                        .humans
-                        .crowd
-                        .positions
-                        .iter()
-                        .any(|q| (q - p).norm() <= 2.0);
                     slow_s[usize::from(near)][places.of(p) as usize] += fleet.world.dt;
-                    let crowd = &fleet.world.humans.crowd;
-                    let nearest = (0..crowd.len())
-                        .map(|h| (h, (crowd.positions[h] - p).norm()))
-                        .filter(|&(_, d)| d <= 2.0)
-                        .min_by(|a, b| a.1.total_cmp(&b.1));
                     if let Some((h, d)) = nearest {
                         let way = (r.goal - p).try_normalize(1e-9).unwrap_or_default();
                         let to = (crowd.positions[h] - p) / d.max(1e-9);
