@@ -3,7 +3,7 @@
 //! restrict their candidates with [`SafeSet::admits`]), checks the command that comes out, and
 //! counts what it changed.
 
-use crate::math::Real;
+use crate::math::{Real, Vec2};
 use crate::model::{Base, Command, Neighbour};
 use crate::planner::{Plan, PlannerStack, PlanningInput};
 use crate::safety::{Guarded, SafeSet, SafetyLayer, SafetyLimits, SafetyParams, Zone};
@@ -62,6 +62,12 @@ impl Guard {
     pub fn on_base(mut self, base: Base) -> Self {
         self.base = base;
         self
+    }
+
+    /// Marks the places on the robot's site where robots and people stop and turn (boxes,
+    /// lower and upper corners), for [`SafetyParams::person_accel_away`]; `None`: none known.
+    pub fn set_turn_places(&mut self, places: Option<Vec<(Vec2, Vec2)>>) {
+        self.layer.set_turn_places(places);
     }
 
     /// The layer's parameters.

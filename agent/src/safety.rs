@@ -117,6 +117,9 @@ pub struct SafetyLayer {
     ego_wall: Real,
     /// Its base's limits.
     limits: SafetyLimits,
+    /// The places where robots and people stop and turn, as boxes (lower and upper corners; a
+    /// box may be a line or a point), when the site marks them ([`SafetyParams::person_accel_away`]).
+    turn_places: Option<Vec<(Vec2, Vec2)>>,
 }
 
 /// The commands a robot may execute in one control period, as the layer sees them: what
@@ -256,7 +259,33 @@ impl SafetyLayer {
             },
             ego_wall: Real::INFINITY,
             limits: SafetyLimits::SIMULATED_ROBOT,
+            turn_places: None,
         }
+    }
+
+    /// Marks the places where robots and people stop and turn (boxes, lower and upper
+    /// corners), or that none are known (`None`: everyone may swerve at `person_accel`, wherever they are).
+    pub fn set_turn_places(&mut self, places: Option<Vec<(Vec2, Vec2)>>) {
+        self.turn_places = places;
+    }
+
+    /// a_h for a person at `p`: [`SafetyParams::person_accel_away`] when the site marks the
+    /// places where robots and people turn and `p` is farther than [`SafetyParams::turn_reach`] from
+    /// every one of them (along either axis), else `person_accel`. Never more than
+    /// `person_accel`.
+    fn person_accel_at(&self, p: Vec2) -> Real {
+        let full = self.params.person_accel;
+        let away = self.params.person_accel_away;
+        let Some(places) = self.turn_places.as_ref().filter(|_| away < full) else {
+            return full;
+        };
+        let reach = self.params.turn_reach;
+        let near = |&(lo, hi): &(Vec2, Vec2)| {
+            let dx = (lo.x - p.x).max(p.x - hi.x);
+            let dy = (lo.y - p.y).max(p.y - hi.y);
+            dx <= reach && dy <= reach
+        };
+        if places.iter().any(near) { full } else { away }
     }
 
     /// The parameters in use.
@@ -339,8 +368,11 @@ impl SafetyLayer {
         } else {
             m
         };
-        self.near.clear();
-        self.near.extend(
+        // Taken out for the fill, so that each body's a_h can be read from the layer.
+        let mut near = std::mem::take(&mut self.near);
+        near.clear();
+        let accel_at = |p: Vec2| self.person_accel_at(p);
+        near.extend(
             bodies
                 .filter(|b| {
                     let travel = reach
@@ -348,40 +380,44 @@ impl SafetyLayer {
                         + 0.5 * self.params.person_accel * horizon * horizon;
                     (b.position - ego.position).norm() < travel + ego.radius + b.radius + slack
                 })
-                .map(|b| Body {
-                    position: b.position,
-                    velocity: b.velocity,
-                    within: ego.radius + b.radius + m,
-                    accel: if b.kind == AgentKind::Human {
-                        self.params.person_accel
-                    } else {
-                        0.0
-                    },
-                    along: if b.kind == AgentKind::Human
-                        && self.params.person_accel_across < self.params.person_accel
-                        && b.velocity.norm() >= ACROSS_MIN_SPEED
-                    {
-                        b.velocity / b.velocity.norm()
-                    } else {
-                        vec2(0.0, 0.0)
-                    },
-                    accel_across: self
-                        .params
-                        .person_accel_across
-                        .min(self.params.person_accel),
-                    halting: if b.kind == AgentKind::Human
-                        && !self.params.people_stop_dead
-                        && self.params.person_accel > 0.0
-                        && b.velocity.norm() <= HALTING_MAX_SPEED
-                    {
-                        self.params.person_accel
-                    } else {
-                        Real::INFINITY
-                    },
-                    speed: b.velocity.norm(),
-                    relevant: [[true; 2]; 2],
+                .map(|b| {
+                    let human = b.kind == AgentKind::Human;
+                    // a_h for this person where they are; robots do not swerve.
+                    let a_h = if human { accel_at(b.position) } else { 0.0 };
+                    let speed = b.velocity.norm();
+                    Body {
+                        position: b.position,
+                        velocity: b.velocity,
+                        within: ego.radius + b.radius + m,
+                        accel: a_h,
+                        along: if human
+                            && self.params.person_accel_across < self.params.person_accel
+                            && speed >= ACROSS_MIN_SPEED
+                        {
+                            b.velocity / speed
+                        } else {
+                            vec2(0.0, 0.0)
+                        },
+                        accel_across: self.params.person_accel_across.min(if human {
+                            a_h
+                        } else {
+                            self.params.person_accel
+                        }),
+                        halting: if human
+                            && !self.params.people_stop_dead
+                            && a_h > 0.0
+                            && speed <= HALTING_MAX_SPEED
+                        {
+                            a_h
+                        } else {
+                            Real::INFINITY
+                        },
+                        speed,
+                        relevant: [[true; 2]; 2],
+                    }
                 }),
         );
+        self.near = near;
         let r = vec2(reach, reach);
         map.gather(
             ego.position - r,

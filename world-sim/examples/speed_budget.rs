@@ -69,7 +69,7 @@ fn main() {
         let max_speed = scenario.robot.max_speed;
         let mut stacks = stacks_for(&fleet, planner, max_speed);
         let mut shadows = stacks_for(&fleet, planner, max_speed);
-        let mut guards = world_sim::episode::guards(&scenario, robots);
+        let mut guards = world_sim::episode::fleet_guards(&scenario, &fleet);
         let mut commands = vec![Command::STOP; robots];
         let steps = (seconds / fleet.world.dt).round() as u64;
         for _ in 0..steps {

@@ -54,7 +54,7 @@ fn main() {
         .expect("traffic-policy parameters as key=value,…");
     fleet.set_traffic_policy(Some(policy));
     let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
-    let mut guards = world_sim::episode::guards(&scenario, robots);
+    let mut guards = world_sim::episode::fleet_guards(&scenario, &fleet);
     let mut commands = vec![Command::STOP; robots];
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut stalls = Stalls::new(&fleet, 60.0);

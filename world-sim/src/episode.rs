@@ -127,6 +127,17 @@ pub fn guards(scenario: &Scenario, robots: usize) -> Vec<Option<Guard>> {
         .collect()
 }
 
+/// One safety guard per robot of `fleet` when the scenario's robots run the layer, each told
+/// where people turn on the fleet's site (`World::turn_places`).
+pub fn fleet_guards(scenario: &Scenario, fleet: &crate::fleet::Fleet) -> Vec<Option<Guard>> {
+    let places = fleet.world.turn_places();
+    let mut guards = guards(scenario, fleet.robots());
+    for guard in guards.iter_mut().flatten() {
+        guard.set_turn_places(places.clone());
+    }
+    guards
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -297,6 +297,20 @@ impl Site {
             .position(|&(x, half)| (p.x - x).abs() <= half)
     }
 
+    /// Where robots and people stop, turn and set off, as points (degenerate boxes): the
+    /// stations. `None` on a floor plan, whose people walk its router's routes.
+    pub fn turn_places(&self) -> Option<Vec<(Vec2, Vec2)>> {
+        if self.router.is_some() {
+            return None;
+        }
+        Some(
+            self.stations
+                .iter()
+                .map(|s| (s.position, s.position))
+                .collect(),
+        )
+    }
+
     /// How many cross-aisles cross the corridors (none in a hallway).
     pub fn cross_aisle_count(&self) -> usize {
         self.cross_aisles.len()

@@ -194,6 +194,18 @@ impl World {
         self.step += 1;
     }
 
+    /// Where people stop, turn and set off, as boxes (lower and upper corners; points here):
+    /// on a fleet site whose people walk station to station, its stations, where robots dock
+    /// and people arrive and set off again. `None` where people walk to goals anywhere (open
+    /// ground, the fleet hallway) or by a floor plan's routes. What a site's operator would
+    /// mark for the safety layer's field set (`agent::safety::SafetyParams::person_accel_away`).
+    pub fn turn_places(&self) -> Option<Vec<(Vec2, Vec2)>> {
+        self.site
+            .as_ref()
+            .filter(|_| self.people_to_stations)
+            .and_then(Site::turn_places)
+    }
+
     /// When any member of a group arrives, the whole group gets a new goal (PGP paper,
     /// Sec. IV-A), so that nobody stands still on the stage.
     /// In a warehouse, groups walk station to station along corridor routes, moving to the

@@ -81,6 +81,21 @@ pub struct SafetyParams {
     /// over shorter times people stray across harder (4.9 m/s² at 0.4 s on seq_eth), and
     /// under a_⊥ = 2.4 foIGP causes a contact in the seq_eth replay (measured there).
     pub person_accel_across: Real,
+    /// a_h away from the places where people stop and turn (m/s²): a person farther than
+    /// [`turn_reach`](Self::turn_reach) from every such place the site marks (the stations of
+    /// a warehouse whose people walk station to station; `Guard::set_turn_places`) may swerve
+    /// at this much, everyone else at `person_accel`. With no places marked, or at or above
+    /// `person_accel` (the default equals it), the check is as shipped. Opt-in per site. The
+    /// robot-caused contacts that a_h = 2 m/s² everywhere lets through in the fleets were all
+    /// people whose goal had changed 0.3–0.4 s before, turning back or setting off at up to
+    /// 8 m/s² over 0.3 s (results/swerve-allowance, with what this does on tuning and held-out
+    /// seeds).
+    pub person_accel_away: Real,
+    /// How near a place where people stop and turn a person keeps the full a_h (m, along
+    /// each axis from the place's box). 3 m: people turn within about 0.5 m of their goal,
+    /// and the turn is over within about three relaxation times of PySocialForce's people
+    /// (τ = 0.5 s), in which they walk under 2 m.
+    pub turn_reach: Real,
     /// The rollout's time step, at most (s): the check's time resolution; each control
     /// period is cut into as many equal sub-steps as it takes. 50 ms (two per period at
     /// 10 Hz, eight for the replays' 0.4 s): bodies closing at 3 m/s move 15 cm between
@@ -141,6 +156,8 @@ impl SafetyParams {
         within("warning_scale", self.warning_scale, 0.05, 1.0)?;
         within("person_accel", self.person_accel, 0.0, 20.0)?;
         within("person_accel_across", self.person_accel_across, 0.0, 20.0)?;
+        within("person_accel_away", self.person_accel_away, 0.0, 20.0)?;
+        within("turn_reach", self.turn_reach, 0.0, 100.0)?;
         within("check_step", self.check_step, 0.005, 0.5)?;
         within("yield_time", self.yield_time, 0.1, 10.0)?;
         within("yield_clearance", self.yield_clearance, 0.0, 3.0)?;
@@ -174,6 +191,8 @@ impl SafetyParams {
                 "warning_scale" => &mut self.warning_scale,
                 "person_accel" => &mut self.person_accel,
                 "person_accel_across" => &mut self.person_accel_across,
+                "person_accel_away" => &mut self.person_accel_away,
+                "turn_reach" => &mut self.turn_reach,
                 "check_step" => &mut self.check_step,
                 "yield_time" => &mut self.yield_time,
                 "yield_clearance" => &mut self.yield_clearance,
@@ -197,6 +216,8 @@ impl Default for SafetyParams {
             warning_scale: 0.5,
             person_accel: 3.0,
             person_accel_across: 3.0,
+            person_accel_away: 3.0,
+            turn_reach: 3.0,
             check_step: 0.05,
             yield_time: 2.0,
             yield_clearance: 0.2,

@@ -495,18 +495,26 @@ proptest::proptest! {
         proptest::prop_assert!(moving.dot(&velocity) >= 0.0);
     }
 
+    /// Also with a smaller a_h away from a place where people turn
+    /// (`person_accel_away`), the place anywhere near the robot.
     #[test]
     fn every_command_out_is_admissible_with_the_across_bound(
         v in (-1.5..1.5f64, -1.5..1.5f64),
         own in (-1.0..1.0f64, -1.0..1.0f64),
         across in 0.0..3.0f64,
+        away in 0.0..3.0f64,
+        place in (-4.0..4.0f64, -4.0..4.0f64),
         others in proptest::collection::vec(
             (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
     ) {
         let mut layer = SafetyLayer::new(SafetyParams {
             person_accel_across: across,
+            person_accel_away: away,
+            turn_reach: 1.0,
             ..SafetyParams::default()
         });
+        let p = vec2(place.0, place.1);
+        layer.set_turn_places(Some(vec![(p, p)]));
         let bodies = crowd(&others);
         let at = ego(vec2(0.0, 0.0), vec2(own.0, own.1));
         let map = StaticMap::empty();
@@ -517,23 +525,83 @@ proptest::proptest! {
     }
 }
 
+/// A robot driving at full speed and a person 1.3 m to its left walking the other way, on
+/// open ground; and the robot's command to drive on.
+fn walking_past() -> (EgoState, Vec<Neighbour>, StaticMap, Command) {
+    let person = Neighbour::new(1, vec2(1.0, 1.3), vec2(-1.0, 0.0), 0.3, AgentKind::Human);
+    (
+        ego(vec2(0.0, 0.0), vec2(1.0, 0.0)),
+        vec![person],
+        StaticMap::empty(),
+        Command::Velocity(vec2(1.0, 0.0)),
+    )
+}
+
+/// Beside a person walking past, a person farther than `turn_reach` from every place where
+/// robots and people turn may swerve only at `person_accel_away`, and the robot drives on
+/// where the full a_h stops it; within reach of a place, or with no places known, the full
+/// a_h holds.
+#[test]
+fn away_from_where_people_turn_a_person_swerves_less() {
+    let (robot, beside, map, drive_on) = walking_past();
+    let admits = |places: Option<Vec<(Vec2, Vec2)>>| {
+        let mut layer = SafetyLayer::new(SafetyParams {
+            person_accel_away: 1.0,
+            people_stop_dead: true,
+            ..SafetyParams::default()
+        });
+        layer.set_turn_places(places);
+        layer
+            .prepare(&robot, &limits(), &beside, &map)
+            .admits(drive_on)
+    };
+    let far = vec2(20.0, 20.0);
+    assert!(
+        admits(Some(vec![(far, far)])),
+        "away from the place: 1 m/s²"
+    );
+    assert!(!admits(None), "no places known: 3 m/s² everywhere");
+    // A station 3 m along from the person (its box a point): within reach.
+    let near = vec2(4.0, 1.3);
+    assert!(!admits(Some(vec![(near, near)])), "within reach: 3 m/s²");
+    // A line 3.5 m off: out of reach.
+    assert!(admits(Some(vec![(vec2(4.5, -5.0), vec2(4.5, 5.0))])));
+}
+
+proptest::proptest! {
+    /// With no places where robots and people turn known, `person_accel_away` changes nothing: every
+    /// command comes out bit for bit as with the layer's defaults.
+    #[test]
+    fn without_turn_places_the_away_allowance_changes_nothing(
+        v in (-1.5..1.5f64, -1.5..1.5f64),
+        own in (-1.0..1.0f64, -1.0..1.0f64),
+        away in 0.0..3.0f64,
+        others in proptest::collection::vec(
+            (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
+    ) {
+        let bodies = crowd(&others);
+        let at = ego(vec2(0.0, 0.0), vec2(own.0, own.1));
+        let map = StaticMap::empty();
+        let command = Command::Velocity(vec2(v.0, v.1));
+        let mut shipped = SafetyLayer::new(SafetyParams::default());
+        let mut away_set = SafetyLayer::new(SafetyParams {
+            person_accel_away: away,
+            ..SafetyParams::default()
+        });
+        away_set.set_turn_places(None);
+        let a = shipped.prepare(&at, &limits(), &bodies, &map).guard(command);
+        let b = away_set.prepare(&at, &limits(), &bodies, &map).guard(command);
+        proptest::prop_assert_eq!(a, b);
+    }
+}
+
 /// Beside a person walking past, the across bound lets the robot drive on where the round one
 /// stops it; ahead of the person both stop it. (With the person allowed to stop dead where
 /// they are, as before `people_stop_dead` turned off: walking on, they pass the robot before
 /// any swerve reaches it.)
 #[test]
 fn a_person_walking_past_strays_less_across_than_along() {
-    let robot = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
-    // A person 1.3 m to the robot's left, walking the other way.
-    let beside = vec![Neighbour::new(
-        1,
-        vec2(1.0, 1.3),
-        vec2(-1.0, 0.0),
-        0.3,
-        AgentKind::Human,
-    )];
-    let map = StaticMap::empty();
-    let drive_on = Command::Velocity(vec2(1.0, 0.0));
+    let (robot, beside, map, drive_on) = walking_past();
     let admits = |across: Real, bodies: &[Neighbour]| {
         let mut layer = SafetyLayer::new(SafetyParams {
             person_accel_across: across,

@@ -237,7 +237,7 @@ pub fn run_fleet_with(
         fleet.measure_human_impact(window);
     }
     let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
-    let mut guards = crate::episode::guards(scenario, fleet.robots());
+    let mut guards = crate::episode::fleet_guards(scenario, &fleet);
     let steps = (seconds / fleet.world.dt).round() as u64;
     let mut commands = vec![Command::STOP; fleet.robots()];
     let mut stalls = Stalls::new(&fleet, 60.0);

@@ -408,3 +408,25 @@ fn people_give_up_goals_they_stall_short_of_on_fleet_sites() {
     };
     assert_eq!(run(None), run(Some(20.0)));
 }
+
+/// Where people stop and turn: the stations of a warehouse whose people walk station to
+/// station; nowhere in particular where people walk to goals anywhere (the fleet hallway, whose
+/// stations are the robots' alone, and open ground).
+#[test]
+fn turn_places_are_the_stations_people_walk_between() {
+    let world = |name: &str| World::from_scenario(&Scenario::builtin(name).expect("valid"));
+    for name in ["warehouse", "warehouse-narrow"] {
+        let w = world(name);
+        let stations: Vec<_> = w
+            .site()
+            .expect("a site")
+            .stations
+            .iter()
+            .map(|s| (s.position, s.position))
+            .collect();
+        assert!(!stations.is_empty());
+        assert_eq!(w.turn_places(), Some(stations), "{name}");
+    }
+    assert_eq!(world("hallway-fleet").turn_places(), None);
+    assert_eq!(world("open-space").turn_places(), None);
+}
