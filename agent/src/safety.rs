@@ -117,8 +117,9 @@ pub struct SafetyLayer {
     ego_wall: Real,
     /// Its base's limits.
     limits: SafetyLimits,
-    /// The places where robots and people stop and turn, as boxes (lower and upper corners; a
-    /// box may be a line or a point), when the site marks them ([`SafetyParams::person_accel_away`]).
+    /// The places where robots and people stop and turn, as boxes (lower and upper corners;
+    /// a box may be a line or a point), when the site marks them
+    /// ([`SafetyParams::person_accel_away`]).
     turn_places: Option<Vec<(Vec2, Vec2)>>,
 }
 
@@ -264,15 +265,16 @@ impl SafetyLayer {
     }
 
     /// Marks the places where robots and people stop and turn (boxes, lower and upper
-    /// corners), or that none are known (`None`: everyone may swerve at `person_accel`, wherever they are).
+    /// corners), or that none are known (`None`: everyone may swerve at `person_accel`,
+    /// wherever they are).
     pub fn set_turn_places(&mut self, places: Option<Vec<(Vec2, Vec2)>>) {
         self.turn_places = places;
     }
 
     /// a_h for a person at `p`: [`SafetyParams::person_accel_away`] when the site marks the
-    /// places where robots and people turn and `p` is farther than [`SafetyParams::turn_reach`] from
-    /// every one of them (along either axis), else `person_accel`. Never more than
-    /// `person_accel`.
+    /// places where robots and people turn and `p` is farther than
+    /// [`SafetyParams::turn_reach`] from every one of them (along either axis), else
+    /// `person_accel`. Never more than `person_accel`.
     fn person_accel_at(&self, p: Vec2) -> Real {
         let full = self.params.person_accel;
         let away = self.params.person_accel_away;

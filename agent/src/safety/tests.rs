@@ -569,8 +569,8 @@ fn away_from_where_people_turn_a_person_swerves_less() {
 }
 
 proptest::proptest! {
-    /// With no places where robots and people turn known, `person_accel_away` changes nothing: every
-    /// command comes out bit for bit as with the layer's defaults.
+    /// With no places where robots and people turn known, `person_accel_away` changes
+    /// nothing: every command comes out bit for bit as with the layer's defaults.
     #[test]
     fn without_turn_places_the_away_allowance_changes_nothing(
         v in (-1.5..1.5f64, -1.5..1.5f64),
