@@ -506,6 +506,19 @@ impl Message for MapMsg {
         for s in &self.stations {
             finite_p("stations.p", &s.p)?;
         }
+        if let Some(places) = &self.turn_places {
+            bounded("turn_places", places.len(), MAX_OBSTACLES)?;
+            for [lo, hi] in places {
+                finite_p("turn_places", lo)?;
+                finite_p("turn_places", hi)?;
+                if lo.0 > hi.0 || lo.1 > hi.1 {
+                    return Err(DecodeError::Invalid {
+                        field: "turn_places",
+                        reason: "a box's lower corner must not exceed its upper one",
+                    });
+                }
+            }
+        }
         finite_p("bounds", &self.bounds[0])?;
         finite_p("bounds", &self.bounds[1])
     }

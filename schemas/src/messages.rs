@@ -456,4 +456,11 @@ pub struct MapMsg {
     pub stations: Vec<StationMsg>,
     /// Axis-aligned bounds `[min, max]` of the site.
     pub bounds: [P2; 2],
+    /// Where the site's people stop, turn and set off, as boxes `[min, max]` (points where
+    /// min = max): on a site whose people walk station to station, its stations. The safety
+    /// layer lets a person farther from all of them swerve less hard
+    /// (`agent::safety::SafetyParams::person_accel_away`). Absent from older senders and where
+    /// people walk to goals anywhere: then every person keeps the full allowance.
+    #[serde(default)]
+    pub turn_places: Option<Vec<[P2; 2]>>,
 }

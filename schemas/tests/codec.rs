@@ -616,6 +616,62 @@ fn agent_info_without_the_map_fields_decodes() {
     assert_eq!((info.plans, info.maps, info.map_version), (10, 0, 0));
 }
 
+/// A coordinator from before `turn_places` still serves its map: it reads as no places marked.
+#[test]
+fn a_map_without_turn_places_decodes() {
+    #[derive(Serialize)]
+    struct OlderMap {
+        map_version: u32,
+        obstacles: Vec<ObstacleMsg>,
+        stations: Vec<StationMsg>,
+        bounds: [P2; 2],
+    }
+    let m = map();
+    let older = OlderMap {
+        map_version: m.map_version,
+        obstacles: m.obstacles.clone(),
+        stations: m.stations.clone(),
+        bounds: m.bounds,
+    };
+    let decoded = decode::<MapMsg>(&with_version(SCHEMA_VERSION, &older)).expect("decodes");
+    assert_eq!(
+        decoded,
+        MapMsg {
+            turn_places: None,
+            ..m
+        }
+    );
+}
+
+/// A turn place must be a finite box within the coordinate bounds, lower corner first.
+#[test]
+fn bad_turn_places_are_rejected() {
+    let with = |place: [P2; 2]| {
+        let mut m = map();
+        m.turn_places = Some(vec![place]);
+        decode::<MapMsg>(&encode(&m))
+    };
+    assert_eq!(
+        with([P2(f64::NAN, 0.0), P2(1.0, 1.0)]),
+        Err(DecodeError::NonFinite("turn_places"))
+    );
+    assert!(matches!(
+        with([P2(0.0, 0.0), P2(2e6, 1.0)]),
+        Err(DecodeError::Invalid {
+            field: "turn_places",
+            ..
+        })
+    ));
+    assert!(matches!(
+        with([P2(3.0, 0.0), P2(1.0, 1.0)]),
+        Err(DecodeError::Invalid {
+            field: "turn_places",
+            ..
+        })
+    ));
+    assert!(with([P2(1.0, 0.0), P2(3.0, 1.0)]).is_ok());
+}
+
 fn robot_state() -> RobotState {
     RobotState {
         p: P2(3.0, -2.5),

@@ -1,8 +1,10 @@
 //! Fleet traffic, measured: stuck robots, the wait-for graph between robots, and deadlocks
 //! (cycles in that graph that last).
 //!
-//! - A robot is **stuck** when it has a task and the route it has left to drive has not
-//!   shrunk by [`TrafficParams::progress_m`] for [`TrafficParams::stuck_after_s`].
+//! - A robot is **stuck** when it has a task and for [`TrafficParams::stuck_after_s`] the
+//!   route it has left to drive has not come [`TrafficParams::progress_m`] below the shortest
+//!   it has been on this leg: a detour that lengthens the route counts as no progress until
+//!   the robot is nearer than before it.
 //! - Robot i **waits on** robot j when i has a task and is (nearly) stopped, and j is in its
 //!   way: in i's line of sight, within [`TrafficParams::blocking_gap_m`] of i (surface to
 //!   surface) and ahead of i (within [`TrafficParams::blocking_cone_rad`] of the direction to

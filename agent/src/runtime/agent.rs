@@ -244,11 +244,14 @@ impl<'s> Agent<'s> {
         )
         .await;
         match fetched {
-            Ok(Ok((version, m, stations))) => {
+            Ok(Ok(fetched)) => {
                 self.counters.maps.fetch_add(1, Ordering::Relaxed);
                 // The site's stations are where its people go: foIGP's intents.
-                self.stack.set_destinations(&stations);
-                self.map = Some((version, m));
+                self.stack.set_destinations(&fetched.stations);
+                if let Some(guard) = &mut self.guard {
+                    guard.set_turn_places(fetched.turn_places);
+                }
+                self.map = Some((fetched.version, fetched.map));
             }
             Ok(Err(e)) => tracing::warn!(robot = self.id, "no map yet: {e}"),
             Err(_) => tracing::warn!(robot = self.id, "no map yet: the query timed out"),
@@ -600,13 +603,23 @@ async fn safe_stop(
     }
 }
 
-/// The map of version `want` (the one the coordinator's observations name) and the site's
-/// stations: a reply with another version is skipped, whoever sent it.
+/// A site's map as an agent takes it from the coordinator.
+struct FetchedMap {
+    version: u32,
+    map: StaticMap,
+    /// Where people go: foIGP's intents.
+    stations: Vec<Vec2>,
+    /// Where people stop and turn, for the safety layer.
+    turn_places: Option<Vec<(Vec2, Vec2)>>,
+}
+
+/// The map of version `want` (the one the coordinator's observations name), the site's
+/// stations and turn places: a reply with another version is skipped, whoever sent it.
 async fn fetch_map(
     session: &zenoh::Session,
     keys: &Keys,
     want: u32,
-) -> Result<(u32, StaticMap, Vec<Vec2>), MapFetchError> {
+) -> Result<FetchedMap, MapFetchError> {
     let replies = session
         .get(keys.map())
         .timeout(MAP_QUERY_TIMEOUT)
@@ -623,9 +636,12 @@ async fn fetch_map(
                     };
                 }
                 Ok(msg) => {
-                    let map = wire::map_from_wire(&msg)?;
-                    let stations = msg.stations.iter().map(|s| wire::vec(s.p)).collect();
-                    return Ok((msg.map_version, map, stations));
+                    return Ok(FetchedMap {
+                        version: msg.map_version,
+                        map: wire::map_from_wire(&msg)?,
+                        stations: msg.stations.iter().map(|s| wire::vec(s.p)).collect(),
+                        turn_places: wire::turn_places_from_wire(&msg),
+                    });
                 }
                 Err(e) => last_error = e.into(),
             },

@@ -207,7 +207,16 @@ pub fn map_to_wire(
             .collect(),
         stations,
         bounds: [p2(bounds[0]), p2(bounds[1])],
+        turn_places: None,
     }
+}
+
+/// The places a wire map marks where people stop and turn (`MapMsg::turn_places`), as the
+/// safety layer takes them (`Guard::set_turn_places`).
+pub fn turn_places_from_wire(msg: &MapMsg) -> Option<Vec<(Vec2, Vec2)>> {
+    msg.turn_places
+        .as_ref()
+        .map(|places| places.iter().map(|[lo, hi]| (vec(*lo), vec(*hi))).collect())
 }
 
 /// A wire map as a static map (fails on degenerate geometry the decoder cannot see).

@@ -113,7 +113,14 @@ fn unversioned_map(fleet: &Fleet) -> schemas::MapMsg {
         })
         .collect();
     let map: &StaticMap = fleet.robot_map();
-    wire::map_to_wire(map, 0, stations, [site.origin, site.origin + site.size])
+    let mut msg = wire::map_to_wire(map, 0, stations, [site.origin, site.origin + site.size]);
+    msg.turn_places = fleet.world.turn_places().map(|places| {
+        places
+            .into_iter()
+            .map(|(lo, hi)| [wire::p2(lo), wire::p2(hi)])
+            .collect()
+    });
+    msg
 }
 
 /// The fleet metrics frame published once per simulated second: `summary`'s fleet-wide
@@ -206,6 +213,25 @@ mod tests {
         let mut moved = msg.clone();
         moved.bounds[1].0 += 0.01;
         assert_ne!(map_version(&moved), msg.map_version);
+    }
+
+    /// Agents are served the places where people turn that in-process fleets mark
+    /// (`world_sim::episode::fleet_guards`): a warehouse's stations, none in the hallway fleet.
+    #[test]
+    fn agents_are_served_the_places_where_people_turn() {
+        let served = |name: &str| {
+            let scenario = Scenario::builtin(name).expect("built in");
+            let fleet = Fleet::new(&scenario).expect("a fleet site");
+            let msg = map_message(&fleet);
+            (
+                agent::runtime::wire::turn_places_from_wire(&msg),
+                fleet.world.turn_places(),
+            )
+        };
+        let (places, in_process) = served("warehouse");
+        assert_eq!(places, in_process);
+        assert!(places.is_some_and(|p| !p.is_empty()));
+        assert_eq!(served("hallway-fleet"), (None, None));
     }
 
     /// On a floor plan with a keep-out mask, agents are served the robots' map: the zone is

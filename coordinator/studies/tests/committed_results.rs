@@ -175,10 +175,13 @@ fn traffic_rows_are_the_committed_rows() {
 }
 
 /// These studies were committed while the safety layer let people stop dead from walking
-/// speed (`SafetyParams::people_stop_dead`, on until results/halting): their runs reproduce
-/// with it on.
+/// speed (`SafetyParams::people_stop_dead`, on until results/halting) and swerve at a_h
+/// everywhere (`person_accel_away`, 2 m/s² away from a warehouse's stations since
+/// results/swerve-allowance): their runs reproduce with both as they were.
 fn stopping_dead(scenario: &mut Scenario) {
-    scenario.robot.safety_layer.people_stop_dead = true;
+    let layer = &mut scenario.robot.safety_layer;
+    layer.people_stop_dead = true;
+    layer.person_accel_away = layer.person_accel;
 }
 
 /// Every row of `ours` (a runs.csv with its header) is a line of `results/<dir>/runs.csv`,

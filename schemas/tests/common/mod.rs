@@ -188,5 +188,6 @@ pub fn map() -> MapMsg {
             p: P2(2.0, 2.0),
         }],
         bounds: [P2(0.0, 0.0), P2(10.0, 10.0)],
+        turn_places: Some(vec![[P2(2.0, 2.0), P2(2.0, 2.0)]]),
     }
 }
