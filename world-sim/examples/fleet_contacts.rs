@@ -8,8 +8,13 @@
 //!         [SECONDS [PLANNER [LAYER]]]
 //!
 //! SITE is a built-in fleet scenario; LAYER is the layer's parameters to
-//! change, `key=value,…` (`person_accel=2`). The last line has the run's totals: robot-caused
-//! contacts, the other contacts with people (a person walked into the robot), and tasks.
+//! change, `key=value,…` (`person_accel=2`). Each other contact with a person (the person
+//! walked into the robot) gets a line too, `other`: where the robot stood (aisle, cross-aisle,
+//! near a station, corridor), how fast it moved, whether it stood within 1.5 m of a station
+//! and whether the person was walking to that station, and which of the layer's fields acted
+//! on the robot's command that step and in the 2 s before (C clear, W warning, P protective,
+//! Y yield, one letter a step). The last lines tally those, then give
+//! the run's totals: robot-caused contacts, the other contacts with people, and tasks.
 
 use agent::math::{Real, Vec2};
 use agent::model::Command;
@@ -18,7 +23,11 @@ use std::collections::VecDeque;
 use world_sim::fleet::{Fleet, drive, stacks};
 use world_sim::metrics::{ContactCause, contact_cause};
 use world_sim::scenario::Scenario;
+use world_sim::stuck::Places;
 use world_sim::traffic_policy::PolicyParams;
+
+/// "At a station": a robot within this distance of one (m), about a body and a half.
+const AT_STATION_M: Real = 1.5;
 
 /// How many steps of people's motion are kept (2 s at 0.1 s).
 const HISTORY_STEPS: usize = 20;
@@ -56,8 +65,46 @@ fn main() {
     let mut goals = fleet.world.humans.crowd.goals.clone();
     let mut goal_since = vec![Real::NEG_INFINITY; people];
     let (mut caused, mut other) = (0_u64, 0_u64);
+    let places = Places::new(fleet.site());
+    // Other contacts by where the robot stood, by its speed, and at a station.
+    let mut by_place = std::collections::BTreeMap::<String, u64>::new();
+    let mut by_speed = [0_u64; 3];
+    let (mut at_station, mut to_that_station) = (0_u64, 0_u64);
+    let mut zone_history = vec![String::new(); robots];
     for _ in 0..(seconds / dt).round() as u64 {
+        let counts = |guards: &[Option<agent::guard::Guard>]| -> Vec<[u64; 3]> {
+            guards
+                .iter()
+                .map(|g| {
+                    g.as_ref()
+                        .map_or([0; 3], |g| [g.warned, g.protective, g.yielded])
+                })
+                .collect()
+        };
+        let before = counts(&guards);
+        let was = std::mem::take(&mut zone_history);
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
+        // Which field of the layer acted on each robot's command this step.
+        let zones: Vec<&str> = counts(&guards)
+            .iter()
+            .zip(&before)
+            .map(
+                |(after, before)| match (0..3).find(|&k| after[k] > before[k]) {
+                    Some(0) => "warning",
+                    Some(1) => "protective",
+                    Some(_) => "yield",
+                    None => "clear",
+                },
+            )
+            .collect();
+        // Each robot's fields over the last 2 s, oldest first, one letter a step.
+        zone_history = was;
+        for (history, zone) in zone_history.iter_mut().zip(&zones) {
+            if history.len() == HISTORY_STEPS {
+                history.remove(0);
+            }
+            history.push(zone.chars().next().unwrap_or('?').to_ascii_uppercase());
+        }
         let w = &fleet.world;
         let crowd = &w.humans.crowd;
         for (h, goal) in crowd.goals.iter().enumerate() {
@@ -113,12 +160,49 @@ fn main() {
                         );
                     } else {
                         other += 1;
+                        let at = r.state.position;
+                        let place = format!("{:?}", places.of(at));
+                        *by_place.entry(place.clone()).or_default() += 1;
+                        let speed = r.state.velocity.norm();
+                        by_speed[usize::from(speed >= 0.05) + usize::from(speed >= 0.3)] += 1;
+                        let station = fleet
+                            .site()
+                            .stations
+                            .iter()
+                            .map(|s| s.position)
+                            .find(|s| (s - at).norm() <= AT_STATION_M);
+                        let walking_to_it =
+                            station.is_some_and(|s| (crowd.goals[h] - s).norm() <= AT_STATION_M);
+                        at_station += u64::from(station.is_some());
+                        to_that_station += u64::from(walking_to_it);
+                        // Where the person came from, in the robot's motion: ahead (cos > 0.5),
+                        // behind (< -0.5) or beside; and whether they walked the robot's way.
+                        let line = (p - at).normalize();
+                        let side = match r.state.velocity.try_normalize(1e-9) {
+                            Some(d) if d.dot(&line) > 0.5 => "ahead",
+                            Some(d) if d.dot(&line) < -0.5 => "behind",
+                            Some(_) => "beside",
+                            None => "standing",
+                        };
+                        let same_way = r.state.velocity.dot(&crowd.velocities[h]) > 0.0;
+                        println!(
+                            "other t {:5.1} robot {i} person {h}: {place}, robot speed {speed:.2}, person speed {:.2}, the person {side}, walking the robot's way {same_way}, at a station {}, the person walking to it {walking_to_it}, the layer {} (last 2 s: {})",
+                            w.time,
+                            crowd.velocities[h].norm(),
+                            station.is_some(),
+                            zones[i],
+                            zone_history[i]
+                        );
                     }
                 }
                 *touching = now;
             }
         }
     }
+    println!(
+        "other contacts by place {by_place:?}; robot standing (< 0.05 m/s) {}, slow (< 0.3) {}, moving {}; at a station {at_station}, the person walking to it {to_that_station}",
+        by_speed[0], by_speed[1], by_speed[2]
+    );
     println!(
         "{name} seed {seed}: {caused} robot-caused, {other} other contacts with people, {} tasks",
         (0..robots).map(|i| fleet.tasks_done(i)).sum::<u64>()
