@@ -13,8 +13,8 @@
 //! near a station, corridor), how fast it moved, whether it stood within 1.5 m of a station
 //! and whether the person was walking to that station, and which of the layer's fields acted
 //! on the robot's command that step and in the 2 s before (C clear, W warning, P protective,
-//! Y yield, one letter a step). The last lines tally those, then give
-//! the run's totals: robot-caused contacts, the other contacts with people, and tasks.
+//! Y yield, one letter a step); `results/person-caused/tally.py` adds them up. The last line
+//! has the run's totals: robot-caused contacts, the other contacts with people, and tasks.
 
 use agent::math::{Real, Vec2};
 use agent::model::Command;
@@ -66,10 +66,6 @@ fn main() {
     let mut goal_since = vec![Real::NEG_INFINITY; people];
     let (mut caused, mut other) = (0_u64, 0_u64);
     let places = Places::new(fleet.site());
-    // Other contacts by where the robot stood, by its speed, and at a station.
-    let mut by_place = std::collections::BTreeMap::<String, u64>::new();
-    let mut by_speed = [0_u64; 3];
-    let (mut at_station, mut to_that_station) = (0_u64, 0_u64);
     let mut zone_history = vec![String::new(); robots];
     for _ in 0..(seconds / dt).round() as u64 {
         let counts = |guards: &[Option<agent::guard::Guard>]| -> Vec<[u64; 3]> {
@@ -82,7 +78,6 @@ fn main() {
                 .collect()
         };
         let before = counts(&guards);
-        let was = std::mem::take(&mut zone_history);
         drive(&mut fleet, &mut stacks, &mut guards, &mut commands);
         // Which field of the layer acted on each robot's command this step.
         let zones: Vec<&str> = counts(&guards)
@@ -98,7 +93,6 @@ fn main() {
             )
             .collect();
         // Each robot's fields over the last 2 s, oldest first, one letter a step.
-        zone_history = was;
         for (history, zone) in zone_history.iter_mut().zip(&zones) {
             if history.len() == HISTORY_STEPS {
                 history.remove(0);
@@ -162,9 +156,7 @@ fn main() {
                         other += 1;
                         let at = r.state.position;
                         let place = format!("{:?}", places.of(at));
-                        *by_place.entry(place.clone()).or_default() += 1;
                         let speed = r.state.velocity.norm();
-                        by_speed[usize::from(speed >= 0.05) + usize::from(speed >= 0.3)] += 1;
                         let station = fleet
                             .site()
                             .stations
@@ -173,8 +165,6 @@ fn main() {
                             .find(|s| (s - at).norm() <= AT_STATION_M);
                         let walking_to_it =
                             station.is_some_and(|s| (crowd.goals[h] - s).norm() <= AT_STATION_M);
-                        at_station += u64::from(station.is_some());
-                        to_that_station += u64::from(walking_to_it);
                         // Where the person came from, in the robot's motion: ahead (cos > 0.5),
                         // behind (< -0.5) or beside; and whether they walked the robot's way.
                         let line = (p - at).normalize();
@@ -199,10 +189,6 @@ fn main() {
             }
         }
     }
-    println!(
-        "other contacts by place {by_place:?}; robot standing (< 0.05 m/s) {}, slow (< 0.3) {}, moving {}; at a station {at_station}, the person walking to it {to_that_station}",
-        by_speed[0], by_speed[1], by_speed[2]
-    );
     println!(
         "{name} seed {seed}: {caused} robot-caused, {other} other contacts with people, {} tasks",
         (0..robots).map(|i| fleet.tasks_done(i)).sum::<u64>()
