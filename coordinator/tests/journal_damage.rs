@@ -112,10 +112,7 @@ fn drive(
         if (tick + 1).is_multiple_of(journal::FINGERPRINT_EVERY) {
             input.fingerprint = Some(journal::fingerprint(&fleet));
         }
-        sink.tick(input);
-        for event in events {
-            sink.task(tick, event);
-        }
+        sink.tick(input, &events);
         if (tick + 1).is_multiple_of(snapshot_every) {
             sink.snapshot(tick + 1, fleet.clone());
         }

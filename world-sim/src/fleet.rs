@@ -506,10 +506,12 @@ impl Fleet {
             .iter()
             .zip(&self.route_scratch)
             .zip(&self.jobs)
-            .map(|((r, route), job)| PolicyRobot {
+            .zip(&self.held)
+            .map(|(((r, route), job), &held)| PolicyRobot {
                 position: r.state.position,
                 route,
                 station: job.as_ref().map(Job::station),
+                held,
             })
             .collect();
         self.policy_events = policy.step(self.world.time, &robots, &self.traffic);

@@ -120,6 +120,10 @@ pub struct PolicyRobot<'a> {
     pub route: &'a [Vec2],
     /// The station its route ends at (the site's station index), `None` when idle.
     pub station: Option<usize>,
+    /// Whether the coordinator holds it where it stands (no agent, or a real robot whose
+    /// reports stopped): it keeps its task, but no station line holds it or waits for it,
+    /// and it is never the one sent to back off.
+    pub held: bool,
 }
 
 /// What the policy asks of one robot now.

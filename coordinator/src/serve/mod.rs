@@ -420,10 +420,7 @@ impl Coordinator<'_> {
             if (tick + 1).is_multiple_of(journal::FINGERPRINT_EVERY) {
                 input.fingerprint = Some(journal::fingerprint(&self.fleet));
             }
-            journal.tick(input);
-            for event in &events {
-                journal.task(tick, *event);
-            }
+            journal.tick(input, &events);
             let ran = tick + 1;
             if ran.is_multiple_of(self.snapshot_every) {
                 journal.snapshot(ran, self.fleet.clone());

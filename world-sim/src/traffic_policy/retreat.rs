@@ -38,7 +38,9 @@ impl TrafficPolicy {
                 });
                 clear.then_some(to)
             };
-            let mut order: Vec<usize> = cycle.clone();
+            // A held robot cannot move: it is never the one sent back.
+            let mut order: Vec<usize> =
+                cycle.iter().copied().filter(|&i| !robots[i].held).collect();
             // Lowest priority first: not holding a segment, then the highest index.
             order.sort_by_key(|&i| (holds(i), std::cmp::Reverse(i)));
             let Some((loser, to)) =

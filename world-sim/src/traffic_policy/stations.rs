@@ -30,7 +30,11 @@ impl TrafficPolicy {
             let Some(line) = line else {
                 continue;
             };
-            let bound_here = |i: usize| robots[i].station == Some(s);
+            // A held robot is in no line: one lost on its way to the station, or leaving it,
+            // would keep the station from everyone else for as long as it is lost (robots
+            // stood in line for good behind a lost holder: `lost_robots` example, warehouse,
+            // 4 robots, seed 3).
+            let bound_here = |i: usize| robots[i].station == Some(s) && !robots[i].held;
             let at = self.lanes.site.stations[s].position;
             let near = |i: usize| (robots[i].position - at).norm() <= self.params.station_clear_m;
             if let Some(h) = line.holder.filter(|&h| !bound_here(h)) {
@@ -39,7 +43,7 @@ impl TrafficPolicy {
             }
             line.leaving = line
                 .leaving
-                .filter(|&l| near(l) && !bound_here(l) && !in_line[l]);
+                .filter(|&l| near(l) && !bound_here(l) && !in_line[l] && !robots[l].held);
             line.waiting
                 .retain(|&(i, _)| bound_here(i) && wants[i].is_none() && Some(i) != line.holder);
         }
@@ -60,7 +64,7 @@ impl TrafficPolicy {
         let furthest =
             self.params.queue_back_m + 3.0 * taken.len() as Real * self.queue_spacing + stop_short;
         for (i, r) in robots.iter().enumerate() {
-            let Some(s) = r.station else {
+            let Some(s) = r.station.filter(|_| !r.held) else {
                 continue;
             };
             let Some(line) = self.lines.get(s).and_then(Option::as_ref) else {

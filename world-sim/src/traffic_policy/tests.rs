@@ -73,16 +73,19 @@ fn one_direction_at_a_time_and_the_waiting_side_goes_next() {
             position: west,
             route: &route_east,
             station: None,
+            held: false,
         },
         PolicyRobot {
             position: east + vec2(3.0, 0.0),
             route: &route_west,
             station: None,
+            held: false,
         },
         PolicyRobot {
             position: west - vec2(6.0, 0.0),
             route: &route_east,
             station: None,
+            held: false,
         },
     ];
     let events = step(&mut policy, 0.1, &robots);
@@ -137,6 +140,7 @@ fn a_robot_alone_in_its_aisle_with_nobody_near_may_leave_by_either_end() {
         position: vec2(x, s.y),
         route: &route,
         station: None,
+        held: false,
     };
     // The way out of robot 0 at x0 + 6 m, eastbound, with `others` in the segment behind it
     // and `people` about.
@@ -201,6 +205,7 @@ fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
         position: vec2(x, 1.5),
         route: &route,
         station: Some(dock.id),
+        held: false,
     });
     let events = step(&mut policy, 0.1, &robots);
     assert!(events.contains(&PolicyEvent::StationGranted {
@@ -257,6 +262,71 @@ fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
     }
 }
 
+/// A held robot (lost, or without an agent) is in no station line: the station its lost
+/// holder was bound for, or was leaving, passes to the robot waiting in line, and the held
+/// robot does not join a line while held. Released, it asks again like anyone.
+#[test]
+fn a_held_robot_keeps_no_station_from_the_others() {
+    let site = Site::hallway(40.0, 3.0, 3);
+    let dock = site.stations[0];
+    let route = [dock.position];
+    // The holder is lost on its way to the dock.
+    let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
+    let mut robots = [5.0, 6.5].map(|x| PolicyRobot {
+        position: vec2(x, 1.5),
+        route: &route,
+        station: Some(dock.id),
+        held: false,
+    });
+    step(&mut policy, 0.1, &robots);
+    assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
+    assert!(matches!(policy.constraint(1), Constraint::Queue { .. }));
+    robots[0].held = true;
+    let events = step(&mut policy, 0.2, &robots);
+    assert!(
+        events.contains(&PolicyEvent::StationGranted {
+            robot: 1,
+            station: dock.id
+        }),
+        "{events:?}"
+    );
+    assert!(policy.wait_edges().is_empty(), "{:?}", policy.wait_edges());
+    // Released, it is in line again: nearer to the dock than the holder, it takes the dock
+    // over (as anyone in line ahead of the holder does) and the holder waits.
+    robots[0].held = false;
+    step(&mut policy, 0.3, &robots);
+    assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
+    assert!(matches!(policy.constraint(1), Constraint::Queue { .. }));
+    // The holder is lost beside the dock it has just left: the dock is granted at once,
+    // not once it has moved away (it will not).
+    let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
+    let far = [site.stations[3].position];
+    let mut robots = [5.0, 6.5].map(|x| PolicyRobot {
+        position: vec2(x, 1.5),
+        route: &route,
+        station: Some(dock.id),
+        held: false,
+    });
+    step(&mut policy, 0.1, &robots);
+    robots[0].position = dock.position;
+    robots[0].route = &far;
+    robots[0].station = Some(3);
+    step(&mut policy, 0.2, &robots);
+    assert_eq!(
+        policy.station_line(dock.id).and_then(|l| l.leaving),
+        Some(0)
+    );
+    robots[0].held = true;
+    let events = step(&mut policy, 0.3, &robots);
+    assert!(
+        events.contains(&PolicyEvent::StationGranted {
+            robot: 1,
+            station: dock.id
+        }),
+        "{events:?}"
+    );
+}
+
 /// In a corridor wide enough for two, the goal leads along the right-hand lane, and more
 /// steeply toward it from the oncoming lane.
 #[test]
@@ -269,6 +339,7 @@ fn keep_right_in_wide_corridors() {
         position: vec2(30.0, 1.5),
         route: &route,
         station: None,
+        held: false,
     };
     let lane = policy.lane(&r).expect("a lane");
     assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
@@ -278,6 +349,7 @@ fn keep_right_in_wide_corridors() {
         position: vec2(30.0, 0.6),
         route: &route,
         station: None,
+        held: false,
     };
     let lane = policy.lane(&across).expect("a lane");
     assert!((lane - vec2(29.0, 2.25)).norm() < 1e-9, "{lane:?}");
@@ -286,6 +358,7 @@ fn keep_right_in_wide_corridors() {
         position: vec2(8.0, 1.5),
         route: &route,
         station: None,
+        held: false,
     };
     assert_eq!(policy.lane(&near), None);
 }
@@ -306,16 +379,19 @@ fn a_robot_against_the_flow_stops_entries_and_turns_round() {
             position: vec2(s.x0 + 2.0, s.y),
             route: &route_east,
             station: None,
+            held: false,
         },
         PolicyRobot {
             position: vec2(s.x0 + 6.0, s.y),
             route: &route_west,
             station: None,
+            held: false,
         },
         PolicyRobot {
             position: vec2(s.x0 - 1.0, s.y),
             route: &route_east,
             station: None,
+            held: false,
         },
     ];
     step(&mut policy, 0.1, &robots);
@@ -364,6 +440,7 @@ fn places_in_line_stay_in_the_hallway() {
         position: vec2(x, y),
         route: &route,
         station: Some(pick.id),
+        held: false,
     })
     .to_vec();
     step(&mut policy, 0.1, &robots);
@@ -399,11 +476,13 @@ fn a_robot_refused_late_backs_up_out_of_the_crossing() {
             position: vec2(s.x0 + 4.0, s.y),
             route: &out_west,
             station: None,
+            held: false,
         },
         PolicyRobot {
             position: vec2(x, s.y - 1.0),
             route: &into,
             station: None,
+            held: false,
         },
     ];
     step(&mut policy, 0.1, &robots);
@@ -434,6 +513,7 @@ fn a_robot_in_line_ahead_of_the_holder_takes_the_station() {
         position: vec2(x, 1.5),
         route: &route,
         station: Some(dock.id),
+        held: false,
     });
     step(&mut policy, 0.1, &robots);
     assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
@@ -481,6 +561,7 @@ fn a_robot_with_a_robot_behind_it_backs_off_to_the_side() {
         position: vec2(x, at),
         route: route.as_slice(),
         station: None,
+        held: false,
     });
     let views = standing(&robots, radius, &[20.0; 4]);
     let map = site.map();
@@ -536,6 +617,7 @@ fn a_robot_joins_a_long_line_at_its_tail() {
         position: vec2(dock.position.x + x, dock.position.y),
         route: &route,
         station: Some(dock.id),
+        held: false,
     });
     step(&mut policy, 0.1, &robots);
     step(&mut policy, 0.2, &robots);
@@ -580,6 +662,7 @@ fn a_bystander_joining_a_cycle_does_not_hold_the_retreat_back() {
         position,
         route: route.as_slice(),
         station: None,
+        held: false,
     });
     let views = standing(&robots, 0.3, &[20.0; 3]);
     let map = site.map();
@@ -624,6 +707,7 @@ fn robots_knotted_both_ways_in_a_hallway_let_one_direction_pass() {
         position,
         route: route.as_slice(),
         station: None,
+        held: false,
     });
     // Policy steps `from`..=`to` (× 0.1 s), robot 2 and robot 0 waiting on each other too;
     // the give-way and retreat events.
@@ -737,12 +821,14 @@ fn a_robot_waiting_long_at_a_blocked_segment_goes_round_to_the_far_end() {
             position: vec2(s.x1 - 0.5, s.y),
             route: &through,
             station: None,
+            held: false,
         },
         // In the east cross-aisle, below the mouth, bound for the pick: west, against it.
         PolicyRobot {
             position: vec2(east_x, s.y - 2.0),
             route: &in_from_east,
             station: Some(pick.id),
+            held: false,
         },
     ];
     // Robot 0 makes progress (its route left shrinks 0.1 m a step), or none.
@@ -787,12 +873,14 @@ fn a_robot_waiting_long_at_a_blocked_segment_goes_round_to_the_far_end() {
             position: vec2(s.x1 - 0.5, s.y),
             route: &west_route,
             station: None,
+            held: false,
         },
         robots[1],
         PolicyRobot {
             position: vec2(west_x, s.y - 2.0),
             route: &[vec2(west_x, s.y), east_route[0]],
             station: None,
+            held: false,
         },
     ];
     for k in 1..=200 {
@@ -851,6 +939,7 @@ fn a_robot_waits_at_the_mouth_while_someone_walks_out_toward_it() {
         position: vec2(s.x0 - 1.0, s.y),
         route: &route,
         station: None,
+        held: false,
     }];
     let middle = vec2(0.5 * (s.x0 + s.x1), s.y);
     let held = |params: PolicyParams, person: (Vec2, Vec2)| {
@@ -891,11 +980,13 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
             position: vec2(s.x0 + 4.5, s.y),
             route: &route,
             station: None,
+            held: false,
         },
         PolicyRobot {
             position: lead,
             route: &route,
             station: None,
+            held: false,
         },
     ];
     // The turns robot 0 and robot 1 were given at each of the steps 0, 5, 10 s.
@@ -942,6 +1033,7 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
         robots[0],
         PolicyRobot {
             station: Some(station),
+            held: false,
             ..robots[1]
         },
     ];
@@ -956,6 +1048,7 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
     let bound_further = [
         PolicyRobot {
             station: Some(further),
+            held: false,
             ..robots[0]
         },
         robots[1],
@@ -980,6 +1073,7 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
         position: vec2(s.x0 - 2.0, s.y),
         route: &route,
         station: None,
+        held: false,
     });
     let mut policy = TrafficPolicy::new(&site, 3, radius, params);
     for now in [0.0, 5.0, 10.0] {

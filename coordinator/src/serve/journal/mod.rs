@@ -85,10 +85,11 @@ pub const FINGERPRINT_EVERY: u64 = 100;
 
 #[derive(Debug)]
 enum Record {
-    Tick(TickInput),
+    /// A tick's inputs and the task steps it made, for the ledger: one record, so that one
+    /// commit holds both (a crash between them would leave a tick whose steps a restart
+    /// re-makes but the ledger never sees).
+    Tick(TickInput, Vec<FleetEvent>),
     Event(EventRecord),
-    /// A task's step at a tick, for the ledger.
-    Task(u64, FleetEvent),
     /// The fleet after this many ticks, encoded by the writer.
     Snapshot(u64, Box<Fleet>),
     End(End),
@@ -327,14 +328,10 @@ impl JournalSink {
         }
     }
 
-    /// Records one tick's inputs.
-    pub fn tick(&self, input: TickInput) {
-        self.send(Record::Tick(input));
-    }
-
-    /// Records a task's step (assigned, picked, done) at `tick` in the ledger.
-    pub fn task(&self, tick: u64, event: FleetEvent) {
-        self.send(Record::Task(tick, event));
+    /// Records one tick's inputs and the task steps (assigned, picked, done) it made, for the
+    /// ledger.
+    pub fn tick(&self, input: TickInput, events: &[FleetEvent]) {
+        self.send(Record::Tick(input, events.to_vec()));
     }
 
     /// Records the fleet after `ticks` ticks (a copy: the writer encodes it).
@@ -534,7 +531,7 @@ fn write_loop(
             let mut tasks = txn.open_table(TASKS).map_err(db_err(path, "open tasks"))?;
             for record in batch {
                 match record {
-                    Record::Tick(input) => {
+                    Record::Tick(input, steps) => {
                         // Fields by position: ticks are most of the journal (their intents
                         // above all), and their shape is fixed by the format.
                         let bytes = rmp_serde::to_vec(&input).unwrap_or_default();
@@ -542,24 +539,24 @@ fn write_loop(
                             .insert(input.tick, bytes.as_slice())
                             .map_err(db_err(path, "write tick"))?;
                         ticks += 1;
+                        for event in &steps {
+                            let id = task_of(event);
+                            let line = match tasks.get(id).map_err(db_err(path, "read task"))? {
+                                Some(bytes) => Some(unpack::<TaskRecord>(bytes.value())?),
+                                None => None,
+                            };
+                            if let Some(line) = ledger_step(line, input.tick, event) {
+                                tasks
+                                    .insert(id, pack(&line).as_slice())
+                                    .map_err(db_err(path, "write task"))?;
+                            }
+                        }
                     }
                     Record::Event(event) => {
                         event_table
                             .insert(events, pack(&event).as_slice())
                             .map_err(db_err(path, "write event"))?;
                         events += 1;
-                    }
-                    Record::Task(tick, event) => {
-                        let id = task_of(&event);
-                        let line = match tasks.get(id).map_err(db_err(path, "read task"))? {
-                            Some(bytes) => Some(unpack::<TaskRecord>(bytes.value())?),
-                            None => None,
-                        };
-                        if let Some(line) = ledger_step(line, tick, &event) {
-                            tasks
-                                .insert(id, pack(&line).as_slice())
-                                .map_err(db_err(path, "write task"))?;
-                        }
                     }
                     Record::Snapshot(at, fleet) => {
                         let bytes = fleet.snapshot();
