@@ -368,6 +368,10 @@ impl Fleet {
             let now = self.world.time;
             for n in seen.iter_mut().filter(|n| n.kind == AgentKind::Robot) {
                 let j = (n.id & !ROBOT_ID_BIT) as usize;
+                // A held robot stands still whatever it last planned.
+                if self.held[j] {
+                    continue;
+                }
                 let Some((stamp, trajectory)) = &self.intents[j] else {
                     continue;
                 };

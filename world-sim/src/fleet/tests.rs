@@ -60,6 +60,16 @@ fn shared_intents_reach_robots_that_see_each_other() {
     // 0.1 s later the samples start 0.1 s earlier; the first (t = 0.25) is kept.
     assert_eq!(intent.samples.len(), 4);
     assert!((intent.samples[0].t - 0.15).abs() < 1e-9);
+    // Held (lost, say), robot 1 stands still whatever it planned: its intent is not passed
+    // on, and robot 0 sees a robot standing.
+    fleet.set_held(1, true);
+    let (_, seen) = fleet.observe(0);
+    let other = seen
+        .iter()
+        .find(|n| n.id == ROBOT_ID_BIT | 1)
+        .expect("seen");
+    assert!(other.intent.is_none());
+    fleet.set_held(1, false);
     fleet.share_intents = false;
     let (_, seen) = fleet.observe(0);
     assert!(seen.iter().all(|n| n.intent.is_none()));
