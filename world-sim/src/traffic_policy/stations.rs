@@ -144,7 +144,8 @@ impl TrafficPolicy {
     /// Robots in a station's line wait at distinct points back along their routes from the
     /// station: the oldest first, each at the first place from [`PolicyParams::queue_back_m`]
     /// back, in steps of a body length plus the gap, at least that far from every place
-    /// taken. A robot nearer than its place backs up to it, along its last leg's line.
+    /// taken and every held robot. A robot nearer than its place backs up to it, along its
+    /// last leg's line.
     pub(super) fn line_up(&mut self, robots: &[PolicyRobot<'_>]) {
         let mut queue: Vec<(Real, usize, usize)> = self
             .lines
@@ -154,7 +155,12 @@ impl TrafficPolicy {
             .flat_map(|(s, l)| l.waiting.iter().map(move |&(i, since)| (since, i, s)))
             .collect();
         queue.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut taken: Vec<Vec2> = Vec::with_capacity(queue.len());
+        // A held robot stands where it stands: no place in line falls on it.
+        let mut taken: Vec<Vec2> = robots
+            .iter()
+            .filter(|r| r.held)
+            .map(|r| r.position)
+            .collect();
         for (_, i, station) in queue {
             let (_, place) = self.free_place(&robots[i], &taken);
             taken.push(place);

@@ -297,6 +297,27 @@ fn a_held_robot_keeps_no_station_from_the_others() {
     step(&mut policy, 0.3, &robots);
     assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
     assert!(matches!(policy.constraint(1), Constraint::Queue { .. }));
+    // A robot lost where the first place in line is: the place moves back past it.
+    let mut policy = TrafficPolicy::new(&site, 3, 0.3, PolicyParams::default());
+    let mut robots = [5.0, 6.5, 20.0].map(|x| PolicyRobot {
+        position: vec2(x, 1.5),
+        route: &route,
+        station: Some(dock.id),
+        held: false,
+    });
+    robots[2].station = None;
+    step(&mut policy, 0.1, &robots);
+    let Constraint::Queue { at: first, .. } = policy.constraint(1) else {
+        panic!("robot 1 waits in line: {:?}", policy.constraint(1));
+    };
+    robots[2].position = first;
+    robots[2].held = true;
+    step(&mut policy, 0.2, &robots);
+    let Constraint::Queue { at: moved, .. } = policy.constraint(1) else {
+        panic!("robot 1 waits in line: {:?}", policy.constraint(1));
+    };
+    // A body length (0.6 m) plus the gap (0.4 m) from it.
+    assert!((moved - first).norm() >= 1.0 - 1e-9, "{first:?} {moved:?}");
     // The holder is lost beside the dock it has just left: the dock is granted at once,
     // not once it has moved away (it will not).
     let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
