@@ -31,6 +31,20 @@ fn step(policy: &mut TrafficPolicy, now: Real, robots: &[PolicyRobot<'_>]) -> Ve
     policy.step(now, robots, &monitor)
 }
 
+/// Robots at `xs` along the hallway's centre line (y = 1.5), each on `route` to `station`.
+fn bound_for<const N: usize>(
+    xs: [Real; N],
+    route: &[Vec2],
+    station: usize,
+) -> [PolicyRobot<'_>; N] {
+    xs.map(|x| PolicyRobot {
+        position: vec2(x, 1.5),
+        route,
+        station: Some(station),
+        held: false,
+    })
+}
+
 /// Views of `robots` standing still, each with a task (leg `i`, `remaining[i]` m left).
 fn standing(
     robots: &[PolicyRobot<'_>],
@@ -201,12 +215,7 @@ fn one_robot_at_a_time_at_a_station_and_the_rest_in_line() {
     assert_eq!(dock.position, vec2(1.0, 0.5));
     let mut policy = TrafficPolicy::new(&site, 3, 0.3, PolicyParams::default());
     let route = [dock.position];
-    let mut robots = [5.0, 6.5, 6.9].map(|x| PolicyRobot {
-        position: vec2(x, 1.5),
-        route: &route,
-        station: Some(dock.id),
-        held: false,
-    });
+    let mut robots = bound_for([5.0, 6.5, 6.9], &route, dock.id);
     let events = step(&mut policy, 0.1, &robots);
     assert!(events.contains(&PolicyEvent::StationGranted {
         robot: 0,
@@ -272,12 +281,7 @@ fn a_held_robot_keeps_no_station_from_the_others() {
     let route = [dock.position];
     // The holder is lost on its way to the dock.
     let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
-    let mut robots = [5.0, 6.5].map(|x| PolicyRobot {
-        position: vec2(x, 1.5),
-        route: &route,
-        station: Some(dock.id),
-        held: false,
-    });
+    let mut robots = bound_for([5.0, 6.5], &route, dock.id);
     step(&mut policy, 0.1, &robots);
     assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
     assert!(matches!(policy.constraint(1), Constraint::Queue { .. }));
@@ -299,12 +303,7 @@ fn a_held_robot_keeps_no_station_from_the_others() {
     assert!(matches!(policy.constraint(1), Constraint::Queue { .. }));
     // A robot lost where the first place in line is: the place moves back past it.
     let mut policy = TrafficPolicy::new(&site, 3, 0.3, PolicyParams::default());
-    let mut robots = [5.0, 6.5, 20.0].map(|x| PolicyRobot {
-        position: vec2(x, 1.5),
-        route: &route,
-        station: Some(dock.id),
-        held: false,
-    });
+    let mut robots = bound_for([5.0, 6.5, 20.0], &route, dock.id);
     robots[2].station = None;
     step(&mut policy, 0.1, &robots);
     let Constraint::Queue { at: first, .. } = policy.constraint(1) else {
@@ -322,12 +321,7 @@ fn a_held_robot_keeps_no_station_from_the_others() {
     // not once it has moved away (it will not).
     let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
     let far = [site.stations[3].position];
-    let mut robots = [5.0, 6.5].map(|x| PolicyRobot {
-        position: vec2(x, 1.5),
-        route: &route,
-        station: Some(dock.id),
-        held: false,
-    });
+    let mut robots = bound_for([5.0, 6.5], &route, dock.id);
     step(&mut policy, 0.1, &robots);
     robots[0].position = dock.position;
     robots[0].route = &far;
@@ -530,12 +524,7 @@ fn a_robot_in_line_ahead_of_the_holder_takes_the_station() {
     let dock = site.stations[0];
     let mut policy = TrafficPolicy::new(&site, 2, 0.3, PolicyParams::default());
     let route = [dock.position];
-    let mut robots = [5.0, 6.0].map(|x| PolicyRobot {
-        position: vec2(x, 1.5),
-        route: &route,
-        station: Some(dock.id),
-        held: false,
-    });
+    let mut robots = bound_for([5.0, 6.0], &route, dock.id);
     step(&mut policy, 0.1, &robots);
     assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
     // Robot 1 is pushed ahead of robot 0.
