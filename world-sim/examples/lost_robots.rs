@@ -1,7 +1,8 @@
 //! Whether a fleet goes on working when some of its robots are lost mid-run (held where they
 //! stand, as the coordinator holds a real robot whose reports stop): robots `LOST` (the last
 //! ones) are held from each loss time in turn, and the tasks the others finish in the
-//! `AFTER` seconds that follow are printed, one line per loss time.
+//! `AFTER` seconds that follow are printed, one line per loss time, with the run's contacts
+//! of every cause; then where each robot ends, what it is bound for and what the policy asks.
 //!
 //!     cargo run --release -p world-sim --example lost_robots -- SITE ROBOTS PEOPLE SEED \
 //!         LOST AFTER FROM TO EVERY
@@ -61,9 +62,16 @@ fn main() {
         }
         let done: u64 = (0..live).map(|i| fleet.tasks_done(i)).sum();
         let first = first_after.map_or("never".to_owned(), |t| format!("{t:.0} s"));
+        // Contacts over the whole run, every cause.
+        let s = world_sim::fleet::FleetSummary::of(&fleet);
         println!(
-            "{name} seed {seed}: robots {live}.. lost at {at:.0} s: {} tasks in the {after:.0} s after (first after {first})",
-            done - before
+            "{name} seed {seed}: robots {live}.. lost at {at:.0} s: {} tasks in the {after:.0} s after (first after {first}); contacts over the run: {} robot-caused, {} person-caused, {} robot-robot, {} wall, {} total",
+            done - before,
+            s.robot_caused_contacts,
+            s.person_caused_contacts,
+            s.robot_robot_contacts,
+            s.wall_contacts,
+            s.total_contacts
         );
         // Where each robot ends: its station, how far it is, what the policy asks of it.
         for i in 0..robots {
