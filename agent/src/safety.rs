@@ -614,7 +614,18 @@ impl SafeSet<'_> {
             return way_out;
         }
         let warned = !l.safe(command, self.map, p.warning_time, false);
-        let start = if warned { p.warning_scale } else { 1.0 };
+        let start = if !warned {
+            1.0
+        } else if p.warning_graded {
+            // The largest fraction above `warning_scale` the warning check passes.
+            LADDER
+                .into_iter()
+                .filter(|&s| s < 1.0 && s > p.warning_scale)
+                .find(|&s| l.safe(scaled(command, s), self.map, p.warning_time, false))
+                .unwrap_or(p.warning_scale)
+        } else {
+            p.warning_scale
+        };
         let tried =
             std::iter::once(start).chain(LADDER.into_iter().filter(|&s| s < start && s > 0.0));
         for s in tried {

@@ -8,7 +8,9 @@
 //!     cargo run --release -p world-sim --example speed_budget -- SCENARIO ROBOTS SEEDS \
 //!         [SECONDS [PLANNER]]
 //!
-//! SEEDS is `a-b`. The shadow stacks only watch: their commands are never executed.
+//! SEEDS is `a-b`. The shadow stacks only watch: their commands are never executed. The
+//! environment variable `LAYER` changes the layer's parameters (`key=value,…`, as
+//! `--safety-layer` does).
 
 use agent::math::Vec2;
 use agent::model::{AgentKind, Command, Neighbour};
@@ -64,6 +66,13 @@ fn main() {
         let mut scenario = Scenario::builtin(name).expect("a built-in scenario");
         scenario.seed = seed;
         scenario.set_fleet_size(Some(robots), None);
+        if let Ok(overrides) = std::env::var("LAYER") {
+            scenario.robot.safety_layer = scenario
+                .robot
+                .safety_layer
+                .with_overrides(&overrides)
+                .expect("LAYER: key=value,… of the safety layer's parameters");
+        }
         let mut fleet = Fleet::new(&scenario).expect("a fleet site");
         fleet.set_traffic_policy(Some(PolicyParams::default()));
         let max_speed = scenario.robot.max_speed;

@@ -62,6 +62,12 @@ pub struct SafetyParams {
     /// The speed fraction a command is slowed to in the warning field (ISO 3691-4's reduced
     /// speed in a warning zone; half is a common scanner-field setting).
     pub warning_scale: Real,
+    /// Whether the warning field slows a command only as far as it must (Nav2's collision
+    /// monitor's *approach* model): to the largest fraction of it, between 1 and
+    /// `warning_scale` on the [`LADDER`](crate::safety::LADDER), that the warning check passes,
+    /// and to `warning_scale` when none does. `false`, the default: every warned command goes to
+    /// `warning_scale`. Either way the protective check follows, so the guarantee is the same.
+    pub warning_graded: bool,
     /// a_h (m/s²): how hard a perceived *person* may change their motion. In the protective
     /// check a person may stray ½·a_h·t² from both hypotheses, in any direction: a person who
     /// walks beside the robot and swerves across its path after its last safe command. Robots
@@ -168,21 +174,22 @@ impl SafetyParams {
 
 impl SafetyParams {
     /// These parameters with some changed, as `key=value,key=value` (the field names,
-    /// `yielding` and `people_stop_dead` taking `true` or `false`), validated; an empty text changes nothing.
+    /// `yielding`, `people_stop_dead` and `warning_graded` taking `true` or `false`), validated; an empty text changes nothing.
     pub fn with_overrides(mut self, text: &str) -> Result<Self, String> {
         for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let (key, value) = pair
                 .split_once('=')
                 .ok_or_else(|| format!("`{pair}`: expected key=value"))?;
-            if key == "yielding" || key == "people_stop_dead" {
-                let flag = value
+            let flag = match key {
+                "yielding" => Some(&mut self.yielding),
+                "people_stop_dead" => Some(&mut self.people_stop_dead),
+                "warning_graded" => Some(&mut self.warning_graded),
+                _ => None,
+            };
+            if let Some(flag) = flag {
+                *flag = value
                     .parse()
                     .map_err(|_| format!("`{pair}`: {key} is true or false"))?;
-                if key == "yielding" {
-                    self.yielding = flag;
-                } else {
-                    self.people_stop_dead = flag;
-                }
                 continue;
             }
             let field = match key {
@@ -215,6 +222,7 @@ impl Default for SafetyParams {
             margin: 0.05,
             warning_time: 1.0,
             warning_scale: 0.5,
+            warning_graded: false,
             person_accel: 3.0,
             person_accel_across: 3.0,
             person_accel_away: 2.0,

@@ -164,6 +164,33 @@ fn the_warning_field_slows_before_the_protective_field_stops() {
 }
 
 #[test]
+fn the_graded_warning_field_slows_only_as_far_as_it_must() {
+    let mut layer = SafetyLayer::new(SafetyParams {
+        warning_graded: true,
+        ..SafetyParams::default()
+    });
+    let at = ego(vec2(0.0, 0.0), vec2(1.0, 0.0));
+    let full = Command::Velocity(vec2(1.0, 0.0));
+    // The person standing 2 m ahead (1.4 m between bodies): kept 1.1 s and then braked, full
+    // speed covers 1.43 m, more than the 1.35 m to the margin; 80 % covers about 1.1 m.
+    let ahead = |x| [person(1, vec2(x, 0.0), vec2(0.0, 0.0))];
+    let warned = layer.guard(full, &at, &limits(), &ahead(2.0), &StaticMap::empty());
+    assert_eq!((warned.zone, warned.scale), (Zone::Warning, 0.8));
+    assert_eq!(warned.command, Command::Velocity(vec2(0.8, 0.0)));
+    // Nearer, no fraction above `warning_scale` passes the warning check: as without grading.
+    let near = layer.guard(full, &at, &limits(), &ahead(1.6), &StaticMap::empty());
+    let fixed = SafetyLayer::new(SafetyParams::default()).guard(
+        full,
+        &at,
+        &limits(),
+        &ahead(1.6),
+        &StaticMap::empty(),
+    );
+    assert_eq!(near, fixed);
+    assert!(near.scale <= 0.5, "{near:?}");
+}
+
+#[test]
 fn a_robot_may_back_away_from_a_person_closing_in() {
     let mut layer = SafetyLayer::new(SafetyParams::default());
     let closing = [person(1, vec2(0.8, 0.0), vec2(-1.3, 0.0))];
@@ -387,6 +414,33 @@ proptest::proptest! {
         } else {
             // A way out is within the base's limits.
             proptest::prop_assert!(out.norm() <= limits().max_speed + 1e-12);
+        }
+    }
+
+    /// The graded warning field keeps at least the fixed one's fraction outside a yield, and
+    /// passive safety holds under it: every command out is admissible, or a stop.
+    #[test]
+    fn the_graded_warning_field_keeps_more_and_stays_admissible(
+        v in (-1.5..1.5f64, -1.5..1.5f64),
+        own in (-1.0..1.0f64, -1.0..1.0f64),
+        open_ground in proptest::bool::ANY,
+        others in proptest::collection::vec(
+            (-4.0..4.0f64, -4.0..4.0f64, -1.5..1.5f64, -1.5..1.5f64), 0..12),
+    ) {
+        let fixed_params = params(open_ground);
+        let mut fixed = SafetyLayer::new(fixed_params);
+        let mut graded = SafetyLayer::new(SafetyParams { warning_graded: true, ..fixed_params });
+        let bodies = crowd(&others);
+        let command = Command::Velocity(vec2(v.0, v.1));
+        let at = ego(vec2(0.0, 0.0), vec2(own.0, own.1));
+        let open = StaticMap::empty();
+        let f = fixed.guard(command, &at, &limits(), &bodies, &open);
+        let set = graded.prepare(&at, &limits(), &bodies, &open);
+        let g = set.guard(command);
+        proptest::prop_assert!(g.scale == 0.0 || set.admits(g.command), "{:?}", g);
+        if f.zone != Zone::Yield {
+            proptest::prop_assert_eq!(g.zone == Zone::Yield, false);
+            proptest::prop_assert!(g.scale >= f.scale, "{:?} against {:?}", g, f);
         }
     }
 
@@ -934,6 +988,8 @@ fn parameters_are_changed_by_name_and_checked() {
     assert_eq!(p.person_accel, d.person_accel);
     let before = d.with_overrides("people_stop_dead=true").expect("valid");
     assert!(before.people_stop_dead && !d.people_stop_dead);
+    let graded = d.with_overrides("warning_graded=true").expect("valid");
+    assert!(graded.warning_graded && !d.warning_graded);
     for (text, named) in [
         ("yield_tme=3", "yield_tme"),
         ("yield_time", "expected key=value"),
