@@ -269,18 +269,21 @@ impl Fleet {
     }
 
     /// Gives every idle, unheld robot a new task: pick at a random shelf face, drop at a
-    /// random dock.
+    /// random dock, both among the stations no held robot blocks ([`Fleet::blocked_by_held`];
+    /// among all of them when every one is blocked). With no robot held the draws are the same
+    /// as without the rule.
     pub fn dispatch(&mut self) -> Vec<FleetEvent> {
-        let picks: Vec<usize> = self
-            .site
-            .stations_of(StationKind::Pick)
-            .map(|s| s.id)
-            .collect();
-        let docks: Vec<usize> = self
-            .site
-            .stations_of(StationKind::Dock)
-            .map(|s| s.id)
-            .collect();
+        let open = |fleet: &Self, kind| {
+            let all: Vec<usize> = fleet.site.stations_of(kind).map(|s| s.id).collect();
+            let free: Vec<usize> = all
+                .iter()
+                .copied()
+                .filter(|&s| !fleet.blocked_by_held(s))
+                .collect();
+            if free.is_empty() { all } else { free }
+        };
+        let picks = open(self, StationKind::Pick);
+        let docks = open(self, StationKind::Dock);
         let mut events = Vec::new();
         for i in 0..self.robots() {
             if self.jobs[i].is_some() || self.held[i] {
@@ -307,6 +310,23 @@ impl Fleet {
         }
         self.update_goals();
         events
+    }
+
+    /// Whether a held robot stands where it keeps others from station `station`: its centre
+    /// within two robot radii plus its goal tolerance of the station, so that another robot
+    /// may not get within the goal tolerance beside it. A lost robot stands where it was lost
+    /// until it is found, and new tasks are not sent to a station it blocks.
+    pub fn blocked_by_held(&self, station: usize) -> bool {
+        let at = self.site.stations[station].position;
+        self.world
+            .robots
+            .iter()
+            .zip(&self.held)
+            .filter(|&(_, &held)| held)
+            .any(|(r, _)| {
+                let reach = 2.0 * r.state.radius + r.spec.goal_tolerance_m;
+                (r.state.position - at).norm() < reach
+            })
     }
 
     /// Robot `i`'s planner goal: its route's current waypoint, or where the traffic policy

@@ -87,6 +87,40 @@ fn held_robots_take_no_tasks_and_stand_still() {
     assert_eq!(fleet.world.robots[2].state.position, start);
 }
 
+#[test]
+fn no_new_task_goes_to_a_station_a_held_robot_blocks() {
+    let mut fleet = Fleet::new(&small()).expect("warehouse");
+    let blocked = fleet
+        .site
+        .stations_of(StationKind::Pick)
+        .next()
+        .expect("a pick station")
+        .id;
+    // Robot 2 is lost standing at the station.
+    fleet.world.robots[2].state.position = fleet.site.stations[blocked].position;
+    fleet.set_held(2, true);
+    assert!(fleet.blocked_by_held(blocked));
+    let draw = |fleet: &mut Fleet, rounds: usize| {
+        let mut picks = Vec::new();
+        for _ in 0..rounds {
+            for event in fleet.dispatch() {
+                if let FleetEvent::Assigned { task, .. } = event {
+                    picks.push(task.pick);
+                }
+            }
+            fleet.jobs.iter_mut().for_each(|j| *j = None);
+        }
+        picks
+    };
+    let picks = draw(&mut fleet, 200);
+    assert_eq!(picks.len(), 400, "robots 0 and 1 get a task each round");
+    assert!(!picks.contains(&blocked));
+    // Found again, it blocks nothing, and the station is drawn again.
+    fleet.set_held(2, false);
+    assert!(!fleet.blocked_by_held(blocked));
+    assert!(draw(&mut fleet, 200).contains(&blocked));
+}
+
 /// Ten robots and no people in `warehouse-narrow`'s 1.5 m aisles for 300 s, with the traffic
 /// policy or without it.
 fn narrow_aisles_without_people(policy: Option<PolicyParams>) -> FleetReport {
