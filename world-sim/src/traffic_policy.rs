@@ -39,6 +39,8 @@
 //! - **Keep right** in corridors and cross-aisles wide enough for two robots: the goal leads
 //!   the robot [`PolicyParams::lane_lookahead_m`] along the lane right of the centre line
 //!   ([`PolicyParams::lane_change_lookahead_m`] from the oncoming lane: change lanes first).
+//!   Not while a held robot stands on the lane within that lookahead and a body length ahead:
+//!   the robot then drives to its waypoint, round the lost robot.
 //! - **One robot at a time at a station.** A station outside every segment (a dock on a
 //!   corridor, a pick face on a wide corridor, a hallway's end) is granted to one robot at a
 //!   time. A robot asks for it [`PolicyParams::station_request_m`] (along its route) before it,
@@ -520,8 +522,13 @@ impl TrafficPolicy {
         self.turn_from_people(now, robots);
         self.go_round(now, robots, monitor, &mut events);
         self.serve_stations(now, robots, &wants, &mut events);
+        let held: Vec<Vec2> = robots
+            .iter()
+            .filter(|r| r.held)
+            .map(|r| r.position)
+            .collect();
         for (i, r) in robots.iter().enumerate() {
-            self.constraints[i] = self.constraint_for(i, r, &wants[i]);
+            self.constraints[i] = self.constraint_for(i, r, &wants[i], &held);
         }
         self.line_up(robots);
         self.give_way(now, robots, monitor, &mut events);
@@ -529,7 +536,13 @@ impl TrafficPolicy {
         events
     }
 
-    fn constraint_for(&self, i: usize, r: &PolicyRobot<'_>, want: &Option<Want>) -> Constraint {
+    fn constraint_for(
+        &self,
+        i: usize,
+        r: &PolicyRobot<'_>,
+        want: &Option<Want>,
+        held: &[Vec2],
+    ) -> Constraint {
         if let Some(w) = want
             && !w.inside
             && (!self.reservations[w.segment].holders.contains(&i)
@@ -553,7 +566,8 @@ impl TrafficPolicy {
         if want.is_some_and(|w| w.inside) {
             return Constraint::Free;
         }
-        self.lane(r).map_or(Constraint::Free, Constraint::Lane)
+        self.lane(r, held)
+            .map_or(Constraint::Free, Constraint::Lane)
     }
 }
 

@@ -35,8 +35,11 @@ impl TrafficPolicy {
     }
 
     /// Keep right: the point `lane_lookahead_m` ahead on the right lane of the corridor or
-    /// cross-aisle the robot's current leg runs along, if wide enough and the leg long enough.
-    pub(super) fn lane(&self, r: &PolicyRobot<'_>) -> Option<Vec2> {
+    /// cross-aisle the robot's current leg runs along, if wide enough and the leg long enough,
+    /// and no held robot (at `held`) stands on the lane within `lane_lookahead_m` and a body
+    /// length ahead. A lost robot stands on its lane until found; the robot behind it drives
+    /// to its route's waypoint instead, and its planner takes it round.
+    pub(super) fn lane(&self, r: &PolicyRobot<'_>, held: &[Vec2]) -> Option<Vec2> {
         let lanes = &self.lanes;
         let target = *r.route.first()?;
         let leg = target - r.position;
@@ -67,6 +70,18 @@ impl TrafficPolicy {
         } else {
             r.position.x
         };
+        let ahead = self.params.lane_lookahead_m + 2.0 * self.robot_radius;
+        let blocked = held.iter().any(|h| {
+            let (along, off) = if horizontal {
+                (sign * (h.x - r.position.x), h.y - lane)
+            } else {
+                (sign * (h.y - r.position.y), h.x - lane)
+            };
+            along > 0.0 && along <= ahead && off.abs() < 2.0 * self.robot_radius
+        });
+        if blocked {
+            return None;
+        }
         let lead = if (across - lane).abs() > offset {
             self.params.lane_change_lookahead_m
         } else {

@@ -342,6 +342,39 @@ fn a_held_robot_keeps_no_station_from_the_others() {
     );
 }
 
+/// A held (lost) robot standing on the lane ahead ends the lane rule for the robot behind it,
+/// which then drives to its waypoint and round it; one on the other lane, or behind, does not.
+#[test]
+fn a_held_robot_on_the_lane_ahead_is_driven_round() {
+    let (site, radius) = narrow();
+    let policy = TrafficPolicy::new(&site, 2, radius, PolicyParams::default());
+    // The bottom corridor driving west, as in `keep_right_in_wide_corridors`: the lane is
+    // y = 2.25 and the goal leads 3 m.
+    let route = [vec2(5.0, 1.5)];
+    let r = PolicyRobot {
+        position: vec2(30.0, 2.25),
+        route: &route,
+        station: None,
+        held: false,
+    };
+    for (held, lane) in [
+        (vec2(28.0, 2.25), false),
+        (vec2(26.5, 2.0), false),
+        // Past the lookahead and a body length.
+        (vec2(26.0, 2.25), true),
+        // On the oncoming lane.
+        (vec2(28.0, 0.75), true),
+        // Behind.
+        (vec2(31.0, 2.25), true),
+    ] {
+        assert_eq!(
+            policy.lane(&r, &[held]).is_some(),
+            lane,
+            "held robot at {held:?}"
+        );
+    }
+}
+
 /// In a corridor wide enough for two, the goal leads along the right-hand lane, and more
 /// steeply toward it from the oncoming lane.
 #[test]
@@ -356,7 +389,7 @@ fn keep_right_in_wide_corridors() {
         station: None,
         held: false,
     };
-    let lane = policy.lane(&r).expect("a lane");
+    let lane = policy.lane(&r, &[]).expect("a lane");
     assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
     // In the oncoming lane (across the centre line), it changes lanes first: the goal leads
     // by 1 m.
@@ -366,7 +399,7 @@ fn keep_right_in_wide_corridors() {
         station: None,
         held: false,
     };
-    let lane = policy.lane(&across).expect("a lane");
+    let lane = policy.lane(&across, &[]).expect("a lane");
     assert!((lane - vec2(29.0, 2.25)).norm() < 1e-9, "{lane:?}");
     // Close to the waypoint the goal is the waypoint itself.
     let near = PolicyRobot {
@@ -375,7 +408,7 @@ fn keep_right_in_wide_corridors() {
         station: None,
         held: false,
     };
-    assert_eq!(policy.lane(&near), None);
+    assert_eq!(policy.lane(&near, &[]), None);
 }
 
 /// A robot inside a segment against its flow (pushed in, or sent back by a new route) stops
