@@ -273,8 +273,12 @@ impl Fleet {
     /// among all of them when every one is blocked). With no robot held the draws are the same
     /// as without the rule.
     pub fn dispatch(&mut self) -> Vec<FleetEvent> {
+        let any_held = self.held.contains(&true);
         let open = |fleet: &Self, kind| {
             let all: Vec<usize> = fleet.site.stations_of(kind).map(|s| s.id).collect();
+            if !any_held {
+                return all;
+            }
             let free: Vec<usize> = all
                 .iter()
                 .copied()
