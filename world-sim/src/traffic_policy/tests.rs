@@ -342,6 +342,16 @@ fn a_held_robot_keeps_no_station_from_the_others() {
     );
 }
 
+/// A robot at `position` driving along `route`, with no station and not held.
+fn on_route(position: Vec2, route: &[Vec2]) -> PolicyRobot<'_> {
+    PolicyRobot {
+        position,
+        route,
+        station: None,
+        held: false,
+    }
+}
+
 /// A held (lost) robot standing on the lane ahead ends the lane rule for the robot behind it,
 /// which then drives to its waypoint and round it; one on the other lane, or behind, does not.
 #[test]
@@ -351,12 +361,7 @@ fn a_held_robot_on_the_lane_ahead_is_driven_round() {
     // The bottom corridor driving west, as in `keep_right_in_wide_corridors`: the lane is
     // y = 2.25 and the goal leads 3 m.
     let route = [vec2(5.0, 1.5)];
-    let r = PolicyRobot {
-        position: vec2(30.0, 2.25),
-        route: &route,
-        station: None,
-        held: false,
-    };
+    let r = on_route(vec2(30.0, 2.25), &route);
     for (held, lane) in [
         (vec2(28.0, 2.25), false),
         (vec2(26.5, 2.0), false),
@@ -383,31 +388,16 @@ fn keep_right_in_wide_corridors() {
     let policy = TrafficPolicy::new(&site, 1, radius, PolicyParams::default());
     // The bottom corridor (3 m, centre y = 1.5), driving west: right is +y, 0.25 × 3 m.
     let route = [vec2(5.0, 1.5)];
-    let r = PolicyRobot {
-        position: vec2(30.0, 1.5),
-        route: &route,
-        station: None,
-        held: false,
-    };
+    let r = on_route(vec2(30.0, 1.5), &route);
     let lane = policy.lane(&r, &[]).expect("a lane");
     assert!((lane - vec2(27.0, 2.25)).norm() < 1e-9, "{lane:?}");
     // In the oncoming lane (across the centre line), it changes lanes first: the goal leads
     // by 1 m.
-    let across = PolicyRobot {
-        position: vec2(30.0, 0.6),
-        route: &route,
-        station: None,
-        held: false,
-    };
+    let across = on_route(vec2(30.0, 0.6), &route);
     let lane = policy.lane(&across, &[]).expect("a lane");
     assert!((lane - vec2(29.0, 2.25)).norm() < 1e-9, "{lane:?}");
     // Close to the waypoint the goal is the waypoint itself.
-    let near = PolicyRobot {
-        position: vec2(8.0, 1.5),
-        route: &route,
-        station: None,
-        held: false,
-    };
+    let near = on_route(vec2(8.0, 1.5), &route);
     assert_eq!(policy.lane(&near, &[]), None);
 }
 
