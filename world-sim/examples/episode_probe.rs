@@ -26,12 +26,8 @@ fn main() {
         .parse()
         .expect("a known planner");
     let seed: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1);
-    let mut scenario = if name.ends_with(".toml") {
-        let text = std::fs::read_to_string(name).expect("a readable scenario file");
-        Scenario::from_toml(&text, name).expect("a valid scenario file")
-    } else {
-        Scenario::builtin(name).expect("a built-in scenario")
-    };
+    let mut scenario =
+        Scenario::builtin_or_file(name).expect("a built-in scenario or a .toml file");
     scenario.seed = seed;
     if let (Some(d), Some(open)) = (
         args.get(3).and_then(|a| a.parse::<Real>().ok()),

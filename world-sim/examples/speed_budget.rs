@@ -8,9 +8,9 @@
 //!     cargo run --release -p world-sim --example speed_budget -- SCENARIO ROBOTS SEEDS \
 //!         [SECONDS [PLANNER]]
 //!
-//! SEEDS is `a-b`. The shadow stacks only watch: their commands are never executed. The
-//! environment variable `LAYER` changes the layer's parameters (`key=value,…`, as
-//! `--safety-layer` does).
+//! SCENARIO is a built-in's name or a scenario file (`….toml`); SEEDS is `a-b`. The shadow
+//! stacks only watch: their commands are never executed. The environment variable `LAYER`
+//! changes the layer's parameters (`key=value,…`, as `--safety-layer` does).
 
 use agent::math::Vec2;
 use agent::model::{AgentKind, Command, Neighbour};
@@ -63,7 +63,8 @@ fn main() {
     let mut at_station = [Loss::default(); 2];
     let mut tasks = 0;
     for seed in first..=last {
-        let mut scenario = Scenario::builtin(name).expect("a built-in scenario");
+        let mut scenario =
+            Scenario::builtin_or_file(name).expect("a built-in scenario or a .toml file");
         scenario.seed = seed;
         scenario.set_fleet_size(Some(robots), None);
         if let Ok(overrides) = std::env::var("LAYER") {

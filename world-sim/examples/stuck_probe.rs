@@ -40,12 +40,8 @@ fn main() {
         .parse()
         .expect("a known planner");
     let people: Option<usize> = args.get(6).and_then(|a| a.parse().ok());
-    let mut scenario = if name.ends_with(".toml") {
-        let text = std::fs::read_to_string(name).expect("a scenario file");
-        Scenario::from_toml(&text, name).expect("a valid scenario")
-    } else {
-        Scenario::builtin(name).expect("a built-in scenario")
-    };
+    let mut scenario =
+        Scenario::builtin_or_file(name).expect("a built-in scenario or a .toml file");
     scenario.seed = seed;
     scenario.set_fleet_size(Some(robots), people);
     let mut fleet = Fleet::new(&scenario).expect("a fleet site");

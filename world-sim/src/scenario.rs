@@ -442,6 +442,17 @@ impl Scenario {
         Self::from_toml(text, name)
     }
 
+    /// A built-in scenario by name, or a scenario file when `name` ends in `.toml` (for the
+    /// probes under `examples/`; the command line's `--scenario` also finds files by any name).
+    pub fn builtin_or_file(name: &str) -> Result<Self, String> {
+        if name.ends_with(".toml") {
+            let text = std::fs::read_to_string(name).map_err(|e| format!("reading {name}: {e}"))?;
+            Self::from_toml(&text, name).map_err(|e| e.to_string())
+        } else {
+            Self::builtin(name).map_err(|e| e.to_string())
+        }
+    }
+
     /// Checks every value's range, naming the first bad field.
     pub fn validate(&self, source_name: &str) -> Result<(), ScenarioError> {
         let bad = |field: &str, reason: &str| {
