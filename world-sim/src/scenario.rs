@@ -643,6 +643,28 @@ mod tests {
     }
 
     #[test]
+    fn a_probe_takes_a_builtin_or_a_scenario_file() {
+        let builtin = Scenario::builtin_or_file("hallway-fleet").expect("a built-in");
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let path = dir.path().join("no-people.toml");
+        let text = BUILTIN
+            .iter()
+            .find(|(n, _)| *n == "hallway-fleet")
+            .expect("built in")
+            .1
+            .replace("humans = 30", "humans = 0");
+        std::fs::write(&path, text).expect("written");
+        let file = Scenario::builtin_or_file(path.to_str().expect("a UTF-8 path")).expect("a file");
+        let people = |s: &Scenario| s.hallway.as_ref().expect("a hallway").humans;
+        assert_eq!((people(&builtin), people(&file)), (30, 0));
+        let missing = dir.path().join("missing.toml");
+        let err = Scenario::builtin_or_file(missing.to_str().expect("a UTF-8 path")).unwrap_err();
+        assert!(err.contains("missing.toml"), "{err}");
+        let err = Scenario::builtin_or_file("no-such-site").unwrap_err();
+        assert!(err.contains("built in"), "{err}");
+    }
+
+    #[test]
     fn density_001_means_one_person() {
         let mut s = Scenario::builtin("open-space").expect("valid");
         s.open_space.as_mut().expect("layout").density = 0.01;
