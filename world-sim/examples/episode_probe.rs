@@ -26,8 +26,9 @@ fn main() {
         .parse()
         .expect("a known planner");
     let seed: u64 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1);
-    let mut scenario =
-        Scenario::builtin_or_file(name).expect("a built-in scenario or a .toml file");
+    let mut scenario = Scenario::load(name)
+        .expect("a built-in scenario or a scenario file")
+        .0;
     scenario.seed = seed;
     if let (Some(d), Some(open)) = (
         args.get(3).and_then(|a| a.parse::<Real>().ok()),

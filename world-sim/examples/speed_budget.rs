@@ -63,8 +63,9 @@ fn main() {
     let mut at_station = [Loss::default(); 2];
     let mut tasks = 0;
     for seed in first..=last {
-        let mut scenario =
-            Scenario::builtin_or_file(name).expect("a built-in scenario or a .toml file");
+        let mut scenario = Scenario::load(name)
+            .expect("a built-in scenario or a scenario file")
+            .0;
         scenario.seed = seed;
         scenario.set_fleet_size(Some(robots), None);
         if let Ok(overrides) = std::env::var("LAYER") {

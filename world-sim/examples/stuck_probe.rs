@@ -40,8 +40,9 @@ fn main() {
         .parse()
         .expect("a known planner");
     let people: Option<usize> = args.get(6).and_then(|a| a.parse().ok());
-    let mut scenario =
-        Scenario::builtin_or_file(name).expect("a built-in scenario or a .toml file");
+    let mut scenario = Scenario::load(name)
+        .expect("a built-in scenario or a scenario file")
+        .0;
     scenario.seed = seed;
     scenario.set_fleet_size(Some(robots), people);
     let mut fleet = Fleet::new(&scenario).expect("a fleet site");

@@ -12,9 +12,9 @@ pub mod site;
 #[cfg(feature = "studies")]
 pub mod study;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Parser, Subcommand};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use world_sim::scenario::Scenario;
 
 /// `gapfleet`'s arguments.
@@ -93,23 +93,7 @@ impl std::str::FromStr for ScenarioRef {
     type Err = anyhow::Error;
 
     fn from_str(name_or_path: &str) -> Result<Self> {
-        let path = Path::new(name_or_path);
-        let (scenario, toml) = match Scenario::builtin(name_or_path) {
-            Ok(s) => {
-                let text = world_sim::scenario::BUILTIN
-                    .iter()
-                    .find(|(name, _)| *name == name_or_path)
-                    .map_or(String::new(), |(_, text)| (*text).to_owned());
-                (s, text)
-            }
-            // Neither a built-in nor a file: the error lists the built-ins.
-            Err(unknown) if !path.exists() => return Err(unknown.into()),
-            Err(_) => {
-                let text = std::fs::read_to_string(path)
-                    .with_context(|| format!("reading {}", path.display()))?;
-                (Scenario::from_toml(&text, name_or_path)?, text)
-            }
-        };
+        let (scenario, toml) = Scenario::load(name_or_path)?;
         Ok(Self {
             name: name_or_path.to_owned(),
             scenario: Box::new(scenario),
