@@ -109,25 +109,28 @@ fn drive(no_people: bool, localized: bool) {
         let _ = pipe.read_to_string(&mut stderr);
     }
     assert!(status.success(), "agent failed: {stderr}");
-    // The scanner, 0.2 m ahead and facing backwards, is placed where /tf_static mounts it.
-    let mounted = stderr
+    // The scanner, 0.2 m ahead and facing backwards, is placed where /tf_static mounts it,
+    // and nowhere else: until that transform comes, the agent holds rather than use the scan.
+    let mounts: Vec<_> = stderr
         .lines()
-        .find(|l| l.contains("scanner mounted"))
-        .unwrap_or_else(|| panic!("the agent never placed the scanner: {stderr}"));
-    println!("{mounted}");
+        .filter(|l| l.contains("scanner mounted"))
+        .collect();
+    println!("{mounts:?}");
     assert!(
-        mounted.contains("base_scan at (0.200, 0.000) m, 3.142 rad"),
-        "{mounted}"
+        !mounts.is_empty(),
+        "the agent never placed the scanner: {stderr}"
+    );
+    assert!(
+        mounts
+            .iter()
+            .all(|m| m.contains("base_scan at (0.200, 0.000) m, 3.142 rad")),
+        "{mounts:?}"
     );
     let summary = stderr.lines().last().unwrap_or_default();
     println!("{summary}");
     assert!(
         summary.contains("3 of 3 goals") && summary.contains(" 0 refused"),
         "{stderr}"
-    );
-    assert!(
-        summary.contains("(0 at the base's centre)"),
-        "every scan placed at the scanner: {summary}"
     );
     assert_eq!(
         !summary.contains(" 0 map poses"),

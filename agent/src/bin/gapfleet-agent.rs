@@ -284,7 +284,7 @@ async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
     let load = |c: &std::sync::atomic::AtomicU64| c.load(std::sync::atomic::Ordering::Relaxed);
     let ros_counters = &counters.ros;
     eprintln!(
-        "gapfleet-agent (ROS 2, {}): {reached} of {goals} goals, {} plans, {} odometry, {} scans ({} at the base's centre), {} people messages, {} transforms, {} map poses, {} refused, {} commands; safety layer: {} slowed, {} protective, {} yields",
+        "gapfleet-agent (ROS 2, {}): {reached} of {goals} goals, {} plans, {} odometry, {} scans ({} plans held for the scanner's transform), {} people messages, {} transforms, {} map poses, {} refused, {} commands; safety layer: {} slowed, {} protective, {} yields",
         args.ros.namespace,
         load(&counters.plans),
         load(&ros_counters.odom),

@@ -259,8 +259,8 @@ impl<'s> Agent<'s> {
     }
 
     /// What the robot senses: the observation's, or in ROS mode the robot's own (without fresh
-    /// odometry, or before the map, nothing: it stands). (`&mut`: the agent is not `Sync`, and
-    /// its phases' futures must be `Send`.)
+    /// odometry, before the map or before its scanner is placed, nothing: it stands). (`&mut`:
+    /// the agent is not `Sync`, and its phases' futures must be `Send`.)
     async fn sense(&mut self, obs: &Observation) -> Option<Sensed> {
         let Some(link) = &self.ros_link else {
             return Some((wire::ego(obs), wire::neighbours(obs), Duration::ZERO));

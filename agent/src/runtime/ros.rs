@@ -111,7 +111,9 @@ pub struct RosCounters {
     pub tf: AtomicU64,
     /// Map poses accepted from the pose topic.
     pub poses: AtomicU64,
-    /// Scans placed at the base's centre because no transform led from their frame to it.
+    /// Plans held (the robot stands) because no transform led from the newest scan's frame
+    /// to the base yet: a scan placed anywhere but at its scanner would show the world moved
+    /// or mirrored.
     pub scans_unplaced: AtomicU64,
     /// Payloads refused (bad CDR, out of bounds, unknown frame).
     pub rejected: AtomicU64,
@@ -144,13 +146,22 @@ pub struct Sensed {
     pub ego: EgoState,
     /// Tracked people.
     pub people: Vec<Neighbour>,
-    /// The newest scan, placed at the robot's pose.
+    /// The newest scan, placed at the robot's pose; `None` also while it cannot be placed.
     pub scan: Option<Scan>,
     /// How long ago the odometry behind `ego` arrived.
     pub odom_age: Duration,
     /// The scan's frame and where it sits on the base, or `None` when no transform led from
-    /// it to the base (the scan is then placed at the base's centre).
+    /// it to the base (the scan is then not used, and the robot holds).
     pub scan_mount: Option<(String, Option<(Vec2, Real)>)>,
+}
+
+impl Sensed {
+    /// A scan came whose frame has no transform to the base yet: the robot cannot know where
+    /// its scanner looks, so it must not move.
+    #[must_use]
+    pub fn scanner_unplaced(&self) -> bool {
+        matches!(self.scan_mount, Some((_, None)))
+    }
 }
 
 /// Why the link could not be set up.
@@ -432,7 +443,9 @@ impl RosLink {
     }
 
     /// The robot's newest state in the map frame, its tracked people and its scan; `None`
-    /// until fresh odometry (and, if the odometry frame is not the map frame, map→odom) came.
+    /// until fresh odometry (and, if the odometry frame is not the map frame, map→odom) came,
+    /// and while the newest scan's frame has no transform to the base (as Nav2's collision
+    /// monitor stops without valid sensor data, the robot then stands).
     pub fn sensed(&self) -> Option<Sensed> {
         let l = self.latest.lock().unwrap_or_else(|e| e.into_inner());
         let (_, at) = l.odom.as_ref()?;
@@ -445,11 +458,11 @@ impl RosLink {
         if let Some((frame, mount)) = &sensed.scan_mount {
             self.log_mount(frame, *mount);
         }
-        Some(sensed)
+        (!sensed.scanner_unplaced()).then_some(sensed)
     }
 
     /// Logs where the scanner sits whenever that changes, and counts (logging at powers of
-    /// ten) scans placed at the base's centre for want of a transform.
+    /// ten) plans held for want of the scanner's transform.
     fn log_mount(&self, frame: &str, mount: Option<(Vec2, Real)>) {
         let Some((offset, yaw)) = mount else {
             let n = self.counters.scans_unplaced.fetch_add(1, Ordering::Relaxed) + 1;
@@ -457,8 +470,8 @@ impl RosLink {
                 tracing::warn!(
                     frame,
                     scans = n,
-                    "no transform from the scan's frame to the base yet (/tf_static): the scan \
-                     is taken at the base's centre"
+                    "no transform from the scan's frame to the base yet (/tf_static): the robot \
+                     holds until its scanner is placed"
                 );
             }
             return;
@@ -571,7 +584,8 @@ fn sense(l: &Latest, config: &RosConfig) -> Option<Sensed> {
         .unwrap_or_default();
     // The scan is placed at the odometry pose nearest its stamp (a scan with no pose within
     // SCAN_POSE_TOLERANCE_S of its stamp is not used), and at the scanner's mounting on the
-    // base: the flag's, or the transforms' from its frame to odometry's child frame.
+    // base: the flag's, or the transforms' from its frame to odometry's child frame (without
+    // one it is not used at all).
     let base = match odom.child_frame_id.trim_start_matches('/') {
         "" => "base_link",
         frame => frame,
@@ -588,7 +602,7 @@ fn sense(l: &Latest, config: &RosConfig) -> Option<Sensed> {
             }
         });
         scan_mount = Some((frame.to_owned(), mount));
-        let (offset, mount_yaw) = mount.unwrap_or((Vec2::zeros(), 0.0));
+        let (offset, mount_yaw) = mount?;
         Some(Scan {
             origin: to_map(position + rotate(offset, yaw)),
             bearing0: yaw + rotation + mount_yaw + Real::from(s.angle_min),

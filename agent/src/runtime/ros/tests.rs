@@ -77,7 +77,7 @@ fn frames_compose_into_the_map_frame() {
     l.scan = Some(LaserScan {
         header: Header {
             stamp: Time::from_secs(1.9),
-            frame_id: "base_scan".into(),
+            frame_id: "base_link".into(),
         },
         angle_min: 0.5,
         angle_increment: 0.01,
@@ -131,7 +131,7 @@ fn transform(parent: &str, child: &str, x: Real, y: Real, yaw: Real) -> Transfor
 
 /// A scanner two links from the base (base_footprint → base_link → laser, the second
 /// turned backwards) is placed where the chain puts it; the flag overrides the chain; a
-/// frame with no chain to the base is reported and placed at the centre.
+/// scan whose frame has no chain to the base is reported and not used, and the robot holds.
 #[test]
 fn the_scanner_is_placed_where_the_transforms_mount_it() {
     use std::f64::consts::{FRAC_PI_2, PI};
@@ -157,8 +157,8 @@ fn the_scanner_is_placed_where_the_transforms_mount_it() {
     let counters = RosCounters::default();
     let unplaced = sense(&l, &config).expect("sensed");
     assert_eq!(unplaced.scan_mount, Some(("laser".into(), None)));
-    let centre = unplaced.scan.expect("placed at the centre meanwhile");
-    assert!(near(centre.origin, Vec2::new(1.0, 2.0)));
+    assert!(unplaced.scan.is_none(), "an unplaced scan is not used");
+    assert!(unplaced.scanner_unplaced(), "the robot holds");
 
     let tf = TFMessage {
         transforms: vec![
@@ -169,6 +169,7 @@ fn the_scanner_is_placed_where_the_transforms_mount_it() {
     take_transforms(&mut l, &tf, "map", true, &counters);
     assert_eq!(counters.tf.load(Ordering::Relaxed), 2);
     let s = sense(&l, &config).expect("sensed");
+    assert!(!s.scanner_unplaced());
     let (frame, mount) = s.scan_mount.expect("a scan");
     let (offset, yaw) = mount.expect("the chain reaches the base");
     assert_eq!(frame, "laser");
