@@ -221,6 +221,26 @@ impl LocalMap {
         })
     }
 
+    /// How far the ray from `p` in direction `dir` (not necessarily unit) goes before it
+    /// meets a gathered edge, in units of `dir`'s length (`Real::INFINITY` when it meets none).
+    pub fn ray_distance(&self, p: &Vec2, dir: &Vec2) -> Real {
+        self.segments
+            .iter()
+            .filter_map(|(a, b)| {
+                // p + t·dir = a + s·(b − a), t ≥ 0, 0 ≤ s ≤ 1.
+                let e = b - a;
+                let denom = det(dir, &e);
+                if denom == 0.0 {
+                    return None;
+                }
+                let ap = a - p;
+                let t = det(&ap, &e) / denom;
+                let s = det(&ap, dir) / denom;
+                (t >= 0.0 && (0.0..=1.0).contains(&s)).then_some(t)
+            })
+            .fold(Real::INFINITY, Real::min)
+    }
+
     /// Distance from `p` to the nearest gathered edge, inside a polygon or not
     /// (`Real::INFINITY` when nothing was gathered).
     pub fn edge_distance(&self, p: &Vec2) -> Real {
@@ -504,6 +524,35 @@ mod tests {
             vec2(1.0, 1.0),
             vec2(1.0, 0.0),
         ])
+    }
+
+    /// A ray meets the nearest edge it crosses, in units of its direction's length; one
+    /// that crosses none, or runs parallel to an edge, meets nothing.
+    #[test]
+    fn a_ray_meets_the_first_edge_it_crosses() {
+        let mut local = LocalMap::default();
+        let map = StaticMap::new(vec![Obstacle::Polygon(vec![
+            vec2(-5.0, 1.0),
+            vec2(5.0, 1.0),
+            vec2(5.0, 2.0),
+            vec2(-5.0, 2.0),
+        ])])
+        .expect("a map");
+        map.gather(vec2(-10.0, -10.0), vec2(10.0, 10.0), 0.0, &mut local);
+        let p = vec2(0.0, 0.0);
+        assert!((local.ray_distance(&p, &vec2(0.0, 1.0)) - 1.0).abs() < 1e-12);
+        assert!((local.ray_distance(&p, &vec2(0.0, 2.0)) - 0.5).abs() < 1e-12);
+        assert!(local.ray_distance(&p, &vec2(0.0, -1.0)).is_infinite());
+        assert!(
+            local
+                .ray_distance(&vec2(-6.0, 1.0), &vec2(1.0, 0.0))
+                .is_finite()
+        );
+        assert!(
+            local
+                .ray_distance(&vec2(-6.0, 0.0), &vec2(1.0, 0.0))
+                .is_infinite()
+        );
     }
 
     #[test]

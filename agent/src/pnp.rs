@@ -319,6 +319,12 @@ impl Pnp {
         } else {
             p.side_weight
         };
+        // Keeping right: the unit vector at right angles to the right of the way to the
+        // local goal (none where the robot stands on it: the nearest wall then counts).
+        let right = (p.side_right && side_weight > 0.0)
+            .then(|| local_goal - ego.position)
+            .filter(|way| way.norm() > 1e-9)
+            .map(|way| vec2(way.y, -way.x) / way.norm());
         for c in 0..self.candidates.primitives.len() {
             let path = self.candidates.path(c, n);
             // A candidate that arrives (within the tolerance of the goal itself) is done there:
@@ -344,7 +350,12 @@ impl Pnp {
                 (path[n] - local_goal).norm_squared()
             };
             let side = if side_weight > 0.0 {
-                side_weight * self.local.edge_distance(&path[n]).min(p.side_reach)
+                let wall = if let Some(right) = right {
+                    self.local.ray_distance(&path[n], &right)
+                } else {
+                    self.local.edge_distance(&path[n])
+                };
+                side_weight * wall.min(p.side_reach)
             } else {
                 0.0
             };

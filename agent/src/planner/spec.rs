@@ -65,6 +65,8 @@ pub enum PnpVariant {
     /// `pnp-side` scoring its hidden people against braking once they step out
     /// (`pnp-side-brake`): [`PnpParams::side_brake`].
     SideBrake,
+    /// `pnp-side` keeping to the wall on its right (`pnp-right`): [`PnpParams::right`].
+    Right,
 }
 
 impl PnpVariant {
@@ -79,6 +81,7 @@ impl PnpVariant {
             PnpVariant::Omni => PnpParams::omni(peek),
             PnpVariant::OmniAcross => PnpParams::omni_across(peek),
             PnpVariant::Side => PnpParams::side(peek),
+            PnpVariant::Right => PnpParams::right(peek),
             PnpVariant::SideBrake => PnpParams::side_brake(peek),
         }
     }
@@ -135,7 +138,7 @@ impl PlannerSpec {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown planner {0:?}; expected dwa, orca, orca-nr, sf, foigp, foigp-1, igp-diag, igp-lin, mc, pnp, \
-     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, pnp-side, pnp-side-nopeek, pnp-side-brake, pnp-side-brake-nopeek, asfm, asfm-q or asfm-crowd, each \
+     pnp-nopeek, pnp-paper, pnp-paper-nopeek, pnp-react, pnp-react-nopeek, pnp-fine, pnp-fine-nopeek, pnp-agile, pnp-agile-nopeek, pnp-omni, pnp-omni-nopeek, pnp-omni-across, pnp-omni-across-nopeek, pnp-side, pnp-side-nopeek, pnp-side-brake, pnp-side-brake-nopeek, pnp-right, pnp-right-nopeek, asfm, asfm-q or asfm-crowd, each \
      optionally behind pgp+ (e.g. pgp+orca)"
 )]
 pub struct UnknownPlanner(pub String);
@@ -182,6 +185,8 @@ impl FromStr for PlannerSpec {
             "pnp-side-nopeek" => pnp(PnpVariant::Side, false),
             "pnp-side-brake" => pnp(PnpVariant::SideBrake, true),
             "pnp-side-brake-nopeek" => pnp(PnpVariant::SideBrake, false),
+            "pnp-right" => pnp(PnpVariant::Right, true),
+            "pnp-right-nopeek" => pnp(PnpVariant::Right, false),
             "asfm" | "anticipatory" => LocalKind::Asfm(AsfmVariant::Paper),
             "asfm-q" => LocalKind::Asfm(AsfmVariant::ProcessNoise),
             "asfm-crowd" => LocalKind::Asfm(AsfmVariant::Crowd),
@@ -238,6 +243,8 @@ impl fmt::Display for PlannerSpec {
                 (PnpVariant::Side, false) => "pnp-side-nopeek",
                 (PnpVariant::SideBrake, true) => "pnp-side-brake",
                 (PnpVariant::SideBrake, false) => "pnp-side-brake-nopeek",
+                (PnpVariant::Right, true) => "pnp-right",
+                (PnpVariant::Right, false) => "pnp-right-nopeek",
             },
             LocalKind::Asfm(AsfmVariant::Paper) => "asfm",
             LocalKind::Asfm(AsfmVariant::ProcessNoise) => "asfm-q",
@@ -287,6 +294,8 @@ mod tests {
             "pnp-side-nopeek",
             "pnp-side-brake",
             "pnp-side-brake-nopeek",
+            "pnp-right",
+            "pnp-right-nopeek",
             "asfm",
             "asfm-q",
             "asfm-crowd",

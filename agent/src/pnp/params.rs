@@ -123,6 +123,12 @@ pub struct PnpParams {
     /// 0 counts every wall. Beside walls broken by openings (shelves' end faces between aisle
     /// mouths) keeping to the side drives the robot past blind corners.
     pub side_runs_on: Real,
+    /// Whether the side term measures the wall on the robot's right instead of the nearest
+    /// one: how far a ray from where a candidate ends, at right angles to the right of the
+    /// way to the local goal, goes before it meets a wall or shelf. Not in either paper.
+    /// Robots that each keep to the nearest wall meet head-on beside the same wall whenever
+    /// both started nearer it, and a keep-right rule is how traffic avoids that.
+    pub side_right: bool,
     /// Whether Ψ's hidden people are scored against the robot braking once they step out
     /// (`pnp::hidden::braking_path`) instead of against the candidate
     /// driven to its end. Not in the paper. A hidden person steps out of a shadow into view:
@@ -206,6 +212,7 @@ impl Default for PnpParams {
             side_reach: 2.0,
             side_fade: 3.0,
             side_runs_on: 0.0,
+            side_right: false,
             hidden_braking: false,
         }
     }
@@ -343,6 +350,17 @@ impl PnpParams {
             side_weight: SIDE_WEIGHT,
             side_runs_on: SIDE_RUNS_ON,
             ..Self::omni_across(peek)
+        }
+    }
+
+    /// `pnp-side` keeping to the wall on its right (`pnp-right`, [`PnpParams::side_right`]).
+    /// In fleets `pnp-side`'s robots met head-on beside the same wall: in the hallway with no
+    /// people (tuning seed 2) two of them faced each other at a pick station for over a
+    /// minute while the station's line grew behind them (results/fleet-pnp-right).
+    pub fn right(peek: bool) -> Self {
+        Self {
+            side_right: true,
+            ..Self::side(peek)
         }
     }
 

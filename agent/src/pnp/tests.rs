@@ -695,6 +695,28 @@ fn pnp_side_keeps_to_the_nearer_wall_and_still_reaches_a_goal_in_the_middle() {
     assert!(v.dot(&(goal - near.position)) > 0.0 && v.y > 0.0, "{v:?}");
 }
 
+/// `pnp-right` keeps to the wall on its right whichever wall is nearer: 0.4 m above the
+/// axis of a 3 m hallway, heading east it moves down toward the south wall where `pnp-side`
+/// moves up to the nearer north one; heading west it keeps to the north wall. Two robots
+/// meeting head-on so keep to opposite walls.
+#[test]
+fn pnp_right_keeps_to_the_wall_on_its_right() {
+    let east = ego(vec2(0.0, 0.4), 0.0, 1.0);
+    let right = decide(PnpParams::right(true), &east, &hallway(), vec2(40.0, 0.0));
+    let side = decide(PnpParams::side(true), &east, &hallway(), vec2(40.0, 0.0));
+    assert!(
+        right.x > 0.0 && right.y < 0.0,
+        "pnp-right heading east: {right:?}"
+    );
+    assert!(side.y > 0.0, "pnp-side heading east: {side:?}");
+    let west = ego(vec2(0.0, 0.4), std::f64::consts::PI, 1.0);
+    let right = decide(PnpParams::right(true), &west, &hallway(), vec2(-40.0, 0.0));
+    assert!(
+        right.x < 0.0 && right.y > 0.0,
+        "pnp-right heading west: {right:?}"
+    );
+}
+
 /// Beside shelves' end faces broken by aisle mouths (a cross-aisle), `pnp-side` leaves the
 /// side term out and decides as `pnp-omni-across` does: keeping to such a "wall" would drive
 /// it past blind corners. Beside a wall that runs on it keeps to the side.
