@@ -91,7 +91,7 @@ fn pnp(c: &mut Criterion) {
     // first segment's speed in twelfths (`pnp-agile`); and with velocities in ten directions
     // (`pnp-omni`), and samples spread across people's way half as far (`pnp-omni-across`),
     // and keeping to the side (`pnp-side`), scoring hidden people against braking once they
-    // step out (`pnp-side-brake`).
+    // step out (`pnp-side-brake`), keeping to the wall on its right (`pnp-right`).
     for (name, params) in [
         ("plan", PnpParams::default()),
         ("plan-reactive", PnpParams::reactive(true)),
@@ -101,6 +101,7 @@ fn pnp(c: &mut Criterion) {
         ("plan-omni-across", PnpParams::omni_across(true)),
         ("plan-side", PnpParams::side(true)),
         ("plan-side-brake", PnpParams::side_brake(true)),
+        ("plan-right", PnpParams::right(true)),
     ] {
         let mut planner = Pnp::new(PnpParams {
             v_max: 3.0,

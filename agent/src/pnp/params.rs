@@ -356,7 +356,7 @@ impl PnpParams {
     /// `pnp-side` keeping to the wall on its right (`pnp-right`, [`PnpParams::side_right`]).
     /// In fleets `pnp-side`'s robots met head-on beside the same wall: in the hallway with no
     /// people (tuning seed 2) two of them faced each other at a pick station for over a
-    /// minute while the station's line grew behind them (results/fleet-pnp-right).
+    /// minute while the station's line grew behind them (results/fleet-pnp-right/REPORT.md).
     pub fn right(peek: bool) -> Self {
         Self {
             side_right: true,
