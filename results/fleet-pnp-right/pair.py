@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """pair.py NEW.csv[,NEW.csv...] OLD.csv[,OLD.csv...]: the new runs against the old on the same
 (site, robots, seed), mean difference per run ± its standard error, for the work and the
-counter-measures."""
+counter-measures. Only runs with the traffic policy and the safety layer on."""
 import csv, sys, statistics as st
 
 def load(arg):
     runs = {}
     for path in arg.split(","):
         for r in csv.DictReader(open(path)):
+            if (r["policy"], r["safety"]) != ("true", "true"):
+                continue
             runs[(r["scenario"], r["robots"], r["seed"])] = r
     return runs
 

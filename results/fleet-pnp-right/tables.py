@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """tables.py RUNS.csv...: one row per runs.csv and cell (site, robots, planner): the work and,
 beside it, every counter-measure (means per run): tasks, efficiency, contacts of every cause,
-closeness, people's delay, deadlocks and gridlocks, stuck share."""
+closeness, people's delay, deadlocks and gridlocks, stuck share. Only runs with the traffic policy
+and the safety layer on."""
 import csv, sys, statistics as st
 
 print("| runs | planner | site | robots | runs | tasks per run | efficiency | robot-caused | person-caused | robot–robot | walls | total contacts | closest, mean of runs (m) | people's delay (person-s) | runs with a deadlock | runs with a gridlock | stuck share |")
@@ -9,6 +10,8 @@ print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|
 for path in sys.argv[1:]:
     cells = {}
     for r in csv.DictReader(open(path)):
+        if (r["policy"], r["safety"]) != ("true", "true"):
+            continue
         cells.setdefault((r["scenario"], int(r["robots"]), r.get("planner", "")), []).append(r)
     for (site, robots, planner), v in sorted(cells.items()):
         m = lambda c: st.mean(float(x[c]) for x in v)
