@@ -4,6 +4,11 @@ fn default_text() -> &'static str {
     BUILTIN[0].1
 }
 
+/// The error `text` is refused with, as the user reads it.
+fn error_of(text: &str) -> String {
+    Scenario::from_toml(text, "t.toml").unwrap_err().to_string()
+}
+
 #[test]
 fn builtin_open_space_parses_with_the_papers_stage() {
     let s = Scenario::builtin("open-space").expect("valid");
@@ -64,26 +69,20 @@ fn unknown_field_is_named() {
 #[test]
 fn wrong_type_is_named() {
     let text = default_text().replace("max_speed = 1.0", "max_speed = \"fast\"");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(err.contains("max_speed"), "{err}");
 }
 
 #[test]
 fn out_of_range_value_is_named() {
     let text = default_text().replace("density = 0.5", "density = -1.0");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(
         err.contains("open_space.density") && err.contains("(0, 3]"),
         "{err}"
     );
     let text = default_text().replace("velocity_noise = 0.0", "velocity_noise = nan");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(err.contains("robot.velocity_noise"), "{err}");
 }
 
@@ -92,9 +91,7 @@ fn missing_layout_is_named() {
     let text = default_text()
         .replace("[open_space]", "[unused]")
         .replace("size_m = 10.0\n", "");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(
         err.contains("unused") || err.contains("open_space"),
         "{err}"
@@ -147,22 +144,16 @@ fn the_safety_layer_is_set_per_site_and_checked() {
     assert_eq!(guard.params(), &open.safety_layer);
 
     let text = default_text().replace("yield_time = 3.0", "yield_time = -1.0");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(
         err.contains("robot.safety_layer.yield_time") && err.contains("-1"),
         "{err}"
     );
     let text = default_text().replace("yield_time = 3.0", "yeld_time = 3.0");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(err.contains("yeld_time"), "{err}");
     let text = default_text().replace("yield_clearance = 0.6", "yield_clearance = nan");
-    let err = Scenario::from_toml(&text, "t.toml")
-        .unwrap_err()
-        .to_string();
+    let err = error_of(&text);
     assert!(err.contains("robot.safety_layer.yield_clearance"), "{err}");
 }
 
