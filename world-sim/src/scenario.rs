@@ -138,8 +138,8 @@ pub struct Hallway {
     /// A fleet hallway: with N robots the hallway is a fleet site (`warehouse::Site::hallway`):
     /// closed ends, `stations_per_end` docks across the left end and as many pick stations
     /// across the right end, the robots spread along the centre line doing pick/drop tasks in
-    /// both directions, people walking between the stations. Absent: one robot crosses once
-    /// (the studies' hallway).
+    /// both directions, people walking to points anywhere on its floor. Absent: one robot
+    /// crosses once (the studies' hallway).
     #[serde(default)]
     pub robots: Option<usize>,
     /// Stations across each end of a fleet hallway (default 3).

@@ -13,7 +13,8 @@ impl World {
             let site = Site::hallway(hall.length_m, hall.width_m, hall.stations());
             let robots = in_a_row(robots, hall.length_m, hall.width_m / 2.0);
             let mut layout = site_layout(scenario, &site, robots, hall.humans, hall.max_group_size);
-            // People walk the hallway's length both ways, past the robots' stations.
+            // People walk to points anywhere on the hallway's floor (`GoalRule::Anywhere`), not
+            // to the stations, which are the robots'.
             layout.people_to_stations = false;
             // Robots stand every length/N along the centre line (2 m for 20 in 40 m), where the
             // usual 1.5 m would leave no room for anyone.
