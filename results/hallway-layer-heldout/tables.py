@@ -6,7 +6,7 @@ library only). Run from the repository's root:
 
 Each planner's runs are read from whichever folder holds them: this folder (the seven planners
 of the first table), `pnp-omni/` (which also holds ORCA and `pgp+orca` with the hallway closed
-at its ends), `pnp-fine-agile/`, `pnp-omni-across/` or `pnp-side/`.
+at its ends), `pnp-fine-agile/`, `pnp-omni-across/`, `pnp-side/` or `pnp-right/`.
 """
 import csv
 import os
@@ -14,7 +14,7 @@ import statistics
 import sys
 
 HERE = "results/hallway-layer-heldout"
-FOLDERS = [HERE, f"{HERE}/pnp-omni", f"{HERE}/pnp-fine-agile", f"{HERE}/pnp-omni-across", f"{HERE}/pnp-side"]
+FOLDERS = [HERE, f"{HERE}/pnp-omni", f"{HERE}/pnp-fine-agile", f"{HERE}/pnp-omni-across", f"{HERE}/pnp-side", f"{HERE}/pnp-right"]
 NEVER = float("inf")
 
 
