@@ -626,8 +626,23 @@ impl SafeSet<'_> {
         } else {
             p.warning_scale
         };
-        let tried =
-            std::iter::once(start).chain(LADDER.into_iter().filter(|&s| s < start && s > 0.0));
+        // Graded, the fixed field's `warning_scale` is tried before the ladder's fractions
+        // below it: the graded field never keeps less than the fixed one would.
+        let fixed =
+            (p.warning_graded && warned && p.warning_scale < start).then_some(p.warning_scale);
+        let below = |s: Real| s < start && s > 0.0 && fixed.is_none_or(|w| s != w);
+        let tried = std::iter::once(start)
+            .chain(
+                LADDER
+                    .into_iter()
+                    .filter(move |&s| below(s) && fixed.is_none_or(|w| s > w)),
+            )
+            .chain(fixed)
+            .chain(
+                LADDER
+                    .into_iter()
+                    .filter(move |&s| below(s) && fixed.is_some_and(|w| s < w)),
+            );
         for s in tried {
             let candidate = if s == 1.0 {
                 command

@@ -65,8 +65,10 @@ pub struct SafetyParams {
     /// Whether the warning field slows a command only as far as it must (Nav2's collision
     /// monitor's *approach* model): to the largest fraction of it, between 1 and
     /// `warning_scale` on the [`LADDER`](crate::safety::LADDER), that the warning check passes,
-    /// and to `warning_scale` when none does. `false`, the default: every warned command goes to
-    /// `warning_scale`. Either way the protective check follows, so the guarantee is the same.
+    /// and to `warning_scale` when none does. Graded, it tries `warning_scale` before the
+    /// ladder's fractions below it, so it never keeps less of a command than the fixed field.
+    /// `false`, the default: every warned command goes to `warning_scale`. Either way the
+    /// protective check follows, so the guarantee is the same.
     pub warning_graded: bool,
     /// a_h (m/s²): how hard a perceived *person* may change their motion. In the protective
     /// check a person may stray ½·a_h·t² from both hypotheses, in any direction: a person who
