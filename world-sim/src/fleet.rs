@@ -7,7 +7,8 @@
 //! Task cycle of a robot: idle → (assigned) drive to the pick station → drive to its dock →
 //! done, idle again. Robots follow the site's corridor routes: the goal a planner gets is the
 //! route's current waypoint; intermediate waypoints count as reached within
-//! [`WAYPOINT_REACHED_M`], stations within the robot's goal tolerance.
+//! [`WAYPOINT_REACHED_M`] (corners on a narrow aisle closer, `Site::corner_reach`, unless the
+//! way on clears the shelves), stations within the robot's goal tolerance.
 
 use crate::impact::HumanImpact;
 use crate::metrics::{MetricsRecorder, RobotMetrics};
@@ -26,6 +27,9 @@ use std::collections::VecDeque;
 
 /// A robot on a route moves to the next waypoint within this distance of the current one (m).
 pub const WAYPOINT_REACHED_M: Real = 1.0;
+/// The clearance a cut corner's straight way keeps from every shelf beyond the robot's radius
+/// (m): the sampling step of [`clear_leg`] (5 cm) plus the safety layer's 5 cm margin.
+const CORNER_CLEARANCE_M: Real = 0.1;
 /// Intents older than this are not shared (s).
 pub const INTENT_MAX_AGE_S: Real = 1.0;
 /// Random stream of task draws (the world uses 1–3).
@@ -458,7 +462,22 @@ impl Fleet {
                 self.site
                     .corner_reach(target, radius, margin, WAYPOINT_REACHED_M)
             };
-            if (target - here).norm() >= reach {
+            let distance = (target - here).norm();
+            // A corner reached closely (it lies on a narrow aisle) is passed within the usual
+            // reach all the same when the straight way from here to the next waypoint clears
+            // every shelf: cutting it then aims the robot at no shelf's end. A robot leaving
+            // an aisle turns for the cross-aisle without first driving to its centre, where
+            // the robots waiting to go in stand.
+            let cut = !last
+                && reach < distance
+                && distance < WAYPOINT_REACHED_M
+                && clear_leg(
+                    self.robot_map.as_ref().unwrap_or(&self.world.map),
+                    here,
+                    job.waypoints[1],
+                    robot.state.radius + CORNER_CLEARANCE_M,
+                );
+            if distance >= reach && !cut {
                 continue;
             }
             job.waypoints.pop_front();
@@ -700,6 +719,16 @@ impl Fleet {
         }
         m
     }
+}
+
+/// Whether every point of segment `a`–`b`, sampled every 5 cm, is out of every obstacle and
+/// at least `need` (m) from its surface.
+fn clear_leg(map: &StaticMap, a: Vec2, b: Vec2, need: Real) -> bool {
+    let steps = ((b - a).norm() / 0.05).ceil().max(1.0) as usize;
+    (0..=steps).all(|s| {
+        let p = a + (b - a) * (s as Real / steps as Real);
+        !map.is_inside(&p) && map.distance(&p) >= need
+    })
 }
 
 mod routes;

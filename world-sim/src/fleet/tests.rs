@@ -121,6 +121,59 @@ fn no_new_task_goes_to_a_station_a_held_robot_blocks() {
     assert!(draw(&mut fleet, 200).contains(&blocked));
 }
 
+/// A corner on a narrow aisle is reached within 0.35 m, unless the straight way on to the
+/// next waypoint clears every shelf: a robot out of an aisle's mouth, bound down the
+/// cross-aisle, turns 0.7 m from the corner; one come up the cross-aisle, bound into the
+/// aisle, would aim at the shelf's end and drives on to the corner.
+#[test]
+fn corners_are_cut_only_when_the_way_on_clears_the_shelves() {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(1), Some(0));
+    let mut fleet = Fleet::new(&s).expect("warehouse");
+    fleet.dispatch();
+    let task = fleet.job(0).expect("a task").task;
+    let (x, _) = fleet.site.cross_aisle(1);
+    let radius = fleet.world.robots[0].state.radius;
+    let margin = PolicyParams::default().passing_margin_m;
+    let reach = |p: Vec2| {
+        fleet
+            .site
+            .corner_reach(p, radius, margin, WAYPOINT_REACHED_M)
+    };
+    let aisle = fleet
+        .site
+        .stations_of(StationKind::Pick)
+        .map(|st| st.position.y)
+        .find(|&y| reach(agent::math::vec2(x, y)) < 0.5)
+        .expect("a pick on a narrow aisle");
+    let corner = agent::math::vec2(x, aisle);
+    let down = agent::math::vec2(x, 1.5);
+    let into = agent::math::vec2(x + 6.0, aisle);
+    assert_eq!(reach(down), WAYPOINT_REACHED_M);
+    let passes = |fleet: &mut Fleet, at: Vec2, next: Vec2| {
+        fleet.jobs[0] = Some(Job {
+            task,
+            stage: Stage::ToPick,
+            waypoints: [corner, next, fleet.site.stations[task.pick].position].into(),
+        });
+        fleet.world.robots[0].state.position = at;
+        fleet.world.robots[0].state.velocity = Vec2::zeros();
+        fleet.step(&[Command::STOP]);
+        fleet.job(0).expect("on its way").waypoint() != Some(corner)
+    };
+    let out_of_aisle = corner + agent::math::vec2(0.7, 0.0);
+    let up_cross_aisle = corner - agent::math::vec2(0.0, 0.7);
+    assert!(passes(&mut fleet, out_of_aisle, down));
+    assert!(!passes(&mut fleet, up_cross_aisle, into));
+    // Lined up with the aisle, the way in is clear; nearer than 0.35 m every corner passes.
+    assert!(passes(&mut fleet, out_of_aisle, into));
+    assert!(passes(
+        &mut fleet,
+        corner - agent::math::vec2(0.0, 0.3),
+        into
+    ));
+}
+
 /// Ten robots and no people in `warehouse-narrow`'s 1.5 m aisles for 300 s, with the traffic
 /// policy or without it.
 fn narrow_aisles_without_people(policy: Option<PolicyParams>) -> FleetReport {
