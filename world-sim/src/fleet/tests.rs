@@ -174,10 +174,11 @@ fn corners_are_cut_only_when_the_way_on_clears_the_shelves() {
     ));
 }
 
-/// Ten robots and no people in `warehouse-narrow`'s 1.5 m aisles for 300 s, with the traffic
-/// policy or without it.
-fn narrow_aisles_without_people(policy: Option<PolicyParams>) -> FleetReport {
+/// Ten robots and no people in `warehouse-narrow`'s 1.5 m aisles for 300 s on `seed`, with the
+/// traffic policy or without it.
+fn narrow_aisles_without_people(policy: Option<PolicyParams>, seed: u64) -> FleetReport {
     let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.seed = seed;
     s.set_fleet_size(Some(10), Some(0));
     let options = FleetOptions {
         share_intents: true,
@@ -188,13 +189,13 @@ fn narrow_aisles_without_people(policy: Option<PolicyParams>) -> FleetReport {
 }
 
 /// Without the traffic policy robots meet face to face in narrow aisles and get stuck there,
-/// next to each other; with it none deadlocks. (The layer's yield backs one robot out of the
-/// way of another that would run into it, which ends such meetings on this seed; with people
-/// about, policy-off runs still deadlock: results/traffic.)
+/// next to each other; with it none deadlocks. Seed 2: on seed 1 ten robots without the
+/// policy no longer get stuck at all since robots out of an aisle cut its corner; on seeds 2–4
+/// they still deadlock. (With people about, policy-off runs deadlock too: results/traffic.)
 #[test]
 fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
-    let off = narrow_aisles_without_people(None);
-    let on = narrow_aisles_without_people(Some(PolicyParams::default()));
+    let off = narrow_aisles_without_people(None, 2);
+    let on = narrow_aisles_without_people(Some(PolicyParams::default()), 2);
     assert!(off.traffic.stuck_onsets > 0, "{:?}", off.traffic);
     assert_eq!(on.traffic.deadlocks, 0, "{:?}", on.traffic);
     // The stuck time, split by place and by company: with nobody but robots about, robots
@@ -218,11 +219,12 @@ fn the_traffic_policy_keeps_narrow_aisles_free_of_deadlocks() {
 /// 32 tasks with the policy against 38 without it on this seed: after a pick, every robot
 /// left its aisle by the far end of the flow, alone in it or not. A robot alone there with
 /// nobody near now takes its shortest way out (`PolicyParams::alone_exit_clear_m`): 38
-/// against 38 (results/way-out).
+/// against 38 (results/way-out), and 40 against 38 since robots out of an aisle cut its
+/// corner.
 #[test]
 fn the_traffic_policy_costs_no_tasks_in_narrow_aisles_without_people() {
-    let off = narrow_aisles_without_people(None);
-    let on = narrow_aisles_without_people(Some(PolicyParams::default()));
+    let off = narrow_aisles_without_people(None, 1);
+    let on = narrow_aisles_without_people(Some(PolicyParams::default()), 1);
     assert!(
         on.total_tasks() >= off.total_tasks(),
         "{} < {}",
