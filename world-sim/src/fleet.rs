@@ -468,7 +468,8 @@ impl Fleet {
             // every shelf: cutting it then aims the robot at no shelf's end. A robot leaving
             // an aisle turns for the cross-aisle without first driving to its centre, where
             // the robots waiting to go in stand.
-            let cut = !last
+            let cut = self.site.cut_clear_corners
+                && !last
                 && reach < distance
                 && distance < WAYPOINT_REACHED_M
                 && clear_leg(

@@ -181,6 +181,11 @@ pub struct Warehouse {
     pub max_group_size: usize,
     /// Number of robots (≥ 1); they start along the bottom corridor.
     pub robots: usize,
+    /// Whether a route's corner on an aisle too narrow for two robots is passed within the
+    /// fleet's 1 m when the straight way on clears every shelf (default), or only within
+    /// what the aisle leaves beside the robot, as before results/corner-cut.
+    #[serde(default = "yes")]
+    pub cut_clear_corners: bool,
 }
 
 /// The simulated people.

@@ -102,6 +102,14 @@ pub struct Site {
     /// `router`.
     #[serde(skip)]
     speed_zones: Option<std::sync::Arc<crate::floor_plan::speed::SpeedZones>>,
+    /// Whether a corner on a narrow aisle may be cut when the way on clears the shelves
+    /// (`Warehouse::cut_clear_corners`; `Fleet::step`).
+    #[serde(default = "cut")]
+    pub cut_clear_corners: bool,
+}
+
+fn cut() -> bool {
+    true
 }
 
 impl Site {
@@ -170,6 +178,7 @@ impl Site {
             router: None,
             people_router: None,
             speed_zones: None,
+            cut_clear_corners: spec.cut_clear_corners,
         }
     }
 
@@ -196,6 +205,7 @@ impl Site {
             router: spec.router(radius),
             people_router: spec.people_router(radius),
             speed_zones: plan.speed_zones.clone(),
+            cut_clear_corners: true,
         })
     }
 
@@ -262,6 +272,7 @@ impl Site {
             router: None,
             people_router: None,
             speed_zones: None,
+            cut_clear_corners: true,
         }
     }
 

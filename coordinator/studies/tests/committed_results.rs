@@ -54,7 +54,7 @@ fn smoke_rows_are_committed(dir: &str, safety: bool, planners: &[&str], densitie
     let committed = std::fs::read_to_string(&path).expect("the committed study");
     let mut scenario = Scenario::builtin("open-space").expect("built-in");
     scenario.robot.safety = safety;
-    stopping_dead(&mut scenario);
+    as_committed(&mut scenario);
     let plan = StudyPlan {
         scenario,
         algorithms: planners.iter().map(|a| a.parse().expect("known")).collect(),
@@ -127,7 +127,7 @@ fn pnp_side_brake_hallway_rows_are_the_committed_rows() {
 fn hallway_rows(safety: bool, planners: &[&str], first_seed: u64, seeds: u64) -> String {
     use studies::hallway::{HallwayStudy, hallway_scenario};
     let mut scenario = hallway_scenario(3.0, safety).expect("valid");
-    stopping_dead(&mut scenario);
+    as_committed(&mut scenario);
     let study = HallwayStudy {
         scenario,
         planners: planners.iter().map(|p| p.parse().expect("known")).collect(),
@@ -148,7 +148,7 @@ fn traffic_rows_are_the_committed_rows() {
     use studies::traffic::{Site, TrafficStudy};
     let site = |name: &str| {
         let mut scenario = Scenario::builtin(name).expect("built-in");
-        stopping_dead(&mut scenario);
+        as_committed(&mut scenario);
         Site {
             scenario,
             fleets: vec![10],
@@ -177,11 +177,16 @@ fn traffic_rows_are_the_committed_rows() {
 /// These studies were committed while the safety layer let people stop dead from walking
 /// speed (`SafetyParams::people_stop_dead`, on until results/halting) and swerve at a_h
 /// everywhere (`person_accel_away`, 2 m/s² away from a warehouse's stations since
-/// results/swerve-allowance): their runs reproduce with both as they were.
-fn stopping_dead(scenario: &mut Scenario) {
+/// results/swerve-allowance), and while robots reached every corner on a narrow aisle
+/// closely (`cut_clear_corners`, since results/corner-cut): their runs reproduce with all
+/// three as they were.
+fn as_committed(scenario: &mut Scenario) {
     let layer = &mut scenario.robot.safety_layer;
     layer.people_stop_dead = true;
     layer.person_accel_away = layer.person_accel;
+    if let Some(warehouse) = &mut scenario.warehouse {
+        warehouse.cut_clear_corners = false;
+    }
 }
 
 /// Every row of `ours` (a runs.csv with its header) is a line of `results/<dir>/runs.csv`,

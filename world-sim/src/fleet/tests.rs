@@ -172,6 +172,9 @@ fn corners_are_cut_only_when_the_way_on_clears_the_shelves() {
         corner - agent::math::vec2(0.0, 0.3),
         into
     ));
+    // As before results/corner-cut (`cut_clear_corners = false`): only within 0.35 m.
+    fleet.site.cut_clear_corners = false;
+    assert!(!passes(&mut fleet, out_of_aisle, down));
 }
 
 /// Ten robots and no people in `warehouse-narrow`'s 1.5 m aisles for 300 s on `seed`, with the
