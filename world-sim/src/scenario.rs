@@ -381,7 +381,7 @@ impl Warehouse {
     }
 }
 
-fn yes() -> bool {
+pub(crate) fn yes() -> bool {
     true
 }
 

@@ -104,12 +104,8 @@ pub struct Site {
     speed_zones: Option<std::sync::Arc<crate::floor_plan::speed::SpeedZones>>,
     /// Whether a corner on a narrow aisle may be cut when the way on clears the shelves
     /// (`Warehouse::cut_clear_corners`; `Fleet::step`).
-    #[serde(default = "cut")]
+    #[serde(default = "crate::scenario::yes")]
     pub cut_clear_corners: bool,
-}
-
-fn cut() -> bool {
-    true
 }
 
 impl Site {

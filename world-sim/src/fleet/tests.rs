@@ -121,16 +121,26 @@ fn no_new_task_goes_to_a_station_a_held_robot_blocks() {
     assert!(draw(&mut fleet, 200).contains(&blocked));
 }
 
+/// `robots` robots and no people in `warehouse-narrow`, with the traffic `policy`, each given
+/// a task.
+fn narrow_fleet_without_people(robots: usize, policy: Option<PolicyParams>) -> Fleet {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(robots), Some(0));
+    let mut fleet = Fleet::new(&s).expect("warehouse");
+    if policy.is_some() {
+        fleet.set_traffic_policy(policy);
+    }
+    fleet.dispatch();
+    fleet
+}
+
 /// A corner on a narrow aisle is reached within 0.35 m, unless the straight way on to the
 /// next waypoint clears every shelf: a robot out of an aisle's mouth, bound down the
 /// cross-aisle, turns 0.7 m from the corner; one come up the cross-aisle, bound into the
 /// aisle, would aim at the shelf's end and drives on to the corner.
 #[test]
 fn corners_are_cut_only_when_the_way_on_clears_the_shelves() {
-    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
-    s.set_fleet_size(Some(1), Some(0));
-    let mut fleet = Fleet::new(&s).expect("warehouse");
-    fleet.dispatch();
+    let mut fleet = narrow_fleet_without_people(1, None);
     let task = fleet.job(0).expect("a task").task;
     let (x, _) = fleet.site.cross_aisle(1);
     let radius = fleet.world.robots[0].state.radius;
@@ -274,10 +284,7 @@ fn a_scenario_without_warehouse_is_refused() {
 /// (every corridor is a turn away from there).
 #[test]
 fn a_robot_pushed_into_the_wrong_aisle_gets_a_new_route() {
-    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
-    s.set_fleet_size(Some(2), Some(0));
-    let mut fleet = Fleet::new(&s).expect("warehouse");
-    fleet.dispatch();
+    let mut fleet = narrow_fleet_without_people(2, None);
     let segments = fleet.site().narrow_segments(2.0);
     let waypoint = |fleet: &Fleet, i: usize| fleet.job(i).and_then(Job::waypoint).expect("a job");
     let wrong = segments
@@ -310,12 +317,7 @@ fn a_robot_pushed_into_the_wrong_aisle_gets_a_new_route() {
 
 /// Two robots in `warehouse-narrow` without people, the traffic policy on, tasks given.
 fn two_in_narrow_aisles() -> Fleet {
-    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
-    s.set_fleet_size(Some(2), Some(0));
-    let mut fleet = Fleet::new(&s).expect("warehouse");
-    fleet.set_traffic_policy(Some(PolicyParams::default()));
-    fleet.dispatch();
-    fleet
+    narrow_fleet_without_people(2, Some(PolicyParams::default()))
 }
 
 /// A robot inside a one-way segment against its flow, with a robot of the flow coming at it,
