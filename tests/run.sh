@@ -7,7 +7,9 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/gapfleet-target}"
 # Every clone path builds its own copies of the workspace crates; incremental caches on top of
 # that filled a 250 GB disk over a dozen CI runs. Clean clones gain nothing from them.
 export CARGO_INCREMENTAL=0
-free_kb=$(df -Pk "$(dirname "$CARGO_TARGET_DIR")" 2>/dev/null | awk 'NR == 2 { print $4 }')
+# A fresh machine has no cache folder yet: make it, so that df has something to measure.
+mkdir -p "$CARGO_TARGET_DIR"
+free_kb=$(df -Pk "$CARGO_TARGET_DIR" 2>/dev/null | awk 'NR == 2 { print $4 }' || true)
 if [ -n "$free_kb" ] && [ "$free_kb" -lt $((20 * 1024 * 1024)) ]; then
     echo "tests/run.sh: only $((free_kb / 1024 / 1024)) GB free for $CARGO_TARGET_DIR; a clean" \
         "build needs about 20 GB (cargo clean, or remove its debug/incremental, to make room)" >&2

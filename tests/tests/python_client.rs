@@ -72,10 +72,11 @@ fn python_client_decodes_a_live_fleets_intents() {
     let _ = demo.kill();
     let _ = demo.wait();
     let summary = client_summary(&out, "plain");
-    assert_eq!(summary["planners"], serde_json::json!(["pgp+orca"]));
+    // The fleet's planner, `pnp-right`, announces the path it chose.
+    assert_eq!(summary["planners"], serde_json::json!(["pnp-right"]));
     assert_eq!(
-        summary["max_samples"], 32,
-        "PGP's 8 s horizon at 4 Hz: {summary}"
+        summary["max_samples"], 6,
+        "pnp-right's 1.5 s horizon at 4 Hz: {summary}"
     );
     assert!(summary["map_obstacles"].as_u64().is_some_and(|n| n > 4));
     // The traffic policy runs by default: every robot's constraint arrives beside its

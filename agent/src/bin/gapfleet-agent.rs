@@ -28,10 +28,12 @@ struct Args {
     /// The robot this agent drives (its fleet id; not needed with --ros).
     #[arg(long, required_unless_present = "ros")]
     robot_id: Option<u32>,
-    /// Planner stack: dwa, orca, sf, foigp, igp-diag, igp-lin or mc, each optionally behind
-    /// pgp+ (e.g. pgp+orca). The foIGP family does not see walls or shelves.
-    #[arg(long, default_value = "pgp+orca")]
-    planner: PlannerSpec,
+    /// Planner stack, as agent/README.md lists them: e.g. pnp-right, pgp+orca, orca, dwa, sf,
+    /// pnp-agile, asfm or foigp. The foIGP family does not see walls or shelves.
+    /// [default: the fleet's, pnp-right, whose candidates are velocities; on `--base
+    /// differential` pnp-agile, which plans turn-and-drive]
+    #[arg(long)]
+    planner: Option<PlannerSpec>,
     /// Site name (key prefix `gapfleet/<site>`).
     #[arg(long, default_value = "demo")]
     site: schemas::Keys,
@@ -165,11 +167,14 @@ async fn main() -> anyhow::Result<()> {
         // Colours for a terminal only: a log file gets plain text.
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
-    let args = Args::parse();
-    if !args.planner.avoids_static_obstacles() {
+    let mut args = Args::parse();
+    let planner = args
+        .planner
+        .unwrap_or_else(|| default_planner(args.ros.base));
+    args.planner = Some(planner);
+    if !planner.avoids_static_obstacles() {
         tracing::warn!(
-            "{} does not see shelves or walls (the foIGP paper models people only)",
-            args.planner
+            "{planner} does not see shelves or walls (the foIGP paper models people only)"
         );
     }
     let mut net = args.net.clone();
@@ -190,7 +195,7 @@ async fn main() -> anyhow::Result<()> {
     let Some(robot_id) = args.robot_id else {
         anyhow::bail!("--robot-id is required without --ros");
     };
-    let mut agent_config = AgentConfig::new(robot_id, args.site.clone(), args.planner);
+    let mut agent_config = AgentConfig::new(robot_id, args.site.clone(), planner);
     agent_config.obs_timeout = Duration::from_millis(args.obs_timeout_ms);
     agent_config.share_fan = args.share_fan;
     agent_config.fault_plan_delay = Duration::from_millis(args.fault_plan_delay_ms);
@@ -224,6 +229,16 @@ async fn main() -> anyhow::Result<()> {
         count(&counters.yielded)
     );
     Ok(())
+}
+
+/// The planner an agent runs unless told: the fleet's, or on a differential base `pnp-agile`,
+/// whose candidates turn and drive as the base does (agent/README.md).
+fn default_planner(base: BaseArg) -> PlannerSpec {
+    let name = match base {
+        BaseArg::Holonomic => PlannerSpec::FLEET,
+        BaseArg::Differential => "pnp-agile",
+    };
+    name.parse().expect("a known planner")
 }
 
 /// The base as the flag gives it (turn rates within the layer's limits).
@@ -262,7 +277,9 @@ async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
     let base = base_of(args.ros.base);
     let config = RosAgentConfig {
         ros: ros_config(&args.ros),
-        planner: args.planner,
+        planner: args
+            .planner
+            .unwrap_or_else(|| default_planner(args.ros.base)),
         safety: (!args.no_safety).then_some(limits),
         base,
         goals: args.ros.goals.clone(),

@@ -127,6 +127,12 @@ impl PlannerSpec {
 }
 
 impl PlannerSpec {
+    /// The fleet's planner: what `gapfleet demo`, `gapfleet coordinator`'s free flow,
+    /// `gapfleet deployment`, `gapfleet-agent` and `gapfleet study traffic` run unless told
+    /// otherwise. Among people, `pnp-right` does the most work in every fleet site, with no
+    /// robot-caused contact (results/fleet-default/REPORT.md).
+    pub const FLEET: &'static str = "pnp-right";
+
     /// Whether the short-term planner keeps clear of walls and shelves. The foIGP family does
     /// not: the foIGP paper's model has people and the robot only.
     pub fn avoids_static_obstacles(&self) -> bool {

@@ -42,7 +42,7 @@ pub struct CoordinatorArgs {
     /// The planner the site's agents run: the fleet's efficiency is measured against one robot
     /// alone on the site with it (the free flow, run in-process beside the run; efficiency
     /// shows once it is in).
-    #[arg(long, default_value = "pgp+orca")]
+    #[arg(long, default_value = agent::planner::PlannerSpec::FLEET)]
     free_flow_planner: agent::planner::PlannerSpec,
     /// Real robots the coordinator does not simulate: `all`, or ids such as `0-3,6`. Each
     /// stands where its agent reports it (an agent driving a ROS 2 robot, `gapfleet-agent

@@ -25,7 +25,7 @@ pub struct DemoArgs {
     #[arg(long)]
     seed: Option<u64>,
     /// Planner stack of every agent.
-    #[arg(long, default_value = "pgp+orca")]
+    #[arg(long, default_value = agent::planner::PlannerSpec::FLEET)]
     planner: PlannerSpec,
     /// Simulated seconds per wall second, in [0.001, 1000].
     #[arg(long, default_value_t = 1.0, value_parser = speed)]

@@ -23,7 +23,7 @@ pub struct LoopArgs {
     #[arg(long, default_value_t = 1.0, value_parser = speed)]
     speed: f64,
     /// The agents' planner stack.
-    #[arg(long, default_value = "pgp+orca")]
+    #[arg(long, default_value = agent::planner::PlannerSpec::FLEET)]
     planner: agent::planner::PlannerSpec,
     /// The `zenohd` to route through (1.10.2; `bash tests/run.sh` installs one).
     #[arg(long, default_value = "zenohd")]

@@ -187,15 +187,21 @@ pub async fn run_demo(
         }));
     }
 
-    let free = {
+    let mut config = CoordinatorConfig::new(options.keys.clone());
+    // One robot alone on the site, run beside the fleet (as `gapfleet coordinator` does) so
+    // that the fleet does not wait for it: the efficiency shows once it is in, and the summary
+    // waits for it at the end.
+    let free_flow = {
         let (scenario, planner) = (options.scenario.clone(), options.planner);
         let (share, policy) = (options.share_intents, options.traffic_policy);
-        tokio::task::spawn_blocking(move || super::free_flow(&scenario, planner, share, policy))
-            .await
-            .map_err(|e| DemoError::FreeFlow(e.to_string()))??
+        let slot = config.free_flow.clone();
+        tokio::task::spawn_blocking(move || {
+            let free = super::free_flow(&scenario, planner, share, policy)?;
+            let _ = slot.set(free);
+            Ok::<_, DemoError>(free)
+        })
     };
-    let mut config = CoordinatorConfig::new(options.keys.clone());
-    let _ = config.free_flow.set(free);
+    let free_slot = config.free_flow.clone();
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     config.round_trips = options.round_trips;
@@ -212,10 +218,9 @@ pub async fn run_demo(
             (0..fleet.robots()).map(|i| fleet.metrics(i)).collect(),
             (0..fleet.robots()).map(|i| fleet.tasks_done(i)).collect(),
             fleet.traffic_policy().map(TrafficPolicy::totals),
-            status
-                .summary
-                .clone()
-                .unwrap_or_else(|| FleetSummary::of(fleet).with_free_flow(Some(free))),
+            status.summary.clone().unwrap_or_else(|| {
+                FleetSummary::of(fleet).with_free_flow(free_slot.get().copied())
+            }),
         ));
     };
     let mut observers = (status_line, dashboard);
@@ -232,6 +237,10 @@ pub async fn run_demo(
     router.close().await.map_err(DemoError::Close)?;
     // The coordinator reports its status at the end of every run, so this is never empty.
     let (fleet_metrics, tasks_done, policy, summary) = final_fleet.unwrap_or_default();
+    let free = free_flow
+        .await
+        .map_err(|e| DemoError::FreeFlow(e.to_string()))??;
+    let summary = summary.with_free_flow(Some(free));
     Ok(DemoReport {
         status,
         agents: counters,

@@ -56,7 +56,7 @@ pub struct TrafficArgs {
     #[arg(long, value_delimiter = ',', value_parser = on_off, requires = "reuse")]
     reuse_policy: Vec<bool>,
     /// Planner stack of every robot.
-    #[arg(long, default_value = "pgp+orca")]
+    #[arg(long, default_value = agent::planner::PlannerSpec::FLEET)]
     planner: PlannerSpec,
     #[command(flatten)]
     run: super::RunArgs,
