@@ -202,6 +202,12 @@ pub async fn run_demo(
         })
     };
     let free_slot = config.free_flow.clone();
+    // A dashboard shows the efficiency from its first frame: with one, the fleet waits for it.
+    if options.sinks.any() {
+        while free_slot.get().is_none() && !free_flow.is_finished() {
+            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+        }
+    }
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     config.round_trips = options.round_trips;
