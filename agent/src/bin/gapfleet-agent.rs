@@ -167,11 +167,10 @@ async fn main() -> anyhow::Result<()> {
         // Colours for a terminal only: a log file gets plain text.
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
-    let mut args = Args::parse();
+    let args = Args::parse();
     let planner = args
         .planner
         .unwrap_or_else(|| default_planner(args.ros.base));
-    args.planner = Some(planner);
     if !planner.avoids_static_obstacles() {
         tracing::warn!(
             "{planner} does not see shelves or walls (the foIGP paper models people only)"
@@ -185,7 +184,7 @@ async fn main() -> anyhow::Result<()> {
         .await
         .map_err(|e| anyhow::anyhow!("cannot open the Zenoh session: {e}"))?;
     if args.ros.ros && args.robot_id.is_none() {
-        return run_ros(args, &session).await;
+        return run_ros(args, planner, &session).await;
     }
     if args.ros.ros && !args.ros.goals.is_empty() {
         anyhow::bail!(
@@ -268,7 +267,7 @@ fn ros_config(ros: &RosArgs) -> agent::runtime::ros::RosConfig {
 }
 
 /// `--ros` without `--robot-id`: the robot's own topics in, its cmd_vel out, through the goals.
-async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
+async fn run_ros(args: Args, planner: PlannerSpec, session: &zenoh::Session) -> anyhow::Result<()> {
     use agent::runtime::standalone::{RosAgentConfig, run_ros_agent};
     if args.ros.goals.is_empty() {
         anyhow::bail!("--ros needs --robot-id (in a fleet) or at least one --goal x,y (alone)");
@@ -277,9 +276,7 @@ async fn run_ros(args: Args, session: &zenoh::Session) -> anyhow::Result<()> {
     let base = base_of(args.ros.base);
     let config = RosAgentConfig {
         ros: ros_config(&args.ros),
-        planner: args
-            .planner
-            .unwrap_or_else(|| default_planner(args.ros.base)),
+        planner,
         safety: (!args.no_safety).then_some(limits),
         base,
         goals: args.ros.goals.clone(),
