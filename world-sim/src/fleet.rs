@@ -297,10 +297,12 @@ impl Fleet {
             if self.jobs[i].is_some() || self.held[i] {
                 continue;
             }
+            let pick = picks[self.task_rng.random_range(0..picks.len())];
+            let drawn = docks[self.task_rng.random_range(0..docks.len())];
             let task = Task {
                 id: self.next_task,
-                pick: picks[self.task_rng.random_range(0..picks.len())],
-                drop: docks[self.task_rng.random_range(0..docks.len())],
+                pick,
+                drop: self.balanced_dock(drawn, &docks),
             };
             self.next_task += 1;
             let from = self.world.robots[i].state.position;
@@ -318,6 +320,45 @@ impl Fleet {
         }
         self.update_goals();
         events
+    }
+
+    /// The dock a new task drawn for `drawn` drops at, among the open `docks`: `drawn`, unless
+    /// the traffic policy shares docks out by load
+    /// ([`PolicyParams::dock_balance_excess`]) and
+    /// `drawn` has that many more robots' tasks bound for it than the least-loaded open dock;
+    /// then the least-loaded dock nearest `drawn` (ties to the lower id).
+    fn balanced_dock(&self, drawn: usize, docks: &[usize]) -> usize {
+        let excess = self
+            .policy
+            .as_ref()
+            .map_or(0.0, |p| p.params.dock_balance_excess);
+        if excess <= 0.0 {
+            return drawn;
+        }
+        let load = |dock: usize| {
+            self.jobs
+                .iter()
+                .flatten()
+                .filter(|job| job.task.drop == dock)
+                .count()
+        };
+        let least = docks.iter().map(|&d| load(d)).min().unwrap_or(0);
+        if ((load(drawn) - least) as Real) < excess {
+            return drawn;
+        }
+        let at = self.site.stations[drawn].position;
+        docks
+            .iter()
+            .copied()
+            .filter(|&d| load(d) == least)
+            .min_by(|&a, &b| {
+                let (da, db) = (
+                    (self.site.stations[a].position - at).norm(),
+                    (self.site.stations[b].position - at).norm(),
+                );
+                da.total_cmp(&db).then(a.cmp(&b))
+            })
+            .unwrap_or(drawn)
     }
 
     /// Whether a held robot stands where it keeps others from station `station`: its centre

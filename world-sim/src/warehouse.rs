@@ -333,6 +333,16 @@ impl Site {
         self.cross_aisle_of(p).is_some()
     }
 
+    /// Whether `p` lies within `grow` (m) of a crossing: the box where a cross-aisle meets a
+    /// corridor or an aisle. Never on a site with no cross-aisles (a hallway, a floor plan).
+    pub fn in_crossing(&self, p: Vec2, grow: Real) -> bool {
+        let near = |c: Real, half: Real, v: Real| (v - c).abs() < half + grow;
+        self.cross_aisles
+            .iter()
+            .any(|&(x, half)| near(x, half, p.x))
+            && self.corridors.iter().any(|&(y, half)| near(y, half, p.y))
+    }
+
     /// The horizontal corridor nearest to `p` (for points pushed off the grid, e.g. into a
     /// shelf's edge).
     fn nearest_corridor(&self, p: Vec2) -> usize {

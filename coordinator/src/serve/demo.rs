@@ -191,7 +191,7 @@ pub async fn run_demo(
     // One robot alone on the site, run beside the fleet (as `gapfleet coordinator` does) so
     // that the fleet does not wait for it: the efficiency shows once it is in, and the summary
     // waits for it at the end.
-    let free_flow = {
+    let mut free_flow = {
         let (scenario, planner) = (options.scenario.clone(), options.planner);
         let (share, policy) = (options.share_intents, options.traffic_policy);
         let slot = config.free_flow.clone();
@@ -203,11 +203,11 @@ pub async fn run_demo(
     };
     let free_slot = config.free_flow.clone();
     // A dashboard shows the efficiency from its first frame: with one, the fleet waits for it.
-    if options.sinks.any() {
-        while free_slot.get().is_none() && !free_flow.is_finished() {
-            tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-        }
-    }
+    let waited = if options.sinks.any() {
+        Some((&mut free_flow).await)
+    } else {
+        None
+    };
     config.seconds = Some(options.seconds);
     config.speed = options.speed;
     config.round_trips = options.round_trips;
@@ -243,9 +243,11 @@ pub async fn run_demo(
     router.close().await.map_err(DemoError::Close)?;
     // The coordinator reports its status at the end of every run, so this is never empty.
     let (fleet_metrics, tasks_done, policy, summary) = final_fleet.unwrap_or_default();
-    let free = free_flow
-        .await
-        .map_err(|e| DemoError::FreeFlow(e.to_string()))??;
+    let free = match waited {
+        Some(done) => done,
+        None => free_flow.await,
+    }
+    .map_err(|e| DemoError::FreeFlow(e.to_string()))??;
     let summary = summary.with_free_flow(Some(free));
     Ok(DemoReport {
         status,

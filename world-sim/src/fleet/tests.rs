@@ -121,6 +121,75 @@ fn no_new_task_goes_to_a_station_a_held_robot_blocks() {
     assert!(draw(&mut fleet, 200).contains(&blocked));
 }
 
+/// With docks shared out by load, no dock has more tasks bound for it than the least-loaded
+/// one plus the excess, the picks are drawn as without the rule, and a robot alone (the free
+/// flow) keeps every drawn dock.
+#[test]
+fn docks_shared_out_by_load_stay_within_the_excess_and_keep_the_draws() {
+    let mut s = Scenario::builtin("warehouse-narrow").expect("valid");
+    s.set_fleet_size(Some(24), Some(0));
+    let tasks = |s: &Scenario, excess: Real| {
+        let mut fleet = Fleet::new(s).expect("warehouse");
+        fleet.set_traffic_policy(Some(PolicyParams {
+            dock_balance_excess: excess,
+            ..PolicyParams::default()
+        }));
+        let docks: Vec<usize> = fleet
+            .site
+            .stations_of(StationKind::Dock)
+            .map(|d| d.id)
+            .collect();
+        let mut drawn = Vec::new();
+        let mut worst = 0;
+        for round in 0..50 {
+            for event in fleet.dispatch() {
+                if let FleetEvent::Assigned { task, .. } = event {
+                    drawn.push(task);
+                }
+            }
+            let load = |d: usize| {
+                fleet
+                    .jobs
+                    .iter()
+                    .flatten()
+                    .filter(|j| j.task.drop == d)
+                    .count()
+            };
+            let loads: Vec<usize> = docks.iter().map(|&d| load(d)).collect();
+            let spread = loads.iter().max().unwrap_or(&0) - loads.iter().min().unwrap_or(&0);
+            worst = worst.max(spread);
+            // Half the robots finish, in turn, so that loads shift between rounds.
+            for i in (round % 2..fleet.robots()).step_by(2) {
+                fleet.jobs[i] = None;
+            }
+        }
+        (drawn, worst)
+    };
+    let (free, free_spread) = tasks(&s, 0.0);
+    let (balanced, spread) = tasks(&s, 1.0);
+    assert_eq!(free.len(), balanced.len());
+    assert!(
+        free_spread > 2,
+        "random draws leave docks uneven: {free_spread}"
+    );
+    // Each new task lands on a least-loaded dock or one within the excess of it, so the
+    // loads after a round of assignments never spread by more than the excess plus one.
+    assert!(spread <= 2, "spread {spread}");
+    let picks = |t: &[Task]| t.iter().map(|t| t.pick).collect::<Vec<_>>();
+    assert_eq!(picks(&free), picks(&balanced), "the same picks are drawn");
+    assert!(
+        free.iter().zip(&balanced).any(|(a, b)| a.drop != b.drop),
+        "some drops move"
+    );
+    s.set_fleet_size(Some(1), Some(0));
+    let (alone, _) = tasks(&s, 0.0);
+    let (alone_balanced, _) = tasks(&s, 1.0);
+    assert_eq!(
+        alone, alone_balanced,
+        "a robot alone keeps every drawn dock"
+    );
+}
+
 /// `robots` robots and no people in `warehouse-narrow`, with the traffic `policy`, each given
 /// a task.
 fn narrow_fleet_without_people(robots: usize, policy: Option<PolicyParams>) -> Fleet {

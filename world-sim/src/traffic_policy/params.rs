@@ -103,6 +103,22 @@ pub struct PolicyParams {
     /// from snapshots and journals written before it: 0, as they ran.)
     #[serde(default)]
     pub alone_exit_clear_m: Real,
+    /// Docks shared out by load: a new task whose drawn dock already has at least this many
+    /// more robots' tasks bound for it than the least-loaded open dock drops at that
+    /// least-loaded dock instead (the one nearest the drawn dock; ties to the lower id). The
+    /// task stream's draws are unchanged, and one robot alone (the free flow) always keeps
+    /// the drawn dock, as every dock then has no other task. 0 turns it off. (Absent from
+    /// snapshots and journals written before it: 0, as they ran.)
+    #[serde(default)]
+    pub dock_balance_excess: Real,
+    /// Lines keep crossings clear: a place in a station's line where the robot's body would
+    /// come within this gap (m) of a crossing (where a cross-aisle meets a corridor or an
+    /// aisle) is skipped, and the line goes on beyond it, as drivers keep a junction's box
+    /// clear. The lines of the narrow warehouse's middle docks reach back into the crossing
+    /// at the foot of its middle cross-aisle, where robots bound anywhere cross. 0 turns it
+    /// off. (Absent from snapshots and journals written before it: 0, as they ran.)
+    #[serde(default)]
+    pub queue_crossing_gap_m: Real,
 }
 
 /// A person's radius as the turn from people counts it (m): the built-in scenarios' 0.3 m.
@@ -144,13 +160,15 @@ impl Default for PolicyParams {
             people_hold_speed_m_s: 0.0,
             people_turn_after_s: 10.0,
             alone_exit_clear_m: 3.0,
+            dock_balance_excess: 0.0,
+            queue_crossing_gap_m: 0.0,
         }
     }
 }
 
 impl PolicyParams {
     /// Every parameter by its name (the field's).
-    fn fields_mut(&mut self) -> [(&'static str, &mut Real); 21] {
+    fn fields_mut(&mut self) -> [(&'static str, &mut Real); 23] {
         [
             ("passing_margin_m", &mut self.passing_margin_m),
             ("request_distance_m", &mut self.request_distance_m),
@@ -176,6 +194,8 @@ impl PolicyParams {
             ("people_hold_speed_m_s", &mut self.people_hold_speed_m_s),
             ("people_turn_after_s", &mut self.people_turn_after_s),
             ("alone_exit_clear_m", &mut self.alone_exit_clear_m),
+            ("dock_balance_excess", &mut self.dock_balance_excess),
+            ("queue_crossing_gap_m", &mut self.queue_crossing_gap_m),
         ]
     }
 

@@ -181,9 +181,18 @@ impl TrafficPolicy {
                 (back, self.right_of(at, heading))
             })
             .find(|&(back, p)| {
-                back > to_go + 20.0 || taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
+                back > to_go + 20.0
+                    || (taken.iter().all(|q| (p - q).norm() >= spacing - 1e-9)
+                        && !self.in_crossing(p))
             })
             .unwrap_or((to_go, r.position))
+    }
+
+    /// Whether a robot at `p` would come within [`PolicyParams::queue_crossing_gap_m`] of a
+    /// crossing; never when that is 0.
+    fn in_crossing(&self, p: Vec2) -> bool {
+        let gap = self.params.queue_crossing_gap_m;
+        gap > 0.0 && self.lanes.site.in_crossing(p, self.robot_radius + gap)
     }
 }
 

@@ -1134,3 +1134,60 @@ fn robots_in_an_aisle_turn_round_from_someone_standing_in_their_way() {
     assert_eq!((res.dir, res.holders.clone()), (Some(1), vec![0]));
     assert_eq!(policy.totals().people_turns, 0);
 }
+
+/// Lines keep crossings clear ([`PolicyParams::queue_crossing_gap_m`]): in the narrow
+/// warehouse, robots coming along the bottom corridor to the dock west of the middle
+/// cross-aisle wait beyond the crossing at its foot instead of in it, at distinct places in
+/// the same order; with the gap at 0 (the default) the line runs through the crossing.
+#[test]
+fn lines_keep_crossings_clear() {
+    let (site, radius) = narrow();
+    // The middle cross-aisle meets the bottom corridor at (31.5, 1.5); a dock stands 5.25 m
+    // west of it.
+    assert!(site.in_crossing(vec2(31.5, 1.5), 0.0));
+    assert!(!site.in_crossing(vec2(26.25, 1.5), 0.6));
+    assert!(site.in_crossing(vec2(29.5, 1.5), 0.6));
+    assert!(!Site::hallway(40.0, 3.0, 3).in_crossing(vec2(20.0, 1.5), 1.0));
+    let dock = *site
+        .stations_of(StationKind::Dock)
+        .find(|d| (d.position.x - 26.25).abs() < 1e-9)
+        .expect("a dock at x = 26.25");
+    let places = |gap: Real| {
+        let params = PolicyParams {
+            queue_crossing_gap_m: gap,
+            ..PolicyParams::default()
+        };
+        let mut policy = TrafficPolicy::new(&site, 5, radius, params);
+        let route = [dock.position];
+        let robots = [27.5, 28.5, 29.0, 29.5, 30.0].map(|x| PolicyRobot {
+            position: vec2(x, 1.5),
+            route: &route,
+            station: Some(dock.id),
+            held: false,
+        });
+        step(&mut policy, 0.1, &robots);
+        step(&mut policy, 0.2, &robots);
+        assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
+        (1..5)
+            .map(|i| match policy.constraint(i) {
+                Constraint::Queue { at, .. } => at,
+                c => panic!("robot {i}: {c:?}"),
+            })
+            .collect::<Vec<Vec2>>()
+    };
+    let gap = 0.2;
+    let (open, clear) = (places(0.0), places(gap));
+    assert!(
+        open.iter().any(|&p| site.in_crossing(p, radius + gap)),
+        "{open:?}"
+    );
+    assert!(
+        clear.iter().all(|&p| !site.in_crossing(p, radius + gap)),
+        "{clear:?}"
+    );
+    // The line still starts at the first place back from the dock, west of the crossing, and
+    // goes on east beyond it, in order.
+    assert_eq!(clear[0], open[0]);
+    assert!(clear.windows(2).all(|w| w[1].x > w[0].x), "{clear:?}");
+    assert!(clear[1].x > 31.5 + 1.5 + radius + gap, "{clear:?}");
+}
