@@ -1159,12 +1159,8 @@ fn lines_keep_crossings_clear() {
         };
         let mut policy = TrafficPolicy::new(&site, 5, radius, params);
         let route = [dock.position];
-        let robots = [27.5, 28.5, 29.0, 29.5, 30.0].map(|x| PolicyRobot {
-            position: vec2(x, 1.5),
-            route: &route,
-            station: Some(dock.id),
-            held: false,
-        });
+        // y = 1.5 m is the bottom corridor's centre line.
+        let robots = bound_for([27.5, 28.5, 29.0, 29.5, 30.0], &route, dock.id);
         step(&mut policy, 0.1, &robots);
         step(&mut policy, 0.2, &robots);
         assert_eq!(policy.station_line(dock.id).and_then(|l| l.holder), Some(0));
