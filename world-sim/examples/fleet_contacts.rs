@@ -8,7 +8,7 @@
 //!         [SECONDS [PLANNER [LAYER]]]
 //!
 //! SITE is a built-in fleet scenario; LAYER is the layer's parameters to
-//! change, `key=value,…` (`person_accel=2`). Each other contact with a person (the person
+//! change, `key=value,…` (`person_accel=2`), or `off` for no layer. Each other contact with a person (the person
 //! walked into the robot) gets a line too, `other`: where the robot stood (aisle, cross-aisle,
 //! near a station, corridor), how fast it moved, whether it stood within 1.5 m of a station
 //! and whether the person was walking to that station, and which of the layer's fields acted
@@ -46,11 +46,16 @@ fn main() {
     let mut scenario = Scenario::builtin(name).expect("a built-in fleet scenario");
     scenario.seed = seed;
     scenario.set_fleet_size(Some(robots), None);
-    scenario.robot.safety_layer = scenario
-        .robot
-        .safety_layer
-        .with_overrides(args.get(5).map_or("", String::as_str))
-        .expect("the layer's parameters as key=value,…");
+    match args.get(5).map(String::as_str) {
+        Some("off") => scenario.robot.safety = false,
+        layer => {
+            scenario.robot.safety_layer = scenario
+                .robot
+                .safety_layer
+                .with_overrides(layer.unwrap_or(""))
+                .expect("the layer's parameters as key=value,…");
+        }
+    }
     let mut fleet = Fleet::new(&scenario).expect("a fleet site");
     fleet.set_traffic_policy(Some(PolicyParams::default()));
     let mut stacks = stacks(&fleet, planner, scenario.robot.max_speed);
