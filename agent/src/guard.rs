@@ -75,6 +75,12 @@ impl Guard {
         self.layer.params()
     }
 
+    /// Runs the layer on `params` from the next command on: a site's setting, served with
+    /// its map (`schemas::MapMsg::safety_layer`).
+    pub fn set_params(&mut self, params: SafetyParams) {
+        self.layer.set_params(params);
+    }
+
     /// Commands the layer changed.
     pub fn changed(&self) -> u64 {
         self.warned + self.protective + self.yielded

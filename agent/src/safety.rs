@@ -295,6 +295,11 @@ impl SafetyLayer {
         &self.params
     }
 
+    /// Runs on `params` from the next check on (a site's setting, served with its map).
+    pub fn set_params(&mut self, params: SafetyParams) {
+        self.params = params;
+    }
+
     /// The command the robot may execute instead of `command` (see the module doc):
     /// `command` itself when it is safe, outside the warning field and the robot is not
     /// threatened; else a slower fraction of it, else a stop; or, when threatened, the best

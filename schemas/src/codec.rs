@@ -19,6 +19,8 @@ pub const MAX_NEIGHBOURS: usize = 512;
 pub const MAX_SAMPLES: usize = 128;
 /// Longest planner name.
 pub const MAX_NAME: usize = 64;
+/// Longest safety-layer setting a map may carry (`MapMsg::safety_layer`, bytes).
+pub const MAX_LAYER_SETTING: usize = 1024;
 /// Most rays in a visibility profile (a quarter of a degree apart).
 pub const MAX_RAYS: usize = 1440;
 /// Largest sensor range a visibility profile may state (m).
@@ -518,6 +520,9 @@ impl Message for MapMsg {
                     });
                 }
             }
+        }
+        if let Some(setting) = &self.safety_layer {
+            bounded("safety_layer", setting.len(), MAX_LAYER_SETTING)?;
         }
         finite_p("bounds", &self.bounds[0])?;
         finite_p("bounds", &self.bounds[1])

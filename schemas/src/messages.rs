@@ -463,4 +463,12 @@ pub struct MapMsg {
     /// people walk to goals anywhere: then every person keeps the full allowance.
     #[serde(default)]
     pub turn_places: Option<Vec<[P2; 2]>>,
+    /// The safety layer's parameters on this site, where they differ from the layer's
+    /// defaults, as `key=value,…` (`agent::safety::SafetyParams::with_overrides`; a
+    /// scenario's `[robot.safety_layer]`), as a safety scanner is given its field set per
+    /// site. At most [`MAX_LAYER_SETTING`](crate::codec::MAX_LAYER_SETTING) bytes. An agent
+    /// refuses a setting it cannot read or whose values are out of range, and keeps its layer
+    /// as it was. Absent from older senders: the defaults.
+    #[serde(default)]
+    pub safety_layer: Option<String>,
 }

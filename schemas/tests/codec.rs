@@ -616,7 +616,8 @@ fn agent_info_without_the_map_fields_decodes() {
     assert_eq!((info.plans, info.maps, info.map_version), (10, 0, 0));
 }
 
-/// A coordinator from before `turn_places` still serves its map: it reads as no places marked.
+/// A coordinator from before `turn_places` and `safety_layer` still serves its map: it reads
+/// as no places marked and the layer's defaults.
 #[test]
 fn a_map_without_turn_places_decodes() {
     #[derive(Serialize)]
@@ -638,6 +639,7 @@ fn a_map_without_turn_places_decodes() {
         decoded,
         MapMsg {
             turn_places: None,
+            safety_layer: None,
             ..m
         }
     );
@@ -670,6 +672,22 @@ fn bad_turn_places_are_rejected() {
         })
     ));
     assert!(with([P2(1.0, 0.0), P2(3.0, 1.0)]).is_ok());
+}
+
+/// A site's safety-layer setting is bounded in length; what it says is the agent's to check.
+#[test]
+fn an_overlong_safety_layer_setting_is_rejected() {
+    let mut m = map();
+    m.safety_layer = Some("x".repeat(schemas::codec::MAX_LAYER_SETTING + 1));
+    assert!(matches!(
+        decode::<MapMsg>(&encode(&m)),
+        Err(DecodeError::TooMany {
+            field: "safety_layer",
+            ..
+        })
+    ));
+    m.safety_layer = Some("x".repeat(schemas::codec::MAX_LAYER_SETTING));
+    assert!(decode::<MapMsg>(&encode(&m)).is_ok());
 }
 
 fn robot_state() -> RobotState {

@@ -12,7 +12,7 @@ use crate::map::StaticMap;
 use crate::math::Vec2;
 use crate::model::Command;
 use crate::planner::{PlannerStack, PlanningInput};
-use crate::safety::Zone;
+use crate::safety::{SafetyParams, Zone};
 use fleet_net::log_rejection;
 use schemas::{
     AgentInfo, Channel, CommandMsg, Keys, MapMsg, Observation, SafetyZone, decode, encode,
@@ -250,6 +250,8 @@ impl<'s> Agent<'s> {
                 self.stack.set_destinations(&fetched.stations);
                 if let Some(guard) = &mut self.guard {
                     guard.set_turn_places(fetched.turn_places);
+                    let setting = fetched.safety_layer.as_deref();
+                    take_site_layer(guard, setting, &self.counters, self.id);
                 }
                 self.map = Some((fetched.version, fetched.map));
             }
@@ -574,6 +576,29 @@ enum MapFetchError {
     Map(#[from] crate::map::MapError),
 }
 
+/// The site's safety-layer setting (`MapMsg::safety_layer`) on `guard`: the layer's defaults
+/// with the site's changes. A setting that does not read, or has a value out of range, is
+/// refused as a bad message, and the layer runs on as it was.
+fn take_site_layer(guard: &mut Guard, setting: Option<&str>, counters: &AgentCounters, id: u32) {
+    match SafetyParams::default().with_overrides(setting.unwrap_or("")) {
+        Ok(params) => {
+            if params != *guard.params() {
+                tracing::info!(
+                    robot = id,
+                    "the site's safety layer: {:?}",
+                    params.changes()
+                );
+            }
+            guard.set_params(params);
+        }
+        Err(why) => reject(
+            counters,
+            id,
+            &format!("the site's safety-layer setting: {why}"),
+        ),
+    }
+}
+
 fn reject(counters: &AgentCounters, id: u32, why: &str) {
     let n = counters.rejected.fetch_add(1, Ordering::Relaxed) + 1;
     if log_rejection(n) {
@@ -611,6 +636,8 @@ struct FetchedMap {
     stations: Vec<Vec2>,
     /// Where people stop and turn, for the safety layer.
     turn_places: Option<Vec<(Vec2, Vec2)>>,
+    /// The site's safety-layer setting, as served.
+    safety_layer: Option<String>,
 }
 
 /// The map of version `want` (the one the coordinator's observations name), the site's
@@ -641,6 +668,7 @@ async fn fetch_map(
                         map: wire::map_from_wire(&msg)?,
                         stations: msg.stations.iter().map(|s| wire::vec(s.p)).collect(),
                         turn_places: wire::turn_places_from_wire(&msg),
+                        safety_layer: msg.safety_layer,
                     });
                 }
                 Err(e) => last_error = e.into(),
@@ -679,6 +707,23 @@ mod tests {
             visibility: None,
             real: false,
         }
+    }
+
+    /// A site's layer setting is taken over the defaults; an unreadable or out-of-range one
+    /// is counted as rejected and leaves the layer as it was; none is the defaults.
+    #[test]
+    fn the_site_sets_the_layer_and_a_bad_setting_leaves_it() {
+        let counters = AgentCounters::default();
+        let mut guard = Guard::new(crate::safety::SafetyLimits::SIMULATED_ROBOT);
+        take_site_layer(&mut guard, Some("warning_time=0.5"), &counters, 7);
+        assert_eq!(guard.params().warning_time, 0.5);
+        for bad in ["warning_time=-1", "warning_time=inf", "no_such=1", "=,"] {
+            take_site_layer(&mut guard, Some(bad), &counters, 7);
+            assert_eq!(guard.params().warning_time, 0.5, "{bad}");
+        }
+        assert_eq!(counters.rejected.load(Ordering::Relaxed), 4);
+        take_site_layer(&mut guard, None, &counters, 7);
+        assert_eq!(guard.params(), &SafetyParams::default());
     }
 
     #[test]

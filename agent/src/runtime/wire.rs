@@ -208,6 +208,7 @@ pub fn map_to_wire(
         stations,
         bounds: [p2(bounds[0]), p2(bounds[1])],
         turn_places: None,
+        safety_layer: None,
     }
 }
 

@@ -176,44 +176,79 @@ impl SafetyParams {
 
 impl SafetyParams {
     /// These parameters with some changed, as `key=value,key=value` (the field names,
-    /// `yielding`, `people_stop_dead` and `warning_graded` taking `true` or `false`), validated; an empty text changes nothing.
+    /// `yielding`, `people_stop_dead` and `warning_graded` taking `true` or `false`),
+    /// validated; an empty text changes nothing.
     pub fn with_overrides(mut self, text: &str) -> Result<Self, String> {
         for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let (key, value) = pair
                 .split_once('=')
                 .ok_or_else(|| format!("`{pair}`: expected key=value"))?;
-            let flag = match key {
-                "yielding" => Some(&mut self.yielding),
-                "people_stop_dead" => Some(&mut self.people_stop_dead),
-                "warning_graded" => Some(&mut self.warning_graded),
-                _ => None,
-            };
-            if let Some(flag) = flag {
+            if let Some((_, flag)) = self.flags_mut().into_iter().find(|(k, _)| *k == key) {
                 *flag = value
                     .parse()
                     .map_err(|_| format!("`{pair}`: {key} is true or false"))?;
                 continue;
             }
-            let field = match key {
-                "reaction_time" => &mut self.reaction_time,
-                "margin" => &mut self.margin,
-                "warning_time" => &mut self.warning_time,
-                "warning_scale" => &mut self.warning_scale,
-                "person_accel" => &mut self.person_accel,
-                "person_accel_across" => &mut self.person_accel_across,
-                "person_accel_away" => &mut self.person_accel_away,
-                "turn_reach" => &mut self.turn_reach,
-                "check_step" => &mut self.check_step,
-                "yield_time" => &mut self.yield_time,
-                "yield_clearance" => &mut self.yield_clearance,
-                "memory_time" => &mut self.memory_time,
-                _ => return Err(format!("`{key}` is not a safety-layer parameter")),
+            let Some((_, field)) = self.values_mut().into_iter().find(|(k, _)| *k == key) else {
+                return Err(format!("`{key}` is not a safety-layer parameter"));
             };
             *field = value.parse().map_err(|e| format!("`{pair}`: {e}"))?;
         }
         self.validate()
             .map_err(|(field, why)| format!("{field} {why}"))?;
         Ok(self)
+    }
+
+    /// The parameters that differ from the defaults, as `key=value,…` ([`Self::with_overrides`]
+    /// of the defaults reads it back); empty for the defaults.
+    pub fn changes(&self) -> String {
+        let (mut this, mut base) = (*self, Self::default());
+        let values = this
+            .values_mut()
+            .into_iter()
+            .zip(base.values_mut())
+            .filter(|((_, v), (_, d))| v.to_bits() != d.to_bits())
+            .map(|((name, v), _)| format!("{name}={v}"))
+            .collect::<Vec<_>>();
+        let (mut this, mut base) = (*self, Self::default());
+        let flags = this
+            .flags_mut()
+            .into_iter()
+            .zip(base.flags_mut())
+            .filter(|((_, v), (_, d))| v != d)
+            .map(|((name, v), _)| format!("{name}={v}"));
+        values
+            .into_iter()
+            .chain(flags)
+            .collect::<Vec<_>>()
+            .join(",")
+    }
+
+    /// The numeric parameters by name.
+    fn values_mut(&mut self) -> [(&'static str, &mut Real); 12] {
+        [
+            ("reaction_time", &mut self.reaction_time),
+            ("margin", &mut self.margin),
+            ("warning_time", &mut self.warning_time),
+            ("warning_scale", &mut self.warning_scale),
+            ("person_accel", &mut self.person_accel),
+            ("person_accel_across", &mut self.person_accel_across),
+            ("person_accel_away", &mut self.person_accel_away),
+            ("turn_reach", &mut self.turn_reach),
+            ("check_step", &mut self.check_step),
+            ("yield_time", &mut self.yield_time),
+            ("yield_clearance", &mut self.yield_clearance),
+            ("memory_time", &mut self.memory_time),
+        ]
+    }
+
+    /// The switches by name.
+    fn flags_mut(&mut self) -> [(&'static str, &mut bool); 3] {
+        [
+            ("yielding", &mut self.yielding),
+            ("people_stop_dead", &mut self.people_stop_dead),
+            ("warning_graded", &mut self.warning_graded),
+        ]
     }
 }
 

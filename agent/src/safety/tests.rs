@@ -1003,3 +1003,27 @@ fn parameters_are_changed_by_name_and_checked() {
         assert!(e.contains(named), "{text}: {e}");
     }
 }
+
+/// The layer's parameters change by name (as `--safety-layer` and a site's map give them),
+/// read back from what differs from the defaults, and a bad one is refused by name.
+#[test]
+fn layer_parameters_change_by_name_and_bad_ones_are_named() {
+    let p = SafetyParams::default()
+        .with_overrides("warning_time=0.5, yielding=false")
+        .expect("valid");
+    assert_eq!((p.warning_time, p.yielding), (0.5, false));
+    assert_eq!(p.changes(), "warning_time=0.5,yielding=false");
+    assert_eq!(SafetyParams::default().with_overrides(&p.changes()), Ok(p));
+    assert_eq!(SafetyParams::default().changes(), "");
+    for (bad, named) in [
+        ("warning_tim=0.5", "warning_tim"),
+        ("warning_time=-1", "warning_time"),
+        ("margin=NaN", "margin"),
+        ("margin", "margin"),
+        ("yielding=1", "yielding"),
+        ("check_step=x", "check_step"),
+    ] {
+        let e = SafetyParams::default().with_overrides(bad).expect_err(bad);
+        assert!(e.contains(named), "{bad}: {e}");
+    }
+}

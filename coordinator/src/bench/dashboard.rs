@@ -43,7 +43,7 @@ pub fn bench_dashboard(
     use world_sim::fleet::Fleet;
     let time = |with: bool| -> Result<(f64, f64, u64)> {
         let mut fleet = Fleet::new(scenario)?;
-        let map_version = map_message(&fleet).map_version;
+        let map_version = map_message(&fleet, &scenario.robot.safety_layer).map_version;
         let park = vec![agent::model::Command::STOP; fleet.robots()];
         let mut observer = if with {
             let sinks = dashboards::Sinks {

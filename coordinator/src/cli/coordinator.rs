@@ -145,6 +145,7 @@ impl CoordinatorArgs {
         config_.journal = journal.as_ref().map(Journal::sink);
         config_.resume = resume;
         config_.live = live.clone();
+        config_.safety_layer = scenario.robot.safety_layer;
         // The free flow (one robot alone, for the efficiency) is measured beside the run, so
         // that a start or a restart does not wait for it; efficiency shows once it is in.
         {

@@ -188,6 +188,7 @@ pub async fn run_demo(
     }
 
     let mut config = CoordinatorConfig::new(options.keys.clone());
+    config.safety_layer = options.scenario.robot.safety_layer;
     // One robot alone on the site, run beside the fleet (as `gapfleet coordinator` does) so
     // that the fleet does not wait for it: the efficiency shows once it is in, and the summary
     // waits for it at the end.

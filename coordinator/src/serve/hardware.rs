@@ -87,7 +87,8 @@ pub async fn run_hardware(
             );
         }
     }
-    let version = map_message(&fleet).map_version;
+    // Observations become ROS 2 topics here: the version names the map, not a layer setting.
+    let version = map_message(&fleet, &agent::safety::SafetyParams::default()).map_version;
     let mut ros = RosRobots::declare_some(session, &played, fleet.world.map.clone(), &config.ros)
         .await
         .map_err(|(what, source)| super::CoordinatorError::Ros { what, source })?;

@@ -80,11 +80,14 @@ pub fn traffic_message(fleet: &Fleet, i: usize, tick: u64) -> Option<TrafficMsg>
     })
 }
 
-/// The site's static map and stations as served by the `…/map` queryable. Its version is
-/// derived from its content ([`map_version`]): a coordinator restarted on another site or
-/// scenario serves another version, and agents fetch the new map.
-pub fn map_message(fleet: &Fleet) -> schemas::MapMsg {
+/// The site's static map, stations and safety-layer setting (`layer`) as served by the
+/// `…/map` queryable. Its version is derived from its content ([`map_version`]): a
+/// coordinator restarted on another site or scenario serves another version, and agents fetch
+/// the new map.
+pub fn map_message(fleet: &Fleet, layer: &agent::safety::SafetyParams) -> schemas::MapMsg {
     let mut msg = unversioned_map(fleet);
+    let changes = layer.changes();
+    msg.safety_layer = (!changes.is_empty()).then_some(changes);
     msg.map_version = map_version(&msg);
     msg
 }
@@ -195,7 +198,11 @@ mod tests {
 
     fn version(name: &str) -> u32 {
         let scenario = Scenario::builtin(name).expect("built in");
-        map_message(&Fleet::new(&scenario).expect("a warehouse")).map_version
+        map_message(
+            &Fleet::new(&scenario).expect("a warehouse"),
+            &scenario.robot.safety_layer,
+        )
+        .map_version
     }
 
     /// The map's version follows its content: the same site gives the same version, another
@@ -208,7 +215,10 @@ mod tests {
         assert_ne!(a, b);
         assert!(a != 0 && b != 0);
         let scenario = Scenario::builtin("warehouse").expect("built in");
-        let msg = map_message(&Fleet::new(&scenario).expect("a warehouse"));
+        let msg = map_message(
+            &Fleet::new(&scenario).expect("a warehouse"),
+            &scenario.robot.safety_layer,
+        );
         assert_eq!(map_version(&msg), msg.map_version);
         let mut moved = msg.clone();
         moved.bounds[1].0 += 0.01;
@@ -222,7 +232,7 @@ mod tests {
         let served = |name: &str| {
             let scenario = Scenario::builtin(name).expect("built in");
             let fleet = Fleet::new(&scenario).expect("a fleet site");
-            let msg = map_message(&fleet);
+            let msg = map_message(&fleet, &scenario.robot.safety_layer);
             (
                 agent::runtime::wire::turn_places_from_wire(&msg),
                 fleet.world.turn_places(),
@@ -232,6 +242,33 @@ mod tests {
         assert_eq!(places, in_process);
         assert!(places.is_some_and(|p| !p.is_empty()));
         assert_eq!(served("hallway-fleet"), (None, None));
+    }
+
+    /// Agents are served the layer in-process fleets run (`Scenario::robot.safety_layer`):
+    /// the site's changes from the defaults, read back whole; none on a site that keeps the
+    /// defaults, and another map version when the setting changes.
+    #[test]
+    fn agents_are_served_the_sites_safety_layer() {
+        let mut scenario = Scenario::builtin("hallway-fleet").expect("built in");
+        let fleet = Fleet::new(&scenario).expect("a fleet site");
+        let read = |msg: &schemas::MapMsg| {
+            agent::safety::SafetyParams::default()
+                .with_overrides(msg.safety_layer.as_deref().unwrap_or(""))
+                .expect("a valid setting")
+        };
+        let msg = map_message(&fleet, &scenario.robot.safety_layer);
+        assert_eq!(read(&msg), scenario.robot.safety_layer);
+        let open = Scenario::builtin("open-space").expect("built in");
+        assert_ne!(
+            open.robot.safety_layer,
+            agent::safety::SafetyParams::default()
+        );
+        let served = map_message(&fleet, &open.robot.safety_layer);
+        assert_eq!(read(&served), open.robot.safety_layer);
+        assert_ne!(served.map_version, msg.map_version);
+        scenario.robot.safety_layer = agent::safety::SafetyParams::default();
+        let bare = map_message(&fleet, &scenario.robot.safety_layer);
+        assert_eq!(bare.safety_layer, None);
     }
 
     /// On a floor plan with a keep-out mask, agents are served the robots' map: the zone is
@@ -246,14 +283,20 @@ mod tests {
         let text = std::fs::read_to_string(path).expect("the sample scenario");
         let scenario = Scenario::from_toml(&text, path).expect("valid");
         let fleet = Fleet::new(&scenario).expect("a fleet site");
-        let served = agent::runtime::wire::map_from_wire(&map_message(&fleet)).expect("decodes");
+        let served =
+            agent::runtime::wire::map_from_wire(&map_message(&fleet, &scenario.robot.safety_layer))
+                .expect("decodes");
         let (west, east) = (agent::math::vec2(-2.5, -4.0), agent::math::vec2(2.0, -4.0));
         assert!(!served.line_of_sight(west, east));
         assert!(fleet.world.map.line_of_sight(west, east));
         let bare = Scenario::builtin("aws-small-warehouse").expect("built in");
         assert_ne!(
-            map_message(&fleet).map_version,
-            map_message(&Fleet::new(&bare).expect("a fleet site")).map_version
+            map_message(&fleet, &scenario.robot.safety_layer).map_version,
+            map_message(
+                &Fleet::new(&bare).expect("a fleet site"),
+                &bare.robot.safety_layer
+            )
+            .map_version
         );
         let drawn = crate::serve::dashboard::map_frame(&fleet).keepout;
         assert!(!drawn.is_empty());

@@ -114,7 +114,7 @@ impl<'s> Wire<'s> {
     ) -> Result<Self, CoordinatorError> {
         let keys = config.keys.clone();
         let n = fleet.robots();
-        let map = map_message(fleet);
+        let map = map_message(fleet, &config.safety_layer);
         let map_version = map.map_version;
         let map_bytes = encode(&map);
         let queryable = session

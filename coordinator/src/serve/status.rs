@@ -51,6 +51,10 @@ pub struct CoordinatorConfig {
     /// A real robot whose agent has reported no state for this long (wall time) is lost: held,
     /// given no task and flagged, until its reports come back.
     pub lost_after: Duration,
+    /// The safety layer's parameters on this site (the scenario's `[robot.safety_layer]`),
+    /// served to agents with the map (`schemas::MapMsg::safety_layer`) where they differ from
+    /// the layer's defaults.
+    pub safety_layer: agent::safety::SafetyParams,
 }
 
 /// Where a resumed run picks up.
@@ -85,6 +89,7 @@ impl CoordinatorConfig {
             ros: None,
             live: Vec::new(),
             lost_after: LOST_AFTER,
+            safety_layer: agent::safety::SafetyParams::default(),
         }
     }
 }

@@ -189,5 +189,6 @@ pub fn map() -> MapMsg {
         }],
         bounds: [P2(0.0, 0.0), P2(10.0, 10.0)],
         turn_places: Some(vec![[P2(2.0, 2.0), P2(2.0, 2.0)]]),
+        safety_layer: Some("warning_time=0.5".to_owned()),
     }
 }

@@ -127,8 +127,8 @@ fn interaction_range_is_optional_and_checked() {
 #[test]
 fn the_safety_layer_is_set_per_site_and_checked() {
     use agent::safety::SafetyParams;
-    // The open ground's yield; every other parameter and every other site keeps the
-    // layer's defaults.
+    // The open ground's yield and the fleet sites' shorter warning field; every other
+    // parameter and every other site keeps the layer's defaults.
     let open = Scenario::builtin("open-space").expect("valid").robot;
     assert_eq!(
         open.safety_layer,
@@ -138,8 +138,16 @@ fn the_safety_layer_is_set_per_site_and_checked() {
             ..SafetyParams::default()
         }
     );
-    let warehouse = Scenario::builtin("warehouse").expect("valid").robot;
-    assert_eq!(warehouse.safety_layer, SafetyParams::default());
+    for fleet_site in ["warehouse", "warehouse-narrow", "hallway-fleet"] {
+        let robot = Scenario::builtin(fleet_site).expect("valid").robot;
+        let shorter_warning = SafetyParams {
+            warning_time: 0.5,
+            ..SafetyParams::default()
+        };
+        assert_eq!(robot.safety_layer, shorter_warning, "{fleet_site}");
+    }
+    let hallway = Scenario::builtin("hallway").expect("valid").robot;
+    assert_eq!(hallway.safety_layer, SafetyParams::default());
     let guard = open.guard(0.1).expect("the layer is on by default");
     assert_eq!(guard.params(), &open.safety_layer);
 
