@@ -57,7 +57,8 @@ pub struct SafetyParams {
     /// simulator's perception is exact by default; a real scanner's tolerance is a few cm.
     pub margin: Real,
     /// T_w (s): the warning field looks this much further, as if the command were kept this
-    /// long before braking. One second: a person at walking speed covers about 1.3 m.
+    /// long before braking. One second: a person at walking speed covers about 1.3 m. The
+    /// fleet scenarios set 0.5 s (results/warning-time/REPORT.md).
     pub warning_time: Real,
     /// The speed fraction a command is slowed to in the warning field (ISO 3691-4's reduced
     /// speed in a warning zone; half is a common scanner-field setting).
