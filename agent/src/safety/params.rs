@@ -58,7 +58,7 @@ pub struct SafetyParams {
     pub margin: Real,
     /// T_w (s): the warning field looks this much further, as if the command were kept this
     /// long before braking. One second: a person at walking speed covers about 1.3 m. The
-    /// fleet scenarios set 0.5 s (results/warning-time/REPORT.md).
+    /// `warehouse` and `hallway-fleet` scenarios set 0.5 s (results/warning-time/REPORT.md).
     pub warning_time: Real,
     /// The speed fraction a command is slowed to in the warning field (ISO 3691-4's reduced
     /// speed in a warning zone; half is a common scanner-field setting).

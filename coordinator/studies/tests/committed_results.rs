@@ -178,7 +178,7 @@ fn traffic_rows_are_the_committed_rows() {
 /// speed (`SafetyParams::people_stop_dead`, on until results/halting) and swerve at a_h
 /// everywhere (`person_accel_away`, 2 m/s² away from a warehouse's stations since
 /// results/swerve-allowance), and while robots reached every corner on a narrow aisle
-/// closely (`cut_clear_corners`, since results/corner-cut), and while the fleet sites warned
+/// closely (`cut_clear_corners`, since results/corner-cut), and while the hallway fleet warned
 /// a second ahead (`warning_time`, 0.5 s since results/warning-time): their runs reproduce
 /// with all four as they were.
 fn as_committed(scenario: &mut Scenario) {

@@ -127,7 +127,7 @@ fn interaction_range_is_optional_and_checked() {
 #[test]
 fn the_safety_layer_is_set_per_site_and_checked() {
     use agent::safety::SafetyParams;
-    // The open ground's yield and the fleet sites' shorter warning field; every other
+    // The open ground's yield and two fleet sites' shorter warning field; every other
     // parameter and every other site keeps the layer's defaults.
     let open = Scenario::builtin("open-space").expect("valid").robot;
     assert_eq!(
@@ -138,7 +138,7 @@ fn the_safety_layer_is_set_per_site_and_checked() {
             ..SafetyParams::default()
         }
     );
-    for fleet_site in ["warehouse", "warehouse-narrow", "hallway-fleet"] {
+    for fleet_site in ["warehouse", "hallway-fleet"] {
         let robot = Scenario::builtin(fleet_site).expect("valid").robot;
         let shorter_warning = SafetyParams {
             warning_time: 0.5,
@@ -146,8 +146,14 @@ fn the_safety_layer_is_set_per_site_and_checked() {
         };
         assert_eq!(robot.safety_layer, shorter_warning, "{fleet_site}");
     }
-    let hallway = Scenario::builtin("hallway").expect("valid").robot;
-    assert_eq!(hallway.safety_layer, SafetyParams::default());
+    for default_site in ["warehouse-narrow", "hallway"] {
+        let robot = Scenario::builtin(default_site).expect("valid").robot;
+        assert_eq!(
+            robot.safety_layer,
+            SafetyParams::default(),
+            "{default_site}"
+        );
+    }
     let guard = open.guard(0.1).expect("the layer is on by default");
     assert_eq!(guard.params(), &open.safety_layer);
 
