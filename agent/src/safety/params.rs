@@ -204,25 +204,20 @@ impl SafetyParams {
     /// of the defaults reads it back); empty for the defaults.
     pub fn changes(&self) -> String {
         let (mut this, mut base) = (*self, Self::default());
-        let values = this
-            .values_mut()
+        this.printed()
             .into_iter()
-            .zip(base.values_mut())
-            .filter(|((_, v), (_, d))| v.to_bits() != d.to_bits())
-            .map(|((name, v), _)| format!("{name}={v}"))
-            .collect::<Vec<_>>();
-        let (mut this, mut base) = (*self, Self::default());
-        let flags = this
-            .flags_mut()
-            .into_iter()
-            .zip(base.flags_mut())
-            .filter(|((_, v), (_, d))| v != d)
-            .map(|((name, v), _)| format!("{name}={v}"));
-        values
-            .into_iter()
-            .chain(flags)
+            .zip(base.printed())
+            .filter(|(this, base)| this != base)
+            .map(|((name, value), _)| format!("{name}={value}"))
             .collect::<Vec<_>>()
             .join(",")
+    }
+
+    /// Every parameter by name, written as [`Self::with_overrides`] reads it.
+    fn printed(&mut self) -> Vec<(&'static str, String)> {
+        let values = self.values_mut().map(|(name, v)| (name, v.to_string()));
+        let flags = self.flags_mut().map(|(name, f)| (name, f.to_string()));
+        values.into_iter().chain(flags).collect()
     }
 
     /// The numeric parameters by name.
