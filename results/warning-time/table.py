@@ -17,6 +17,8 @@ CELLS = [  # cell, seeds, new runs, old (1 s) runs
     ("`hallway-fleet`, 20", "1–10", [W + "hallway-20-seeds-1-10"],
      [B + "hallway-20-seeds-1-6", R + "pnp-right-layer/hallway-20-default-seeds-7-10"]),
     ("`hallway-fleet`, 20, held out", "101–110", [W + "hallway-20-seeds-101-110"], [B + "hallway-20-seeds-101-130"]),
+    ("`hallway-fleet`, 20, held out", "101–130",
+     [W + "hallway-20-seeds-101-110", W + "hallway-20-seeds-111-130"], [B + "hallway-20-seeds-101-130"]),
     ("`warehouse-narrow`, 20", "1–10", [W + "narrow-20-seeds-1-10"], [B + "narrow-20-seeds-1-6", B + "narrow-20-seeds-7-30"]),
     ("`warehouse-narrow`, 20, held out", "101–110", [W + "narrow-20-seeds-101-110"], [B + "narrow-20-seeds-101-110"]),
 ]
