@@ -149,7 +149,11 @@ impl CoordinatorArgs {
         // The free flow (one robot alone, for the efficiency) is measured beside the run, so
         // that a start or a restart does not wait for it; efficiency shows once it is in.
         {
-            let (slot, planner) = (config_.free_flow.clone(), self.free_flow_planner);
+            let (slot, planner, seconds) = (
+                config_.free_flow.clone(),
+                self.free_flow_planner,
+                self.seconds,
+            );
             let (scenario, share, policy) = (
                 scenario.clone(),
                 fleet.share_intents,
@@ -158,7 +162,8 @@ impl CoordinatorArgs {
             std::thread::Builder::new()
                 .name("free-flow".to_owned())
                 .spawn(move || {
-                    match coordinator::serve::free_flow(&scenario, planner, share, policy) {
+                    match coordinator::serve::free_flow(&scenario, planner, share, policy, seconds)
+                    {
                         Ok(free) => {
                             eprintln!(
                                 "free flow (one robot alone, {planner}): {} tasks in {:.0} s, \

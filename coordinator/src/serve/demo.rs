@@ -195,9 +195,9 @@ pub async fn run_demo(
     let mut free_flow = {
         let (scenario, planner) = (options.scenario.clone(), options.planner);
         let (share, policy) = (options.share_intents, options.traffic_policy);
-        let slot = config.free_flow.clone();
+        let (slot, seconds) = (config.free_flow.clone(), options.seconds);
         tokio::task::spawn_blocking(move || {
-            let free = super::free_flow(&scenario, planner, share, policy)?;
+            let free = super::free_flow(&scenario, planner, share, policy, Some(seconds))?;
             let _ = slot.set(free);
             Ok::<_, DemoError>(free)
         })

@@ -20,14 +20,14 @@ pub struct TrafficArgs {
     #[arg(long, default_value_t = 300.0, value_parser = positive)]
     seconds: f64,
     /// Fleet sizes in the narrow-aisle warehouse (`warehouse-narrow`), comma-separated; empty
-    /// (`''`) for none.
+    /// (`''`) or `0` for none.
     #[arg(long, default_value = "10,20,40", value_parser = fleet_sizes)]
     narrow_fleets: FleetSizes,
-    /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated; empty for none.
+    /// Fleet sizes in the fleet hallway (`hallway-fleet`), comma-separated; empty or `0` for none.
     #[arg(long, default_value = "10,20", value_parser = fleet_sizes)]
     hallway_fleets: FleetSizes,
     /// Fleet sizes in the default warehouse (`warehouse`), comma-separated; empty (the
-    /// default) for none.
+    /// default) or `0` for none.
     #[arg(long, default_value = "", value_parser = fleet_sizes)]
     warehouse_fleets: FleetSizes,
     /// Another site with its fleet sizes, as `SCENARIO=4,8,16`: a built-in scenario (e.g.
@@ -65,19 +65,21 @@ pub struct TrafficArgs {
     out: PathBuf,
 }
 
-/// Fleet sizes, comma-separated; the empty list is allowed (a site left out).
+/// Fleet sizes, comma-separated; the empty list (`''`, or `0` alone) leaves a site out.
 #[derive(Debug, Clone)]
 struct FleetSizes(Vec<usize>);
 
 fn fleet_sizes(s: &str) -> Result<FleetSizes, String> {
-    if s.trim().is_empty() {
+    if s.trim().is_empty() || s.trim() == "0" {
         return Ok(FleetSizes(Vec::new()));
     }
     s.split(',')
-        .map(|n| {
-            n.trim()
-                .parse()
-                .map_err(|e| format!("fleet size `{n}`: {e}"))
+        .map(|n| match n.trim().parse() {
+            Ok(0) => Err(
+                "fleet size 0 in a list: give `0` or `''` alone to leave the site out".to_owned(),
+            ),
+            Ok(size) => Ok(size),
+            Err(e) => Err(format!("fleet size `{n}`: {e}")),
         })
         .collect::<Result<_, _>>()
         .map(FleetSizes)
@@ -149,7 +151,9 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
         sites.push(traffic_study::Site { scenario, fleets });
     }
     if sites.is_empty() {
-        bail!("no fleet sizes given: --narrow-fleets, --hallway-fleets and --site are all empty");
+        bail!(
+            "no fleet sizes given: --warehouse-fleets, --narrow-fleets, --hallway-fleets and --site are all empty"
+        );
     }
     if args.first.first_seed.checked_add(args.seeds).is_none() {
         bail!(
@@ -210,4 +214,25 @@ pub(super) fn run(args: TrafficArgs) -> Result<()> {
     println!("\nWhere the stuck robot-seconds went:");
     print!("{}", traffic_study::stuck_table(&cells));
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression: `--narrow-fleets 0` failed when the study started, after the other flags
+    /// were read, instead of leaving the site out as `''` does.
+    #[test]
+    fn a_lone_zero_leaves_a_site_out_and_a_zero_in_a_list_is_refused() {
+        assert!(fleet_sizes("0").expect("`0` alone").0.is_empty());
+        assert!(fleet_sizes(" ").expect("empty").0.is_empty());
+        assert_eq!(fleet_sizes("10, 20").expect("a list").0, vec![10, 20]);
+        let error = fleet_sizes("0,20").expect_err("0 in a list");
+        assert!(error.contains("fleet size 0"), "{error}");
+        assert!(fleet_sizes("ten").is_err());
+        assert!(
+            site_fleets("warehouse=0").is_err(),
+            "a --site with no fleet"
+        );
+    }
 }
