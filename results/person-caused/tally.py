@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Tallies the person-caused contacts that `fleet_contacts` prints (lines starting `other t`),
-per group of probe files: where the robot stood, how fast it moved, and where the person came
-from in the robot's motion.
+per group of probe files: when in the run, where the robot stood, how fast it moved, and where
+the person came from in the robot's motion.
 
     python3 tally.py probe/warehouse-*.txt
     python3 tally.py --group probe/warehouse-*.txt -- probe/narrow-*.txt -- probe/hallway-*.txt
@@ -11,7 +11,7 @@ import sys
 from collections import Counter
 
 LINE = re.compile(
-    r"^other t\s+\S+ robot \d+ person \d+: (\w+), robot speed ([\d.]+), person speed ([\d.]+), "
+    r"^other t\s+(\S+) robot \d+ person \d+: (\w+), robot speed ([\d.]+), person speed ([\d.]+), "
     r"the person (\w+), walking the robot's way (\w+), at a station (\w+), "
     r"the person walking to it \w+, the layer (\w+)"
 )
@@ -29,6 +29,11 @@ def tally(files):
     n = len(rows)
     if n == 0:
         return f"{runs} runs: no person-caused contact"
+    times = [float(r[0]) for r in rows]
+    rows = [r[1:] for r in rows]
+    when = Counter(
+        "first 5 s" if t < 5.0 else "5–60 s" if t < 60.0 else "after 60 s" for t in times
+    )
     place = Counter(r[0] for r in rows)
     speed = Counter(
         "standing" if float(r[1]) < 0.05 else "slow" if float(r[1]) < 0.3 else "moving"
@@ -52,6 +57,7 @@ def tally(files):
 
     return (
         f"{runs} runs, {n} person-caused contacts ({n / runs:.1f} per run)\n"
+        f"  when (s into the run): {share(when)}\n"
         f"  robot's place: {share(place)}\n"
         f"  robot's speed (standing < 0.05 m/s, slow < 0.3): {share(speed)}\n"
         f"  the person, in the robot's motion: {share(side)}\n"

@@ -7,7 +7,7 @@
 //!     cargo run --release -p world-sim --example fleet_contacts -- SITE ROBOTS SEED \
 //!         [SECONDS [PLANNER [LAYER]]]
 //!
-//! SITE is a built-in fleet scenario; LAYER is the layer's parameters to
+//! SITE is a built-in fleet scenario or a scenario file (`….toml`); LAYER is the layer's parameters to
 //! change, `key=value,…` (`person_accel=2`), or `off` for no layer. Each other contact with a person (the person
 //! walked into the robot) gets a line too, `other`: where the robot stood (aisle, cross-aisle,
 //! near a station, corridor), how fast it moved, whether it stood within 1.5 m of a station
@@ -43,7 +43,9 @@ fn main() {
         .map_or("pgp+orca", String::as_str)
         .parse()
         .expect("a known planner");
-    let mut scenario = Scenario::builtin(name).expect("a built-in fleet scenario");
+    let mut scenario = Scenario::load(name)
+        .expect("a built-in fleet scenario or a scenario file")
+        .0;
     scenario.seed = seed;
     scenario.set_fleet_size(Some(robots), None);
     match args.get(5).map(String::as_str) {
