@@ -8,51 +8,34 @@ plotting library needed) and prints the points.
 
     python3 results/traffic/throughput.py
 """
-import csv
 import os
 import statistics as st
 
-R = "results/"
+from targets import CELLS, runs  # the committed runs, as the targets table reads them
+
 SCENARIO = "warehouse-narrow"
-SERIES = [  # label, colour, {fleet size: run folders}
-    ("development seeds 1–30", "#1f77b4", {
-        20: [R + "corner-cut/narrow-20-pnp-right-seeds-1-30"],
-        40: [R + "fleet-pnp-right/narrow-40-seeds-1-30"],
-    }),
-    ("held-out seeds 101–130", "#d62728", {
-        20: [R + "corner-cut/narrow-20-pnp-right-seeds-101-130"],
-        40: [R + "fleet-pnp-right/narrow-40-seeds-101-130"],
-    }),
+SERIES = [  # label, colour, the seed set's name in `targets.CELLS`
+    ("development seeds 1–30", "#1f77b4", "1–30"),
+    ("held-out seeds 101–130", "#d62728", "101–130 (held out)"),
 ]
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "throughput-pnp-right.svg")
-
-
-def tasks_per_min(dirs, robots):
-    """Each run's tasks per minute, layer and policy on, or None when not run."""
-    values = []
-    for d in dirs:
-        try:
-            rows = csv.DictReader(open(d + "/runs.csv"))
-        except FileNotFoundError:
-            return None
-        values += [float(r["tasks_per_min"]) for r in rows
-                   if r["scenario"] == SCENARIO and int(r["robots"]) == robots
-                   and r["policy"] == "true" and r["safety"] == "true"]
-    return values or None
 
 
 def points():
     """(label, colour, [(robots, mean, standard error, runs)]) per series."""
     out = []
-    for label, colour, cells in SERIES:
+    for label, colour, seeds in SERIES:
         pts = []
-        for robots, dirs in sorted(cells.items()):
-            v = tasks_per_min(dirs, robots)
-            if v is None:
+        for scenario, robots, cell_seeds, dirs in CELLS:
+            if (scenario, cell_seeds) != (SCENARIO, seeds):
                 continue
+            rows = runs(dirs, scenario, robots)
+            if rows is None:
+                continue
+            v = [float(r["tasks_per_min"]) for r in rows]
             se = st.stdev(v) / len(v) ** 0.5 if len(v) > 1 else 0.0
             pts.append((robots, st.mean(v), se, len(v)))
-        out.append((label, colour, pts))
+        out.append((label, colour, sorted(pts)))
     return out
 
 
