@@ -7,14 +7,14 @@
 //!     cargo run --release -p world-sim --example fleet_contacts -- SITE ROBOTS SEED \
 //!         [SECONDS [PLANNER [LAYER]]]
 //!
-//! SITE is a built-in fleet scenario or a scenario file (`….toml`); LAYER is the layer's parameters to
-//! change, `key=value,…` (`person_accel=2`), or `off` for no layer. Each other contact with a person (the person
-//! walked into the robot) gets a line too, `other`: where the robot stood (aisle, cross-aisle,
-//! near a station, corridor), how fast it moved, whether it stood within 1.5 m of a station
-//! and whether the person was walking to that station, and which of the layer's fields acted
-//! on the robot's command that step and in the 2 s before (C clear, W warning, P protective,
-//! Y yield, one letter a step); `results/person-caused/tally.py` adds them up. The last line
-//! has the run's totals: robot-caused contacts, the other contacts with people, and tasks.
+//! SITE is a built-in fleet scenario or a scenario file (`….toml`); LAYER is the layer's parameters
+//! to change, `key=value,…` (`person_accel=2`), or `off` for no layer. Each other contact with a
+//! person (the person walked into the robot) gets a line too, `other`: where the robot stood
+//! (aisle, cross-aisle, near a station, corridor), how fast it moved, whether it stood within 1.5 m
+//! of a station and whether the person was walking to that station, and which of the layer's fields
+//! acted on the robot's command that step and in the 2 s before (C clear, W warning, P protective,
+//! Y yield, one letter a step); `results/person-caused/tally.py` adds them up. The last line has
+//! the run's totals: robot-caused contacts, the other contacts with people, and tasks.
 
 use agent::math::{Real, Vec2};
 use agent::model::Command;
